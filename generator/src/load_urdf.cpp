@@ -1,0 +1,228 @@
+// URDF -> Model. The graph is built from the joint list, never from urdfdom's tree pointers
+// (urdfdom keeps one parent per link and silently drops a second one). Fixed joints are merged:
+// the child link's inertia is lumped into the moving body it is welded to, and its frame kept.
+#include <Eigen/Geometry>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <console_bridge/console.h>
+#include <fmt/format.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "mbgen/gen/description.hpp"
+#include "mbgen/gen/load_error.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+
+/// Captures what urdfdom says through console_bridge instead of letting it print raw.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  CapturedLog() { console_bridge::useOutputHandler(this); }
+  ~CapturedLog() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages.push_back(text);
+  }
+  std::vector<std::string> messages;
+};
+
+SE3<double> to_se3(const urdf::Pose& pose) {
+  SE3<double> X;
+  double x, y, z, w;
+  pose.rotation.getQuaternion(x, y, z, w);
+  X.rotation = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  X.translation = Vec3<double>(pose.position.x, pose.position.y, pose.position.z);
+  return X;
+}
+
+Inertia<double> to_inertia(const urdf::Link& link) {
+  Inertia<double> I;
+  if (!link.inertial) return I;
+  const urdf::Inertial& in = *link.inertial;
+  SE3<double> X_LC = to_se3(in.origin);
+  Mat3<double> I_C;
+  I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  I.mass = in.mass;
+  I.com = X_LC.translation;
+  I.inertia_com = X_LC.rotation * I_C * X_LC.rotation.transpose();
+  return I;
+}
+
+/// Document order of the <joint> elements and the line of each link and joint element.
+struct XmlIndex {
+  std::vector<std::string> joint_order;
+  std::map<std::string, int> link_line, joint_line;
+};
+
+XmlIndex index_xml(const std::string& path, const std::string& text) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", doc.ErrorStr()),
+                    "repair the XML (an unclosed tag or stray character is the usual cause)");
+  }
+  XmlIndex index;
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) throw LoadError(path, 1, "", "no <robot> root element", "a URDF file has one <robot name=...> element");
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const char* name = e->Attribute("name");
+    if (!name) continue;
+    if (std::string(e->Name()) == "link") index.link_line.emplace(name, e->GetLineNum());
+    if (std::string(e->Name()) == "joint") {
+      index.joint_order.push_back(name);
+      index.joint_line.emplace(name, e->GetLineNum());
+    }
+  }
+  return index;
+}
+
+struct Builder {
+  const std::string& path;
+  const urdf::ModelInterface& urdf;
+  const XmlIndex& xml;
+  BaseType base;
+  std::vector<std::string>& warnings;
+  Model model;
+  std::map<std::string, std::vector<urdf::JointConstSharedPtr>> children_of;  // in document order
+
+  int line_of_joint(const std::string& name) const {
+    auto it = xml.joint_line.find(name);
+    return it == xml.joint_line.end() ? 0 : it->second;
+  }
+
+  /// Attaches link `link_name`, whose frame sits at X_BL in body `body`, and everything below it.
+  void attach(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL, bool is_body_frame) {
+    const urdf::Link& link = *urdf.getLink(link_name);
+    if (!is_body_frame) {
+      if (body != kWorldBody) {
+        Body& b = model.mutable_body(body);
+        b.inertia = b.inertia + to_inertia(link).transformed(X_BL);
+      }
+    }
+    model.add_frame(Frame{link_name, is_body_frame ? FrameKind::Body : FrameKind::Link, body, X_BL});
+    attach_children(link_name, body, X_BL);
+  }
+
+  /// Attaches the joints below link `link_name`, whose frame sits at X_BL in body `body`.
+  void attach_children(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL) {
+    for (const urdf::JointConstSharedPtr& joint : children_of[link_name]) {
+      const SE3<double> X_BJ = X_BL * to_se3(joint->parent_to_joint_origin_transform);
+      const urdf::Link& child = *urdf.getLink(joint->child_link_name);
+      if (joint->type == urdf::Joint::FIXED) {
+        model.add_frame(Frame{joint->name, FrameKind::Joint, body, X_BJ});
+        attach(child.name, body, X_BJ, false);
+        continue;
+      }
+      Joint j;
+      j.name = joint->name;
+      j.X_PJ = X_BJ;
+      const Vec3<double> axis(joint->axis.x, joint->axis.y, joint->axis.z);
+      switch (joint->type) {
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS: j.type = JointType::Revolute; break;
+        case urdf::Joint::PRISMATIC: j.type = JointType::Prismatic; break;
+        case urdf::Joint::FLOATING: j.type = JointType::Floating; break;
+        default:
+          throw LoadError(path, line_of_joint(joint->name), fmt::format("joint '{}'", joint->name),
+                          "joint type 'planar' is not supported",
+                          "model it as two prismatic joints and one revolute joint through intermediate links");
+      }
+      if (j.type == JointType::Floating) {
+        j.X_PJ = X_BL;  // q of a floating joint is the child's pose in the parent link's frame
+      } else {
+        if (axis.norm() < 1e-12)
+          throw LoadError(path, line_of_joint(joint->name), fmt::format("joint '{}'", joint->name),
+                          "joint axis is zero", "give a non-zero <axis xyz=\"...\"/>, e.g. xyz=\"0 0 1\"");
+        j.axis = axis.normalized();
+      }
+      if (joint->limits && joint->type != urdf::Joint::CONTINUOUS && j.type != JointType::Floating) {
+        j.bounded = true;
+        j.lower = joint->limits->lower;
+        j.upper = joint->limits->upper;
+      }
+      if (joint->limits) {
+        j.velocity_limit = joint->limits->velocity;
+        j.effort_limit = joint->limits->effort;
+      }
+      if (joint->dynamics) {
+        j.damping = joint->dynamics->damping;
+        j.friction = joint->dynamics->friction;
+      }
+      if (joint->mimic)
+        warnings.push_back(fmt::format("joint '{}' mimics '{}': the coupling is ignored, it is loaded as an independent joint",
+                                       joint->name, joint->mimic->joint_name));
+      BodyIndex child_body = model.add_body(body, j, child.name, to_inertia(child));
+      attach(child.name, child_body, SE3<double>::Identity(), true);
+    }
+  }
+};
+
+}  // namespace
+
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings) {
+  std::ifstream in(path);
+  if (!in) throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  const XmlIndex xml = index_xml(path, text);
+
+  urdf::ModelInterfaceSharedPtr urdf;
+  {
+    CapturedLog log;
+    urdf = urdf::parseURDF(text);
+    if (!urdf) {
+      std::string why = log.messages.empty() ? "urdfdom rejected the description" : log.messages.back();
+      throw LoadError(path, 0, "", fmt::format("invalid URDF: {}", why),
+                      "correct the element named above (see the URDF specification)");
+    }
+  }
+
+  Builder builder{path, *urdf, xml, base, warnings, Model{}, {}};
+  builder.model.name = urdf->getName();
+  // The joint list, in document order, is the graph. A link with two parent joints is a loop
+  // that URDF cannot express: say so instead of dropping one as urdfdom does.
+  std::map<std::string, std::string> parent_joint_of;
+  for (const std::string& joint_name : xml.joint_order) {
+    urdf::JointConstSharedPtr joint = urdf->getJoint(joint_name);
+    if (!joint) continue;
+    auto [it, inserted] = parent_joint_of.emplace(joint->child_link_name, joint->name);
+    if (!inserted)
+      throw LoadError(path, builder.line_of_joint(joint->name), fmt::format("link '{}'", joint->child_link_name),
+                      fmt::format("has two parent joints, '{}' and '{}'", it->second, joint->name),
+                      "URDF describes a tree: keep one joint and declare the other as a closure in the YAML extras");
+    builder.children_of[joint->parent_link_name].push_back(joint);
+  }
+  const std::string root = urdf->getRoot()->name;
+  // A massless root link named "world" is the world itself (a common URDF idiom).
+  const bool world_root = root == "world" && !urdf->getRoot()->inertial;
+  if (world_root) {
+    if (base == BaseType::Floating) {
+      // A floating base replaces the fixed joint(s) that weld the robot to "world".
+      for (urdf::JointConstSharedPtr& joint : builder.children_of[root]) {
+        if (joint->type != urdf::Joint::FIXED) continue;
+        auto floating = std::make_shared<urdf::Joint>(*joint);
+        floating->type = urdf::Joint::FLOATING;
+        warnings.push_back(
+            fmt::format("floating base: fixed joint '{}' from 'world' replaced by a floating joint", joint->name));
+        joint = floating;
+      }
+    }
+    builder.model.add_frame(Frame{root, FrameKind::Body, kWorldBody, SE3<double>::Identity()});
+    builder.attach_children(root, kWorldBody, SE3<double>::Identity());
+  } else if (base == BaseType::Floating) {
+    Joint free;
+    free.name = "root_joint";
+    free.type = JointType::Floating;
+    BodyIndex b = builder.model.add_body(kWorldBody, free, root, to_inertia(*urdf->getRoot()));
+    builder.attach(root, b, SE3<double>::Identity(), true);
+  } else {
+    builder.attach(root, kWorldBody, SE3<double>::Identity(), false);
+  }
+  return std::move(builder.model);
+}
+
+}  // namespace mbgen::gen

@@ -1,0 +1,4 @@
+// The `mbgen` command.
+#include <cstdio>
+
+int main() { return 0; }

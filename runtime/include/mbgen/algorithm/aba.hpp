@@ -1,0 +1,85 @@
+#pragma once
+// Articulated-body algorithm (Featherstone): forward dynamics in O(n).
+#include "mbgen/algorithm/kinematics.hpp"
+#include "mbgen/algorithm/small_ldlt.hpp"
+
+namespace mbgen {
+
+/// Joint accelerations ddq (nv) for state (q, v) and joint forces tau (nv), in data.ddq, also
+/// returned. Equal to M(q)^-1 (tau - C(q, v) v - g(q)).
+template <typename S>
+const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                   const ConstVecRef<S>& tau) {
+  data.v[kWorldBody] = Motion<S>::Zero();
+  data.X_WB[kWorldBody] = SE3<S>::Identity();
+  // Pass 1, root to leaves: poses, velocities, velocity-product terms, rigid-body inertias.
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& joint = model.joint(body.joint);
+    data.X_PB[i] = joint_placement<S>(joint, q.data() + joint.idx_q);
+    data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
+    Motion<S> vj = joint_velocity<S>(joint, v.data() + joint.idx_v);
+    data.v[i] = data.X_PB[i].act_inv(data.v[body.parent]) + vj;
+    data.c[i] = data.v[i].cross(vj);
+    const Inertia<S> I = body.inertia.cast<S>();
+    data.IA[i] = I.matrix();
+    data.pA[i] = data.v[i].cross(I * data.v[i]);
+  }
+  // Pass 2, leaves to root: articulated inertias and bias forces.
+  for (int k = model.num_bodies() - 1; k >= 1; --k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& joint = model.joint(body.joint);
+    const int n = joint.nv;
+    Mat6<S>& U = data.U[i];
+    Mat6<S>& Dinv = data.D_inv[i];
+    Vec6<S>& u = data.u[i];
+    S proj[6];
+    joint_project<S>(joint, data.pA[i], proj);
+    for (int col = 0; col < n; ++col) {
+      U.col(col) = data.IA[i] * joint_subspace_column<S>(joint, col).vector();
+      u[col] = tau[joint.idx_v + col] - proj[col];
+    }
+    if (n == 1) {
+      Dinv(0, 0) = S(1) / joint_subspace_column<S>(joint, 0).vector().dot(U.col(0));
+    } else {
+      Mat6<S> D;
+      for (int col = 0; col < n; ++col) {
+        S col_proj[6];
+        joint_project<S>(joint, Force<S>::from_vector(U.col(col)), col_proj);
+        for (int r = 0; r < n; ++r) D(r, col) = col_proj[r];
+      }
+      spd_inverse<S>(D, n, Dinv);
+    }
+    if (body.parent == kWorldBody) continue;
+    // Ia = IA - U D^-1 U^T ; pa = pA + Ia c + U D^-1 u
+    Mat6<S> UDinv;
+    Vec6<S> Dinv_u;
+    for (int col = 0; col < n; ++col) {
+      UDinv.col(col) = U.leftCols(n) * Dinv.col(col).head(n);
+      Dinv_u[col] = Dinv.row(col).head(n).dot(u.head(n));
+    }
+    Mat6<S> Ia = data.IA[i] - UDinv.leftCols(n) * U.leftCols(n).transpose();
+    Vec6<S> pa = data.pA[i].vector() + Ia * data.c[i].vector() + U.leftCols(n) * Dinv_u.head(n);
+    data.IA[body.parent] += transform_spatial_inertia<S>(data.X_PB[i], Ia);
+    data.pA[body.parent] += data.X_PB[i].act(Force<S>::from_vector(pa));
+  }
+  // Pass 3, root to leaves: accelerations.
+  data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& joint = model.joint(body.joint);
+    const int n = joint.nv;
+    Motion<S> a_prime = data.X_PB[i].act_inv(data.a[body.parent]) + data.c[i];
+    Vec6<S> rhs;
+    for (int r = 0; r < n; ++r) rhs[r] = data.u[i][r] - data.U[i].col(r).dot(a_prime.vector());
+    S* qdd = data.ddq.data() + joint.idx_v;
+    for (int r = 0; r < n; ++r) qdd[r] = data.D_inv[i].row(r).head(n).dot(rhs.head(n));
+    data.a[i] = a_prime + joint_velocity<S>(joint, qdd);
+  }
+  return data.ddq;
+}
+
+}  // namespace mbgen

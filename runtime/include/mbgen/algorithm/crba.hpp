@@ -1,0 +1,39 @@
+#pragma once
+// Composite-rigid-body algorithm: the joint-space mass matrix M(q).
+#include "mbgen/algorithm/kinematics.hpp"
+
+namespace mbgen {
+
+/// Mass matrix (nv x nv, symmetric, both triangles filled) in data.M, also returned.
+template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
+  forward_kinematics<S>(model, data, q);
+  for (int k = 1; k < model.num_bodies(); ++k) data.Y[BodyIndex(k)] = model.body(BodyIndex(k)).inertia.cast<S>().matrix();
+  for (int k = model.num_bodies() - 1; k >= 1; --k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& ji = model.joint(body.joint);
+    for (int col = 0; col < ji.nv; ++col) {
+      // Force needed to move the composite body i with unit velocity of this joint column,
+      // carried down the support chain and projected on each ancestor joint.
+      Force<S> F = Force<S>::from_vector(data.Y[i] * joint_subspace_column<S>(ji, col).vector());
+      const int c = ji.idx_v + col;
+      BodyIndex j = i;
+      while (j != kWorldBody) {
+        const Joint& jj = model.joint(model.body(j).joint);
+        S proj[6];
+        joint_project<S>(jj, F, proj);
+        for (int r = 0; r < jj.nv; ++r) {
+          data.M(jj.idx_v + r, c) = proj[r];
+          data.M(c, jj.idx_v + r) = proj[r];
+        }
+        const BodyIndex parent = model.body(j).parent;
+        if (parent != kWorldBody) F = data.X_PB[j].act(F);
+        j = parent;
+      }
+    }
+    if (body.parent != kWorldBody) data.Y[body.parent] += transform_spatial_inertia<S>(data.X_PB[i], data.Y[i]);
+  }
+  return data.M;
+}
+
+}  // namespace mbgen

@@ -1,0 +1,46 @@
+#pragma once
+// Recursive Newton-Euler inverse dynamics: tau = M(q) a + C(q, v) v + g(q).
+#include "mbgen/algorithm/kinematics.hpp"
+
+namespace mbgen {
+
+/// Joint forces that produce accelerations a (nv) at state (q, v). Result in data.tau (nv), which
+/// is also returned. Gravity enters as an upward acceleration of the world.
+template <typename S>
+const VecX<S>& rnea(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                    const ConstVecRef<S>& a) {
+  data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
+  data.v[kWorldBody] = Motion<S>::Zero();
+  data.X_WB[kWorldBody] = SE3<S>::Identity();
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& joint = model.joint(body.joint);
+    data.X_PB[i] = joint_placement<S>(joint, q.data() + joint.idx_q);
+    data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
+    Motion<S> vj = joint_velocity<S>(joint, v.data() + joint.idx_v);
+    data.v[i] = data.X_PB[i].act_inv(data.v[body.parent]) + vj;
+    data.a[i] = data.X_PB[i].act_inv(data.a[body.parent]) + joint_velocity<S>(joint, a.data() + joint.idx_v) +
+                data.v[i].cross(vj);
+    const Inertia<S> I = body.inertia.cast<S>();
+    data.f[i] = I * data.a[i] + data.v[i].cross(I * data.v[i]);
+  }
+  for (int k = model.num_bodies() - 1; k >= 1; --k) {
+    const BodyIndex i(k);
+    const Body& body = model.body(i);
+    const Joint& joint = model.joint(body.joint);
+    joint_project<S>(joint, data.f[i], data.tau.data() + joint.idx_v);
+    if (body.parent != kWorldBody) data.f[body.parent] += data.X_PB[i].act(data.f[i]);
+  }
+  return data.tau;
+}
+
+/// Bias forces C(q, v) v + g(q) (RNEA with zero acceleration). Result in data.tau.
+template <typename S>
+const VecX<S>& nonlinear_effects(const Model& model, Data<S>& data, const ConstVecRef<S>& q,
+                                 const ConstVecRef<S>& v) {
+  data.ddq.setZero();
+  return rnea<S>(model, data, q, v, data.ddq);
+}
+
+}  // namespace mbgen

@@ -1,0 +1,56 @@
+#pragma once
+// Data<S>: work memory of the algorithms for scalar S. Making it allocates; after that no
+// algorithm allocates (tests/test_no_allocation.cpp proves it with a malloc guard).
+#include "mbgen/model.hpp"
+
+namespace mbgen {
+
+template <typename S> struct Data {
+  explicit Data(const Model& model)
+      : X_PB(model.num_bodies()),
+        X_WB(model.num_bodies()),
+        X_WF(model.num_frames()),
+        v(model.num_bodies()),
+        a(model.num_bodies()),
+        c(model.num_bodies()),
+        f(model.num_bodies()),
+        Y(model.num_bodies()),
+        IA(model.num_bodies()),
+        pA(model.num_bodies()),
+        U(model.num_bodies()),
+        D_inv(model.num_bodies()),
+        u(model.num_bodies()),
+        tau(VecX<S>::Zero(model.nv())),
+        ddq(VecX<S>::Zero(model.nv())),
+        M(MatX<S>::Zero(model.nv(), model.nv())),
+        J(Mat6X<S>::Zero(6, model.nv())),
+        Ag(Mat6X<S>::Zero(6, model.nv())),
+        Jcom(Mat3X<S>::Zero(3, model.nv())) {}
+
+  IndexedVector<BodyIndex, SE3<S>> X_PB;   ///< pose of each body in its parent
+  IndexedVector<BodyIndex, SE3<S>> X_WB;   ///< pose of each body in the world
+  IndexedVector<FrameIndex, SE3<S>> X_WF;  ///< pose of each frame in the world
+  IndexedVector<BodyIndex, Motion<S>> v;   ///< body spatial velocity, body frame
+  IndexedVector<BodyIndex, Motion<S>> a;   ///< body spatial acceleration (incl. -gravity), body frame
+  IndexedVector<BodyIndex, Motion<S>> c;   ///< velocity-product acceleration v x (S v_j), body frame
+  IndexedVector<BodyIndex, Force<S>> f;    ///< net force transmitted by each joint, body frame
+  IndexedVector<BodyIndex, Mat6<S>> Y;     ///< composite inertia (CRBA), body frame, or world frame (centroidal)
+  IndexedVector<BodyIndex, Mat6<S>> IA;    ///< articulated-body inertia, body frame
+  IndexedVector<BodyIndex, Force<S>> pA;   ///< articulated bias force, body frame
+  IndexedVector<BodyIndex, Mat6<S>> U;     ///< IA * S (first nv columns used)
+  IndexedVector<BodyIndex, Mat6<S>> D_inv; ///< (S^T IA S)^-1 (top-left nv x nv used)
+  IndexedVector<BodyIndex, Vec6<S>> u;     ///< tau - S^T pA (first nv entries used)
+
+  VecX<S> tau;     ///< joint forces (RNEA output)
+  VecX<S> ddq;     ///< joint accelerations (ABA output)
+  MatX<S> M;       ///< joint-space mass matrix (CRBA output, both triangles)
+  Mat6X<S> J;      ///< joint Jacobian columns in the world frame (at the world origin)
+  Mat6X<S> Ag;     ///< centroidal momentum matrix, [linear; angular about the CoM], world axes
+  Vec6<S> hg = Vec6<S>::Zero();  ///< centroidal momentum Ag v
+  S mass = S(0);                 ///< total mass
+  Vec3<S> com = Vec3<S>::Zero();   ///< centre of mass, world
+  Vec3<S> vcom = Vec3<S>::Zero();  ///< velocity of the centre of mass, world
+  Mat3X<S> Jcom;                   ///< centre-of-mass Jacobian, world
+};
+
+}  // namespace mbgen

@@ -1,0 +1,92 @@
+#pragma once
+// Joint kinematics: transform, motion subspace S and its transpose, for each joint type.
+// Each function costs only what its joint type needs, so that a symbolic scalar records no
+// multiplication by a structural zero.
+#include <cmath>
+
+#include "mbgen/model.hpp"
+
+namespace mbgen {
+
+/// Rotation matrix of the unit quaternion (x, y, z, w), Hamilton convention.
+template <typename S> Mat3<S> quaternion_to_rotation(const S& x, const S& y, const S& z, const S& w) {
+  S xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y, wz = w * z;
+  Mat3<S> R;
+  R << S(1) - S(2) * (yy + zz), S(2) * (xy - wz), S(2) * (xz + wy),  //
+      S(2) * (xy + wz), S(1) - S(2) * (xx + zz), S(2) * (yz - wx),   //
+      S(2) * (xz - wy), S(2) * (yz + wx), S(1) - S(2) * (xx + yy);
+  return R;
+}
+
+/// Rotation by angle (given as its sine and cosine) about a constant unit axis (Rodrigues).
+template <typename S> Mat3<S> axis_rotation(const Vec3<double>& axis, const S& s, const S& c) {
+  Vec3<S> a = axis.cast<S>();
+  S t = S(1) - c;
+  Mat3<S> R;
+  R << c + t * a.x() * a.x(), t * a.x() * a.y() - s * a.z(), t * a.x() * a.z() + s * a.y(),  //
+      t * a.x() * a.y() + s * a.z(), c + t * a.y() * a.y(), t * a.y() * a.z() - s * a.x(),   //
+      t * a.x() * a.z() - s * a.y(), t * a.y() * a.z() + s * a.x(), c + t * a.z() * a.z();
+  return R;
+}
+
+/// Pose of the child body in the joint frame J for joint coordinates q_j (the joint's slice of q).
+template <typename S> SE3<S> joint_motion_transform(const Joint& joint, const S* q_j) {
+  using std::cos;
+  using std::sin;
+  SE3<S> X;
+  switch (joint.type) {
+    case JointType::Revolute: X.rotation = axis_rotation<S>(joint.axis, sin(q_j[0]), cos(q_j[0])); break;
+    case JointType::Prismatic: X.translation = joint.axis.cast<S>() * q_j[0]; break;
+    case JointType::Floating:
+      X.translation << q_j[0], q_j[1], q_j[2];
+      X.rotation = quaternion_to_rotation<S>(q_j[3], q_j[4], q_j[5], q_j[6]);
+      break;
+  }
+  return X;
+}
+
+/// Pose of the child body in the parent body.
+template <typename S> SE3<S> joint_placement(const Joint& joint, const S* q_j) {
+  return joint.X_PJ.cast<S>() * joint_motion_transform<S>(joint, q_j);
+}
+
+/// S * v_j: spatial velocity of the child relative to the parent, in the child frame.
+template <typename S> Motion<S> joint_velocity(const Joint& joint, const S* v_j) {
+  Motion<S> m;
+  switch (joint.type) {
+    case JointType::Revolute: m.angular = joint.axis.cast<S>() * v_j[0]; break;
+    case JointType::Prismatic: m.linear = joint.axis.cast<S>() * v_j[0]; break;
+    case JointType::Floating:
+      m.linear << v_j[0], v_j[1], v_j[2];
+      m.angular << v_j[3], v_j[4], v_j[5];
+      break;
+  }
+  return m;
+}
+
+/// S^T f, written into out[0 .. nv).
+template <typename S> void joint_project(const Joint& joint, const Force<S>& f, S* out) {
+  switch (joint.type) {
+    case JointType::Revolute: out[0] = joint.axis.cast<S>().dot(f.angular); break;
+    case JointType::Prismatic: out[0] = joint.axis.cast<S>().dot(f.linear); break;
+    case JointType::Floating:
+      for (int k = 0; k < 3; ++k) {
+        out[k] = f.linear[k];
+        out[3 + k] = f.angular[k];
+      }
+      break;
+  }
+}
+
+/// Column k of the motion subspace S (in the child frame).
+template <typename S> Motion<S> joint_subspace_column(const Joint& joint, int k) {
+  Vec6<S> e = Vec6<S>::Zero();
+  switch (joint.type) {
+    case JointType::Revolute: e.template tail<3>() = joint.axis.cast<S>(); break;
+    case JointType::Prismatic: e.template head<3>() = joint.axis.cast<S>(); break;
+    case JointType::Floating: e[k] = S(1); break;
+  }
+  return Motion<S>::from_vector(e);
+}
+
+}  // namespace mbgen

@@ -1,0 +1,194 @@
+#pragma once
+// Model: the constant description of a tree-structured multibody system (bodies, joints,
+// inertias, named frames), in double precision. Algorithms take a Model and a Data<S> (work
+// memory for scalar S); see data.hpp. Fixed joints never appear here: the loader merges them.
+//
+// Conventions (also in the README and in every generated header):
+//  - spatial vectors are [linear; angular]; body velocities are expressed in the body frame;
+//  - a floating base has q = [x y z, qx qy qz qw] (position of the base in the world, unit
+//    quaternion world-from-base, Hamilton, scalar last) and v = [v_B, w_B], the base's spatial
+//    velocity in its own frame (linear velocity of the base origin and angular velocity, both in
+//    base coordinates);
+//  - gravity is a world vector, default (0, 0, -9.81).
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mbgen/index.hpp"
+#include "mbgen/spatial/inertia.hpp"
+
+namespace mbgen {
+
+enum class JointType { Revolute, Prismatic, Floating };
+
+const char* to_string(JointType type);
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::Revolute;
+  Vec3<double> axis = Vec3<double>::UnitZ();  ///< unit, in the joint frame (revolute, prismatic)
+  /// Pose of the joint frame J in the parent body frame P; the child body frame coincides with J
+  /// when the joint coordinate is zero.
+  SE3<double> X_PJ;
+  BodyIndex parent;
+  BodyIndex child;
+  int idx_q = 0, idx_v = 0, nq = 0, nv = 0;
+  bool bounded = false;  ///< revolute with limits, prismatic; false for continuous and floating
+  double lower = 0, upper = 0, velocity_limit = 0, effort_limit = 0, damping = 0, friction = 0;
+};
+
+struct Body {
+  std::string name;
+  BodyIndex parent;           ///< kWorldBody for a root
+  JointIndex joint;           ///< the joint that moves this body (invalid for the world)
+  Inertia<double> inertia;    ///< lumped inertia of the body (and of links merged into it), in its frame
+  std::vector<BodyIndex> children;
+};
+
+enum class FrameKind { Body, Link, Joint, User };
+
+/// A named frame fixed in a body: every URDF link (merged or not) and every fixed joint.
+struct Frame {
+  std::string name;
+  FrameKind kind = FrameKind::Link;
+  BodyIndex body;
+  SE3<double> X_BF;  ///< pose of the frame in its body
+};
+
+class Model {
+ public:
+  Model();
+
+  std::string name;
+  Vec3<double> gravity{0.0, 0.0, -9.81};
+
+  int nq() const { return nq_; }
+  int nv() const { return nv_; }
+  int num_bodies() const { return bodies_.size(); }  ///< including the world
+  int num_joints() const { return joints_.size(); }  ///< including the world's placeholder
+  int num_frames() const { return frames_.size(); }
+  bool floating_base() const;
+
+  const Body& body(BodyIndex i) const { return bodies_[i]; }
+  const Joint& joint(JointIndex j) const { return joints_[j]; }
+  const Frame& frame(FrameIndex f) const { return frames_[f]; }
+  Body& mutable_body(BodyIndex i) { return bodies_[i]; }
+  Joint& mutable_joint(JointIndex j) { return joints_[j]; }
+  Frame& mutable_frame(FrameIndex f) { return frames_[f]; }
+  /// Joint j moves body j: the numbering is shared but the types are not.
+  static JointIndex joint_of(BodyIndex b) { return JointIndex(b.value()); }
+  static BodyIndex body_of(JointIndex j) { return BodyIndex(j.value()); }
+
+  /// Adds a body moved by `joint` relative to `parent` (which must already exist). The joint's
+  /// parent, child, idx_q, idx_v, nq and nv are filled in here.
+  BodyIndex add_body(BodyIndex parent, Joint joint, std::string body_name, const Inertia<double>& inertia);
+  FrameIndex add_frame(Frame frame);
+
+  std::optional<BodyIndex> find_body(const std::string& body_name) const;
+  std::optional<JointIndex> find_joint(const std::string& joint_name) const;
+  std::optional<FrameIndex> find_frame(const std::string& frame_name) const;
+  /// Like find_frame, but throws std::out_of_range naming the frame if absent.
+  FrameIndex frame_index(const std::string& frame_name) const;
+
+  /// Total mass of the moving bodies.
+  double total_mass() const;
+  /// Names of the moving joints in q order.
+  std::vector<std::string> joint_names() const;
+
+ private:
+  IndexedVector<BodyIndex, Body> bodies_;
+  IndexedVector<JointIndex, Joint> joints_;
+  IndexedVector<FrameIndex, Frame> frames_;
+  int nq_ = 0, nv_ = 0;
+};
+
+inline const char* to_string(JointType type) {
+  switch (type) {
+    case JointType::Revolute: return "revolute";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Floating: return "floating";
+  }
+  return "unknown";
+}
+
+inline Model::Model() {
+  Body world;
+  world.name = "world";
+  bodies_.push_back(world);
+  Joint none;
+  none.name = "universe";
+  joints_.push_back(none);
+}
+
+inline bool Model::floating_base() const {
+  for (BodyIndex c : bodies_[kWorldBody].children)
+    if (joints_[joint_of(c)].type == JointType::Floating) return true;
+  return false;
+}
+
+inline BodyIndex Model::add_body(BodyIndex parent, Joint joint, std::string body_name,
+                                 const Inertia<double>& inertia) {
+  if (!parent.valid() || parent.value() >= bodies_.size())
+    throw std::out_of_range("Model::add_body: parent body index out of range");
+  BodyIndex index(bodies_.size());
+  joint.parent = parent;
+  joint.child = index;
+  joint.nq = joint.type == JointType::Floating ? 7 : 1;
+  joint.nv = joint.type == JointType::Floating ? 6 : 1;
+  joint.idx_q = nq_;
+  joint.idx_v = nv_;
+  nq_ += joint.nq;
+  nv_ += joint.nv;
+  Body body;
+  body.name = std::move(body_name);
+  body.parent = parent;
+  body.joint = JointIndex(index.value());
+  body.inertia = inertia;
+  bodies_.push_back(std::move(body));
+  joints_.push_back(std::move(joint));
+  bodies_[parent].children.push_back(index);
+  return index;
+}
+
+inline FrameIndex Model::add_frame(Frame frame) {
+  frames_.push_back(std::move(frame));
+  return FrameIndex(frames_.size() - 1);
+}
+
+inline std::optional<BodyIndex> Model::find_body(const std::string& body_name) const {
+  for (int i = 0; i < bodies_.size(); ++i)
+    if (bodies_[BodyIndex(i)].name == body_name) return BodyIndex(i);
+  return std::nullopt;
+}
+
+inline std::optional<JointIndex> Model::find_joint(const std::string& joint_name) const {
+  for (int i = 1; i < joints_.size(); ++i)
+    if (joints_[JointIndex(i)].name == joint_name) return JointIndex(i);
+  return std::nullopt;
+}
+
+inline std::optional<FrameIndex> Model::find_frame(const std::string& frame_name) const {
+  for (int i = 0; i < frames_.size(); ++i)
+    if (frames_[FrameIndex(i)].name == frame_name) return FrameIndex(i);
+  return std::nullopt;
+}
+
+inline FrameIndex Model::frame_index(const std::string& frame_name) const {
+  if (auto f = find_frame(frame_name)) return *f;
+  throw std::out_of_range("no frame named '" + frame_name + "' in model '" + name + "'");
+}
+
+inline double Model::total_mass() const {
+  double m = 0;
+  for (int i = 1; i < bodies_.size(); ++i) m += bodies_[BodyIndex(i)].inertia.mass;
+  return m;
+}
+
+inline std::vector<std::string> Model::joint_names() const {
+  std::vector<std::string> names;
+  for (int j = 1; j < joints_.size(); ++j) names.push_back(joints_[JointIndex(j)].name);
+  return names;
+}
+
+}  // namespace mbgen

@@ -1,0 +1,78 @@
+#pragma once
+// Rigid-body inertia (mass, centre of mass, rotational inertia about the centre of mass) and the
+// 6x6 spatial-inertia algebra that composite (CRBA) and articulated (ABA) inertias need.
+#include "mbgen/spatial/se3.hpp"
+
+namespace mbgen {
+
+/// Inertia of one rigid body in its own frame B: mass m, centre of mass c_B, rotational inertia
+/// I_c about the centre of mass in B's orientation.
+template <typename S> struct Inertia {
+  S mass = S(0);
+  Vec3<S> com = Vec3<S>::Zero();
+  Mat3<S> inertia_com = Mat3<S>::Zero();
+
+  /// Momentum of the body moving with spatial velocity v (both in B, at B's origin).
+  Force<S> operator*(const Motion<S>& v) const {
+    Force<S> h;
+    h.linear = mass * (v.linear - com.cross(v.angular));
+    h.angular = inertia_com * v.angular + com.cross(h.linear);
+    return h;
+  }
+
+  /// 6x6 matrix acting on [linear; angular] motion vectors at B's origin.
+  Mat6<S> matrix() const {
+    Mat6<S> m;
+    Mat3<S> cx = skew<S>(com);
+    m.template topLeftCorner<3, 3>() = mass * Mat3<S>::Identity();
+    m.template topRightCorner<3, 3>() = -mass * cx;
+    m.template bottomLeftCorner<3, 3>() = mass * cx;
+    m.template bottomRightCorner<3, 3>() = inertia_com - mass * cx * cx;
+    return m;
+  }
+
+  /// Rotational inertia about B's origin.
+  Mat3<S> inertia_origin() const {
+    Mat3<S> cx = skew<S>(com);
+    return inertia_com - mass * cx * cx;
+  }
+
+  /// The same body seen from frame A, given the pose X_AB.
+  Inertia transformed(const SE3<S>& X_AB) const {
+    return {mass, X_AB.act(com), X_AB.rotation * inertia_com * X_AB.rotation.transpose()};
+  }
+
+  /// Sum of two bodies expressed in the same frame (parallel-axis theorem). Massless sums keep
+  /// the rotational inertias (a massless flywheel still has inertia).
+  Inertia operator+(const Inertia& o) const {
+    S m = mass + o.mass;
+    if (!(m > S(0))) return {S(0), Vec3<S>::Zero(), inertia_com + o.inertia_com};
+    Vec3<S> c = (mass * com + o.mass * o.com) / m;
+    Vec3<S> d1 = com - c, d2 = o.com - c;
+    Mat3<S> s1 = skew<S>(d1), s2 = skew<S>(d2);
+    return {m, c, inertia_com + o.inertia_com - mass * s1 * s1 - o.mass * s2 * s2};
+  }
+
+  template <typename T> Inertia<T> cast() const {
+    return {T(mass), com.template cast<T>(), inertia_com.template cast<T>()};
+  }
+};
+
+/// Spatial 6x6 inertia (composite or articulated) given in B, expressed in A: X_AB^* I_B X_AB^{-1}.
+/// Block form so that structural zeros stay visible to a symbolic scalar.
+template <typename S> Mat6<S> transform_spatial_inertia(const SE3<S>& X_AB, const Mat6<S>& I_B) {
+  const Mat3<S>& R = X_AB.rotation;
+  Mat3<S> A = R * I_B.template topLeftCorner<3, 3>() * R.transpose();
+  Mat3<S> B = R * I_B.template topRightCorner<3, 3>() * R.transpose();
+  Mat3<S> C = R * I_B.template bottomRightCorner<3, 3>() * R.transpose();
+  Mat3<S> px = skew<S>(X_AB.translation);
+  Mat3<S> lower_left = px * A + B.transpose();
+  Mat6<S> out;
+  out.template topLeftCorner<3, 3>() = A;
+  out.template topRightCorner<3, 3>() = B - A * px;
+  out.template bottomLeftCorner<3, 3>() = lower_left;
+  out.template bottomRightCorner<3, 3>() = px * B + C - lower_left * px;
+  return out;
+}
+
+}  // namespace mbgen

@@ -1,0 +1,50 @@
+#pragma once
+// Shared by the tests: the robot descriptions to run on, seeded random states, and a relative
+// error measure. Tolerances are stated in each test.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mbgen/gen/description.hpp"
+#include "mbgen/mbgen.hpp"
+
+namespace mbgen::test {
+
+/// Every URDF in ../shared/robots and robots/, sorted (the test names stay stable).
+inline std::vector<std::string> all_urdfs() {
+  std::vector<std::string> files;
+  for (const char* root : {MBGEN_SHARED_ROBOTS, MBGEN_SOURCE_DIR "/robots"}) {
+    if (!std::filesystem::exists(root)) continue;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(root))
+      if (entry.is_regular_file() && entry.path().extension() == ".urdf") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+inline std::string shared_robot(const std::string& relative) { return std::string(MBGEN_SHARED_ROBOTS) + "/" + relative; }
+
+/// A readable test-name suffix for a path: its parent folder and stem.
+inline std::string short_name(const std::string& path) {
+  std::filesystem::path p(path);
+  std::string s = p.parent_path().filename().string() + "_" + p.stem().string();
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+/// Loads the tree model of a URDF alone (no extras), fixed or floating base.
+inline Model load_tree(const std::string& path, gen::BaseType base) {
+  gen::LoadOptions options;
+  options.base = base;
+  options.pick_up_robot_yaml = false;
+  return gen::load_description(path, options).model;
+}
+
+/// ||a - b|| / max(1, ||b||): relative for large values, absolute near zero.
+template <typename A, typename B> double relative_error(const A& a, const B& b) {
+  return (a - b).norm() / std::max(1.0, static_cast<double>(b.norm()));
+}
+
+}  // namespace mbgen::test
