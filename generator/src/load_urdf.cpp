@@ -8,6 +8,7 @@
 #include <console_bridge/console.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -56,8 +57,12 @@ Inertia<double> to_inertia(const urdf::Link& link) {
 struct XmlIndex {
   std::vector<std::string> joint_order;
   std::map<std::string, int> link_line, joint_line;
+  std::vector<std::string> joints_without_limit;  ///< revolute/prismatic joints with no <limit>
+  std::string urdf_text;  ///< the text handed to urdfdom (with the <limit> elements it insists on)
 };
 
+/// Indexes the XML and, because urdfdom rejects a revolute or prismatic joint without <limit>
+/// (Drake and MuJoCo accept it as unbounded), gives such joints a zero limit, marked unbounded later.
 XmlIndex index_xml(const std::string& path, const std::string& text) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
@@ -65,16 +70,32 @@ XmlIndex index_xml(const std::string& path, const std::string& text) {
                     "repair the XML (an unclosed tag or stray character is the usual cause)");
   }
   XmlIndex index;
-  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw LoadError(path, 1, "", "no <robot> root element", "a URDF file has one <robot name=...> element");
-  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+  for (tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const char* name = e->Attribute("name");
     if (!name) continue;
     if (std::string(e->Name()) == "link") index.link_line.emplace(name, e->GetLineNum());
     if (std::string(e->Name()) == "joint") {
       index.joint_order.push_back(name);
       index.joint_line.emplace(name, e->GetLineNum());
+      const char* type = e->Attribute("type");
+      const bool needs_limit = type && (std::string(type) == "revolute" || std::string(type) == "prismatic");
+      if (needs_limit && !e->FirstChildElement("limit")) {
+        index.joints_without_limit.push_back(name);
+        tinyxml2::XMLElement* limit = doc.NewElement("limit");
+        limit->SetAttribute("effort", 0);
+        limit->SetAttribute("velocity", 0);
+        e->InsertEndChild(limit);
+      }
     }
+  }
+  if (index.joints_without_limit.empty()) {
+    index.urdf_text = text;
+  } else {
+    tinyxml2::XMLPrinter printer;
+    doc.Print(&printer);
+    index.urdf_text = printer.CStr();
   }
   return index;
 }
@@ -138,7 +159,11 @@ struct Builder {
                           "joint axis is zero", "give a non-zero <axis xyz=\"...\"/>, e.g. xyz=\"0 0 1\"");
         j.axis = axis.normalized();
       }
-      if (joint->limits && joint->type != urdf::Joint::CONTINUOUS && j.type != JointType::Floating) {
+      const bool limit_added = std::find(xml.joints_without_limit.begin(), xml.joints_without_limit.end(),
+                                         joint->name) != xml.joints_without_limit.end();
+      if (limit_added)
+        warnings.push_back(fmt::format("joint '{}' has no <limit>: loaded as unbounded", joint->name));
+      if (joint->limits && !limit_added && joint->type != urdf::Joint::CONTINUOUS && j.type != JointType::Floating) {
         j.bounded = true;
         j.lower = joint->limits->lower;
         j.upper = joint->limits->upper;
@@ -173,7 +198,7 @@ Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::s
   urdf::ModelInterfaceSharedPtr urdf;
   {
     CapturedLog log;
-    urdf = urdf::parseURDF(text);
+    urdf = urdf::parseURDF(xml.urdf_text);
     if (!urdf) {
       std::string why = log.messages.empty() ? "urdfdom rejected the description" : log.messages.back();
       throw LoadError(path, 0, "", fmt::format("invalid URDF: {}", why),
