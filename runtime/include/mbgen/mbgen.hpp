@@ -6,6 +6,7 @@
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/algorithm/crba.hpp"
 #include "mbgen/algorithm/energy.hpp"
+#include "mbgen/algorithm/integrator.hpp"
 #include "mbgen/algorithm/jacobian.hpp"
 #include "mbgen/algorithm/kinematics.hpp"
 #include "mbgen/algorithm/rnea.hpp"
