@@ -1,0 +1,167 @@
+// mbgen_bench: dynamics algorithms per robot and implementation, named
+// `<algorithm>/<robot>/<implementation>` (see bench/README.md).
+//
+//   algorithms       aba, rnea, crba, jacobians (compute_joint_jacobians), centroidal
+//                    (centroidal_momentum_matrix)
+//   robots           iiwa14 (fixed base, nv 7), hyq (floating, nv 18), talos (floating, talos_reduced, nv 38)
+//   implementations  generic (mbgen's runtime instantiated with double),
+//                    kdl (orocos-kdl, fixed-base chains only: iiwa14)
+//
+// Every implementation of one robot runs on the same seeded states (bench_support.hpp).
+#include <cstdio>
+#include <exception>
+#include <map>
+
+#include <kdl/chain.hpp>
+#include <kdl/chaindynparam.hpp>
+#include <kdl/chainfdsolver_recursive_newton_euler.hpp>
+#include <kdl/chainidsolver_recursive_newton_euler.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
+#include <kdl/jacobian.hpp>
+#include <kdl/jntarray.hpp>
+#include <kdl/jntspaceinertiamatrix.hpp>
+
+#include "bench_support.hpp"
+#include "kdl_from_urdf.hpp"
+#include "mbgen/gen/description.hpp"
+
+namespace mbgen::bench {
+namespace {
+
+Robot load_robot(const std::string& name, const std::string& relative_path, gen::BaseType base) {
+  Robot robot;
+  robot.name = name;
+  robot.urdf = std::string(MBGEN_SHARED_ROBOTS) + "/" + relative_path;
+  gen::LoadOptions options;
+  options.base = base;
+  options.pick_up_robot_yaml = false;
+  robot.model = gen::load_description(robot.urdf, options).model;
+  robot.pool = make_pool(robot.model);
+  return robot;
+}
+
+/// The generic runtime: every algorithm on every robot, each benchmark with its own Data.
+void add_generic(const Robot& robot) {
+  const Model* model = &robot.model;  // robots outlive the benchmarks (see main)
+  add_benchmark("aba", robot, "generic", [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
+    return aba<double>(*model, *data, s.q, s.v, s.tau).data();
+  });
+  add_benchmark("rnea", robot, "generic", [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
+    return rnea<double>(*model, *data, s.q, s.v, s.a).data();
+  });
+  add_benchmark("crba", robot, "generic", [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
+    return crba<double>(*model, *data, s.q).data();
+  });
+  add_benchmark("jacobians", robot, "generic",
+                [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
+                  return compute_joint_jacobians<double>(*model, *data, s.q).data();
+                });
+  add_benchmark("centroidal", robot, "generic",
+                [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
+                  return centroidal_momentum_matrix<double>(*model, *data, s.q).data();
+                });
+}
+
+/// One state in KDL's types, joints in chain order.
+struct KdlSample {
+  KDL::JntArray q, v, a, tau;
+};
+
+/// Work memory of the KDL solvers for one chain (the solvers keep a reference to the chain).
+struct KdlSolvers {
+  explicit KdlSolvers(KDL::Chain c, const Vec3<double>& g)
+      : chain(std::move(c)),
+        grav(g.x(), g.y(), g.z()),
+        id(chain, grav),
+        fd(chain, grav),
+        dyn(chain, grav),
+        jac(chain),
+        f_ext(chain.getNrOfSegments(), KDL::Wrench::Zero()),
+        out(chain.getNrOfJoints()),
+        H(chain.getNrOfJoints()),
+        J(chain.getNrOfJoints()) {}
+  KDL::Chain chain;
+  KDL::Vector grav;
+  KDL::ChainIdSolver_RNE id;
+  KDL::ChainFdSolver_RNE fd;
+  KDL::ChainDynParam dyn;
+  KDL::ChainJntToJacSolver jac;
+  KDL::Wrenches f_ext;
+  KDL::JntArray out;
+  KDL::JntSpaceInertiaMatrix H;
+  KDL::Jacobian J;
+};
+
+/// orocos-kdl on a fixed-base robot: the chain root -> tip built from the URDF through urdfdom.
+///   aba       = ChainFdSolver_RNE::CartToJnt   (KDL's forward dynamics: JntToMass + RNE + LDL, O(n^3))
+///   rnea      = ChainIdSolver_RNE::CartToJnt
+///   crba      = ChainDynParam::JntToMass
+///   jacobians = ChainJntToJacSolver::JntToJac  (the tip's 6 x n Jacobian; mbgen's computes every
+///               joint column in the world frame, the same O(n) work)
+void add_kdl(const Robot& robot, const std::string& root, const std::string& tip) {
+  const KDL::Tree tree = peer::kdl_tree_from_urdf_file(robot.urdf);
+  KDL::Chain chain = peer::kdl_chain_with_welded_branches(tree, root, tip);
+  std::vector<int> index;  // mbgen v index of each chain joint
+  for (const std::string& name : peer::kdl_chain_joint_names(chain)) {
+    auto j = robot.model.find_joint(name);
+    if (!j) throw std::runtime_error("KDL chain joint '" + name + "' is not in mbgen's model of " + robot.name);
+    index.push_back(robot.model.joint(*j).idx_v);
+  }
+  if (static_cast<int>(index.size()) != robot.model.nv())
+    throw std::runtime_error("the KDL chain of " + robot.name + " does not cover every joint");
+  auto to_kdl = [&](const VecX<double>& x) {
+    KDL::JntArray out(index.size());
+    for (std::size_t k = 0; k < index.size(); ++k) out(k) = x[index[k]];
+    return out;
+  };
+  auto pool = std::make_shared<std::vector<KdlSample>>();
+  for (const Sample& s : *robot.pool) pool->push_back({to_kdl(s.q), to_kdl(s.v), to_kdl(s.a), to_kdl(s.tau)});
+  std::shared_ptr<const std::vector<KdlSample>> inputs = pool;
+  const Vec3<double> g = robot.model.gravity;
+
+  add_benchmark<KdlSample>("aba", robot.name, "kdl", inputs,
+                           [w = std::make_shared<KdlSolvers>(chain, g)](const KdlSample& s) {
+                             w->fd.CartToJnt(s.q, s.v, s.tau, w->f_ext, w->out);
+                             return w->out.data.data();
+                           });
+  add_benchmark<KdlSample>("rnea", robot.name, "kdl", inputs,
+                           [w = std::make_shared<KdlSolvers>(chain, g)](const KdlSample& s) {
+                             w->id.CartToJnt(s.q, s.v, s.a, w->f_ext, w->out);
+                             return w->out.data.data();
+                           });
+  add_benchmark<KdlSample>("crba", robot.name, "kdl", inputs,
+                           [w = std::make_shared<KdlSolvers>(chain, g)](const KdlSample& s) {
+                             w->dyn.JntToMass(s.q, w->H);
+                             return w->H.data.data();
+                           });
+  add_benchmark<KdlSample>("jacobians", robot.name, "kdl", inputs,
+                           [w = std::make_shared<KdlSolvers>(chain, g)](const KdlSample& s) {
+                             w->jac.JntToJac(s.q, w->J);
+                             return w->J.data.data();
+                           });
+}
+
+}  // namespace
+}  // namespace mbgen::bench
+
+int main(int argc, char** argv) {
+  using namespace mbgen;
+  using namespace mbgen::bench;
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  // The robots live until the benchmarks have run: the registered callables point into them.
+  std::vector<Robot> robots;
+  try {
+    robots.push_back(load_robot("iiwa14", "iiwa14/iiwa14_primitive_collision.urdf", gen::BaseType::Fixed));
+    robots.push_back(load_robot("hyq", "hyq/hyq_no_sensors.urdf", gen::BaseType::Floating));
+    robots.push_back(load_robot("talos", "talos/talos_reduced.urdf", gen::BaseType::Floating));
+    for (const Robot& robot : robots) add_generic(robot);
+    add_kdl(robots[0], "base", "iiwa_link_ee");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mbgen_bench: %s\n", e.what());
+    return 1;
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
