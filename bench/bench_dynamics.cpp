@@ -1,10 +1,11 @@
 // mbgen_bench: dynamics algorithms per robot and implementation, named
 // `<algorithm>/<robot>/<implementation>` (see bench/README.md).
 //
-//   algorithms       aba, rnea, crba, jacobians (compute_joint_jacobians), centroidal
+//   algorithms       aba, rnea, crba, jacobians (the leaf frames' Jacobians), centroidal
 //                    (centroidal_momentum_matrix)
 //   robots           iiwa14 (fixed base, nv 7), hyq (floating, nv 18), talos (floating, talos_reduced, nv 38)
 //   implementations  generic (mbgen's runtime instantiated with double),
+//                    generated (the code `mbgen generate` emits, bench_generated.cpp),
 //                    kdl (orocos-kdl, fixed-base chains only: iiwa14)
 //
 // Every implementation of one robot runs on the same seeded states (bench_support.hpp).
@@ -21,6 +22,7 @@
 #include <kdl/jntarray.hpp>
 #include <kdl/jntspaceinertiamatrix.hpp>
 
+#include "bench_generated.hpp"
 #include "bench_support.hpp"
 #include "kdl_from_urdf.hpp"
 #include "mbgen/gen/description.hpp"
@@ -52,9 +54,16 @@ void add_generic(const Robot& robot) {
   add_benchmark("crba", robot, "generic", [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
     return crba<double>(*model, *data, s.q).data();
   });
+  // The leaf bodies' frame Jacobians (LocalWorldAligned): the generated code's default output.
+  auto leaves = std::make_shared<std::vector<FrameIndex>>();
+  for (int k = 1; k < model->num_bodies(); ++k)
+    if (model->body(BodyIndex(k)).children.empty()) leaves->push_back(model->frame_index(model->body(BodyIndex(k)).name));
   add_benchmark("jacobians", robot, "generic",
-                [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
-                  return compute_joint_jacobians<double>(*model, *data, s.q).data();
+                [model, leaves, data = std::make_shared<Data<double>>(*model),
+                 J = std::make_shared<Mat6X<double>>(6, model->nv())](const Sample& s) {
+                  compute_joint_jacobians<double>(*model, *data, s.q);
+                  for (FrameIndex f : *leaves) frame_jacobian<double>(*model, *data, f, ReferenceFrame::LocalWorldAligned, *J);
+                  return J->data();
                 });
   add_benchmark("centroidal", robot, "generic",
                 [model, data = std::make_shared<Data<double>>(*model)](const Sample& s) {
@@ -156,6 +165,7 @@ int main(int argc, char** argv) {
     robots.push_back(load_robot("hyq", "hyq/hyq_no_sensors.urdf", gen::BaseType::Floating));
     robots.push_back(load_robot("talos", "talos/talos_reduced.urdf", gen::BaseType::Floating));
     for (const Robot& robot : robots) add_generic(robot);
+    for (const Robot& robot : robots) add_generated(robot);
     add_kdl(robots[0], "base", "iiwa_link_ee");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbgen_bench: %s\n", e.what());

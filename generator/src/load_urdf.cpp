@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -31,11 +32,20 @@ class CapturedLog : public console_bridge::OutputHandler {
   std::vector<std::string> messages;
 };
 
+/// Rotation entries within 1e-14 of 0 or +-1 are made exact: a quarter turn written in decimal
+/// (rpy="1.570796326794897 0 0") leaves 6e-17 where a 0 is meant. The change is below double
+/// round-off of any dynamics quantity, and it lets generated code drop the structural zeros.
+double snap_unit(double x) {
+  for (double target : {0.0, 1.0, -1.0})
+    if (std::abs(x - target) < 1e-14) return target;
+  return x;
+}
+
 SE3<double> to_se3(const urdf::Pose& pose) {
   SE3<double> X;
   double x, y, z, w;
   pose.rotation.getQuaternion(x, y, z, w);
-  X.rotation = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  X.rotation = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix().unaryExpr(&snap_unit);
   X.translation = Vec3<double>(pose.position.x, pose.position.y, pose.position.z);
   return X;
 }

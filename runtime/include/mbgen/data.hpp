@@ -7,19 +7,20 @@ namespace mbgen {
 
 template <typename S> struct Data {
   explicit Data(const Model& model)
-      : X_PB(model.num_bodies()),
+      : X_J(model.num_bodies()),
+        X_PB(model.num_bodies()),
         X_WB(model.num_bodies()),
         X_WF(model.num_frames()),
         v(model.num_bodies()),
         a(model.num_bodies()),
         c(model.num_bodies()),
         f(model.num_bodies()),
-        Y(model.num_bodies()),
-        IA(model.num_bodies()),
+        Y(model.num_bodies(), Mat6<S>::Zero()),
+        IA(model.num_bodies(), Mat6<S>::Zero()),
         pA(model.num_bodies()),
-        U(model.num_bodies()),
-        D_inv(model.num_bodies()),
-        u(model.num_bodies()),
+        U(model.num_bodies(), Mat6<S>::Zero()),
+        D_inv(model.num_bodies(), Mat6<S>::Zero()),
+        u(model.num_bodies(), Vec6<S>::Zero()),
         tau(VecX<S>::Zero(model.nv())),
         ddq(VecX<S>::Zero(model.nv())),
         M(MatX<S>::Zero(model.nv(), model.nv())),
@@ -27,6 +28,7 @@ template <typename S> struct Data {
         Ag(Mat6X<S>::Zero(6, model.nv())),
         Jcom(Mat3X<S>::Zero(3, model.nv())) {}
 
+  IndexedVector<BodyIndex, SE3<S>> X_J;    ///< joint transform: pose of each body in its joint frame
   IndexedVector<BodyIndex, SE3<S>> X_PB;   ///< pose of each body in its parent
   IndexedVector<BodyIndex, SE3<S>> X_WB;   ///< pose of each body in the world
   IndexedVector<FrameIndex, SE3<S>> X_WF;  ///< pose of each frame in the world

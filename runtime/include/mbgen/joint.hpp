@@ -90,3 +90,46 @@ template <typename S> Motion<S> joint_subspace_column(const Joint& joint, int k)
 }
 
 }  // namespace mbgen
+
+// Moving quantities between a body and its parent in two stages, the joint transform X_J(q)
+// and the constant tree transform X_PJ. Two stages cost the double path a little, but they let
+// a symbolic scalar see the structure of each: X_J of a revolute joint has no translation and
+// rotates about a constant axis, and an axis-aligned X_PJ folds to sign changes and swaps.
+namespace mbgen {
+
+/// Motion of the parent (in P) expressed in the child body frame.
+template <typename S> Motion<S> motion_parent_to_child(const Joint& joint, const SE3<S>& X_J, const Motion<S>& m_P) {
+  const Motion<S> m_J = joint.X_PJ_is_identity ? m_P : joint.X_PJ.cast<S>().act_inv(m_P);
+  switch (joint.type) {
+    case JointType::Revolute:
+      return {X_J.rotation.transpose() * m_J.linear, X_J.rotation.transpose() * m_J.angular};
+    case JointType::Prismatic: return {m_J.linear - X_J.translation.cross(m_J.angular), m_J.angular};
+    case JointType::Floating: break;
+  }
+  return X_J.act_inv(m_J);
+}
+
+/// Force on the child (in the child frame) expressed in the parent frame P.
+template <typename S> Force<S> force_child_to_parent(const Joint& joint, const SE3<S>& X_J, const Force<S>& f_C) {
+  Force<S> f_J;
+  switch (joint.type) {
+    case JointType::Revolute: f_J = {X_J.rotation * f_C.linear, X_J.rotation * f_C.angular}; break;
+    case JointType::Prismatic: f_J = {f_C.linear, f_C.angular + X_J.translation.cross(f_C.linear)}; break;
+    case JointType::Floating: f_J = X_J.act(f_C); break;
+  }
+  return joint.X_PJ_is_identity ? f_J : joint.X_PJ.cast<S>().act(f_J);
+}
+
+/// Spatial inertia (6x6) of the child, in the child frame, expressed in the parent frame P.
+template <typename S> Mat6<S> inertia_child_to_parent(const Joint& joint, const SE3<S>& X_J, const Mat6<S>& I_C) {
+  Mat6<S> I_J;
+  switch (joint.type) {
+    case JointType::Revolute: I_J = rotate_spatial_inertia<S>(X_J.rotation, I_C); break;
+    case JointType::Prismatic: I_J = translate_spatial_inertia<S>(X_J.translation, I_C); break;
+    case JointType::Floating: I_J = transform_spatial_inertia<S>(X_J, I_C); break;
+  }
+  if (joint.X_PJ_is_identity) return I_J;
+  return transform_spatial_inertia<S>(joint.X_PJ.cast<S>(), I_J);
+}
+
+}  // namespace mbgen

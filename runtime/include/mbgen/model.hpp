@@ -31,6 +31,7 @@ struct Joint {
   /// Pose of the joint frame J in the parent body frame P; the child body frame coincides with J
   /// when the joint coordinate is zero.
   SE3<double> X_PJ;
+  bool X_PJ_is_identity = true;  ///< set by Model::add_body; lets the double path skip the transform
   BodyIndex parent;
   BodyIndex child;
   int idx_q = 0, idx_v = 0, nq = 0, nv = 0;
@@ -136,6 +137,7 @@ inline BodyIndex Model::add_body(BodyIndex parent, Joint joint, std::string body
   joint.child = index;
   joint.nq = joint.type == JointType::Floating ? 7 : 1;
   joint.nv = joint.type == JointType::Floating ? 6 : 1;
+  joint.X_PJ_is_identity = joint.X_PJ.rotation == Mat3<double>::Identity() && joint.X_PJ.translation.isZero(0.0);
   joint.idx_q = nq_;
   joint.idx_v = nv_;
   nq_ += joint.nq;

@@ -11,16 +11,14 @@ template <typename S>
 const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                    const ConstVecRef<S>& tau) {
   data.v[kWorldBody] = Motion<S>::Zero();
-  data.X_WB[kWorldBody] = SE3<S>::Identity();
-  // Pass 1, root to leaves: poses, velocities, velocity-product terms, rigid-body inertias.
+  // Pass 1, root to leaves: joint transforms, velocities, velocity-product terms, inertias.
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
-    data.X_PB[i] = joint_placement<S>(joint, q.data() + joint.idx_q);
-    data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
+    data.X_J[i] = joint_motion_transform<S>(joint, q.data() + joint.idx_q);
     Motion<S> vj = joint_velocity<S>(joint, v.data() + joint.idx_v);
-    data.v[i] = data.X_PB[i].act_inv(data.v[body.parent]) + vj;
+    data.v[i] = motion_parent_to_child<S>(joint, data.X_J[i], data.v[body.parent]) + vj;
     data.c[i] = data.v[i].cross(vj);
     const Inertia<S> I = body.inertia.cast<S>();
     data.IA[i] = I.matrix();
@@ -60,10 +58,15 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
       UDinv.col(col) = U.leftCols(n) * Dinv.col(col).head(n);
       Dinv_u[col] = Dinv.row(col).head(n).dot(u.head(n));
     }
-    Mat6<S> Ia = data.IA[i] - UDinv.leftCols(n) * U.leftCols(n).transpose();
+    Mat6<S> Ia;
+    for (int r = 0; r < 6; ++r)
+      for (int c = r; c < 6; ++c) {  // symmetric: upper triangle, mirrored
+        Ia(r, c) = data.IA[i](r, c) - UDinv.row(r).head(n).dot(U.row(c).head(n));
+        Ia(c, r) = Ia(r, c);
+      }
     Vec6<S> pa = data.pA[i].vector() + Ia * data.c[i].vector() + U.leftCols(n) * Dinv_u.head(n);
-    data.IA[body.parent] += transform_spatial_inertia<S>(data.X_PB[i], Ia);
-    data.pA[body.parent] += data.X_PB[i].act(Force<S>::from_vector(pa));
+    data.IA[body.parent] += inertia_child_to_parent<S>(joint, data.X_J[i], Ia);
+    data.pA[body.parent] += force_child_to_parent<S>(joint, data.X_J[i], Force<S>::from_vector(pa));
   }
   // Pass 3, root to leaves: accelerations.
   data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
@@ -72,7 +75,7 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
     const int n = joint.nv;
-    Motion<S> a_prime = data.X_PB[i].act_inv(data.a[body.parent]) + data.c[i];
+    Motion<S> a_prime = motion_parent_to_child<S>(joint, data.X_J[i], data.a[body.parent]) + data.c[i];
     Vec6<S> rhs;
     for (int r = 0; r < n; ++r) rhs[r] = data.u[i][r] - data.U[i].col(r).dot(a_prime.vector());
     S* qdd = data.ddq.data() + joint.idx_v;

@@ -6,8 +6,12 @@ namespace mbgen {
 
 /// Mass matrix (nv x nv, symmetric, both triangles filled) in data.M, also returned.
 template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
-  forward_kinematics<S>(model, data, q);
-  for (int k = 1; k < model.num_bodies(); ++k) data.Y[BodyIndex(k)] = model.body(BodyIndex(k)).inertia.cast<S>().matrix();
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const BodyIndex i(k);
+    const Joint& joint = model.joint(model.body(i).joint);
+    data.X_J[i] = joint_motion_transform<S>(joint, q.data() + joint.idx_q);
+    data.Y[i] = model.body(i).inertia.cast<S>().matrix();
+  }
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
     const Body& body = model.body(i);
@@ -27,11 +31,11 @@ template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, con
           data.M(c, jj.idx_v + r) = proj[r];
         }
         const BodyIndex parent = model.body(j).parent;
-        if (parent != kWorldBody) F = data.X_PB[j].act(F);
+        if (parent != kWorldBody) F = force_child_to_parent<S>(jj, data.X_J[j], F);
         j = parent;
       }
     }
-    if (body.parent != kWorldBody) data.Y[body.parent] += transform_spatial_inertia<S>(data.X_PB[i], data.Y[i]);
+    if (body.parent != kWorldBody) data.Y[body.parent] += inertia_child_to_parent<S>(ji, data.X_J[i], data.Y[i]);
   }
   return data.M;
 }

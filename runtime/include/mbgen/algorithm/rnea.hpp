@@ -11,17 +11,15 @@ const VecX<S>& rnea(const Model& model, Data<S>& data, const ConstVecRef<S>& q, 
                     const ConstVecRef<S>& a) {
   data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
   data.v[kWorldBody] = Motion<S>::Zero();
-  data.X_WB[kWorldBody] = SE3<S>::Identity();
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
-    data.X_PB[i] = joint_placement<S>(joint, q.data() + joint.idx_q);
-    data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
+    data.X_J[i] = joint_motion_transform<S>(joint, q.data() + joint.idx_q);
     Motion<S> vj = joint_velocity<S>(joint, v.data() + joint.idx_v);
-    data.v[i] = data.X_PB[i].act_inv(data.v[body.parent]) + vj;
-    data.a[i] = data.X_PB[i].act_inv(data.a[body.parent]) + joint_velocity<S>(joint, a.data() + joint.idx_v) +
-                data.v[i].cross(vj);
+    data.v[i] = motion_parent_to_child<S>(joint, data.X_J[i], data.v[body.parent]) + vj;
+    data.a[i] = motion_parent_to_child<S>(joint, data.X_J[i], data.a[body.parent]) +
+                joint_velocity<S>(joint, a.data() + joint.idx_v) + data.v[i].cross(vj);
     const Inertia<S> I = body.inertia.cast<S>();
     data.f[i] = I * data.a[i] + data.v[i].cross(I * data.v[i]);
   }
@@ -30,7 +28,7 @@ const VecX<S>& rnea(const Model& model, Data<S>& data, const ConstVecRef<S>& q, 
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
     joint_project<S>(joint, data.f[i], data.tau.data() + joint.idx_v);
-    if (body.parent != kWorldBody) data.f[body.parent] += data.X_PB[i].act(data.f[i]);
+    if (body.parent != kWorldBody) data.f[body.parent] += force_child_to_parent<S>(joint, data.X_J[i], data.f[i]);
   }
   return data.tau;
 }

@@ -58,21 +58,55 @@ template <typename S> struct Inertia {
   }
 };
 
-/// Spatial 6x6 inertia (composite or articulated) given in B, expressed in A: X_AB^* I_B X_AB^{-1}.
-/// Block form so that structural zeros stay visible to a symbolic scalar.
-template <typename S> Mat6<S> transform_spatial_inertia(const SE3<S>& X_AB, const Mat6<S>& I_B) {
-  const Mat3<S>& R = X_AB.rotation;
-  Mat3<S> A = R * I_B.template topLeftCorner<3, 3>() * R.transpose();
-  Mat3<S> B = R * I_B.template topRightCorner<3, 3>() * R.transpose();
-  Mat3<S> C = R * I_B.template bottomRightCorner<3, 3>() * R.transpose();
-  Mat3<S> px = skew<S>(X_AB.translation);
-  Mat3<S> lower_left = px * A + B.transpose();
+/// R A R^T for a symmetric 3x3 A. Only the upper triangle is computed and then mirrored, so the
+/// result is exactly symmetric and a symbolic scalar records each pair of entries once.
+template <typename S> Mat3<S> rotate_symmetric(const Mat3<S>& R, const Mat3<S>& A) {
+  const Mat3<S> RA = R * A;
+  Mat3<S> out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      out(i, j) = RA.row(i).dot(R.row(j));
+      out(j, i) = out(i, j);
+    }
+  return out;
+}
+
+/// A spatial inertia (composite or articulated; symmetric 6x6 on [linear; angular] motions)
+/// re-expressed in axes rotated by R (frame with the same origin): diag(R) I diag(R)^T.
+template <typename S> Mat6<S> rotate_spatial_inertia(const Mat3<S>& R, const Mat6<S>& I) {
+  Mat6<S> out;
+  out.template topLeftCorner<3, 3>() = rotate_symmetric<S>(R, I.template topLeftCorner<3, 3>());
+  out.template bottomRightCorner<3, 3>() = rotate_symmetric<S>(R, I.template bottomRightCorner<3, 3>());
+  const Mat3<S> B = R * I.template topRightCorner<3, 3>() * R.transpose();
+  out.template topRightCorner<3, 3>() = B;
+  out.template bottomLeftCorner<3, 3>() = B.transpose();
+  return out;
+}
+
+/// A spatial inertia taken about a point p instead of the origin (same axes): X^* I X^-1 for the
+/// pure translation X = (I, p). Symmetric blocks are computed once and mirrored.
+template <typename S> Mat6<S> translate_spatial_inertia(const Vec3<S>& p, const Mat6<S>& I) {
+  const Mat3<S> A = I.template topLeftCorner<3, 3>();
+  const Mat3<S> B = I.template topRightCorner<3, 3>();
+  const Mat3<S> C = I.template bottomRightCorner<3, 3>();
+  const Mat3<S> px = skew<S>(p);
+  const Mat3<S> lower_left = px * A + B.transpose();
+  const Mat3<S> pxB = px * B;
   Mat6<S> out;
   out.template topLeftCorner<3, 3>() = A;
-  out.template topRightCorner<3, 3>() = B - A * px;
+  out.template topRightCorner<3, 3>() = lower_left.transpose();  // = B - A px, as A is symmetric
   out.template bottomLeftCorner<3, 3>() = lower_left;
-  out.template bottomRightCorner<3, 3>() = px * B + C - lower_left * px;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      out(3 + i, 3 + j) = pxB(i, j) + C(i, j) - lower_left.row(i).dot(px.col(j));
+      out(3 + j, 3 + i) = out(3 + i, 3 + j);
+    }
   return out;
+}
+
+/// Spatial inertia given in B, expressed in A: X_AB^* I_B X_AB^-1 (rotate, then move the origin).
+template <typename S> Mat6<S> transform_spatial_inertia(const SE3<S>& X_AB, const Mat6<S>& I_B) {
+  return translate_spatial_inertia<S>(X_AB.translation, rotate_spatial_inertia<S>(X_AB.rotation, I_B));
 }
 
 }  // namespace mbgen

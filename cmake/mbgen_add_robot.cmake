@@ -1,0 +1,92 @@
+# mbgen_add_robot(TARGET <target> DESCRIPTION <urdf>
+#                 [EXTRAS <yaml>] [NAME <namespace>] [SCALAR double|float|both]
+#                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUT_DIR <dir>])
+#
+# Generates a robot's unrolled C++ at build time and adds the static library <target> whose
+# public include directory holds <NAME>.hpp. Shaped like protobuf_generate: the outputs follow
+# from the arguments alone, and they are regenerated when the description, the extras or the
+# generator change. The generator is ${MBGEN_EXECUTABLE} when set (cross builds: point it at a
+# host build of mbgen), else the mbgen target of this build or of the installed package.
+#
+#   NAME        C++ namespace and file prefix (default: <target>)
+#   SCALAR      scalar types emitted (default: both)
+#   OUTPUT_DIR  default: ${CMAKE_CURRENT_BINARY_DIR}/mbgen/<NAME>
+
+# The functions every generation emits, one source file each (<NAME>_<function>.cpp).
+set(MBGEN_GENERATED_FUNCTIONS
+    forward_dynamics inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
+    center_of_mass centroidal_momentum_matrix)
+
+function(mbgen_add_robot)
+  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR" "FRAMES" ${ARGN})
+  if(NOT MB_TARGET OR NOT MB_DESCRIPTION)
+    message(FATAL_ERROR "mbgen_add_robot: TARGET and DESCRIPTION are required")
+  endif()
+  if(MB_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "mbgen_add_robot: unknown arguments ${MB_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT MB_NAME)
+    set(MB_NAME ${MB_TARGET})
+  endif()
+  if(NOT MB_SCALAR)
+    set(MB_SCALAR both)
+  endif()
+  if(NOT MB_OUTPUT_DIR)
+    set(MB_OUTPUT_DIR ${CMAKE_CURRENT_BINARY_DIR}/mbgen/${MB_NAME})
+  endif()
+  get_filename_component(description ${MB_DESCRIPTION} ABSOLUTE)
+
+  set(arguments generate ${description} --out ${MB_OUTPUT_DIR} --name ${MB_NAME} --scalar ${MB_SCALAR} --quiet)
+  set(inputs ${description})
+  if(MB_EXTRAS)
+    get_filename_component(extras ${MB_EXTRAS} ABSOLUTE)
+    list(APPEND arguments --extras ${extras})
+    list(APPEND inputs ${extras})
+  else()
+    # The generator picks up a robot.yaml beside the URDF: depend on it too.
+    get_filename_component(description_dir ${description} DIRECTORY)
+    if(EXISTS ${description_dir}/robot.yaml)
+      list(APPEND inputs ${description_dir}/robot.yaml)
+    endif()
+  endif()
+  if(MB_FLOATING)
+    list(APPEND arguments --floating)
+  elseif(MB_FIXED)
+    list(APPEND arguments --fixed)
+  endif()
+  if(MB_FRAMES)
+    string(REPLACE ";" "," frames "${MB_FRAMES}")
+    list(APPEND arguments --frames ${frames})
+  endif()
+
+  if(MBGEN_EXECUTABLE)
+    set(generator ${MBGEN_EXECUTABLE})
+    list(APPEND inputs ${MBGEN_EXECUTABLE})
+  elseif(TARGET mbgen::mbgen)
+    set(generator $<TARGET_FILE:mbgen::mbgen>)
+    list(APPEND inputs mbgen::mbgen)
+  elseif(TARGET mbgen)
+    set(generator $<TARGET_FILE:mbgen>)
+    list(APPEND inputs mbgen)
+  else()
+    message(FATAL_ERROR "mbgen_add_robot: no generator: set MBGEN_EXECUTABLE or find_package(mbgen)")
+  endif()
+
+  set(header ${MB_OUTPUT_DIR}/${MB_NAME}.hpp)
+  set(sources)
+  foreach(function IN LISTS MBGEN_GENERATED_FUNCTIONS)
+    list(APPEND sources ${MB_OUTPUT_DIR}/${MB_NAME}_${function}.cpp)
+  endforeach()
+  add_custom_command(
+    OUTPUT ${header} ${sources}
+    COMMAND ${generator} ${arguments}
+    # mbgen leaves unchanged files untouched; the build tool still needs them newer than the inputs.
+    COMMAND ${CMAKE_COMMAND} -E touch_nocreate ${header} ${sources}
+    DEPENDS ${inputs}
+    COMMENT "mbgen: generating ${MB_NAME} from ${MB_DESCRIPTION}"
+    VERBATIM)
+  add_library(${MB_TARGET} STATIC ${sources} ${header})
+  target_include_directories(${MB_TARGET} PUBLIC $<BUILD_INTERFACE:${MB_OUTPUT_DIR}>)
+  target_compile_features(${MB_TARGET} PUBLIC cxx_std_17)
+  set_target_properties(${MB_TARGET} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()

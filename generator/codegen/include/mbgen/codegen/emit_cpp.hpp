@@ -1,0 +1,26 @@
+#pragma once
+// Prints traced functions as straight-line C++: one template body per function (instantiated for
+// float and double by thin wrappers), temporaries _tN numbered in topological order, constants
+// inlined in shortest round-trip form, and the operation count in the doc comment.
+#include <string>
+
+#include "mbgen/codegen/traced_function.hpp"
+
+namespace mbgen::codegen {
+
+enum class ScalarChoice { Double, Float, Both };
+
+/// `S` wrappers wanted by the choice.
+std::vector<std::string> scalar_types(ScalarChoice choice);
+
+/// "12 operations: 5 additions, ..." for the doc comment.
+std::string describe_operations(const OpCount& count);
+
+/// The declaration(s) for the header: doc comment with argument sizes and op count.
+std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars);
+
+/// A .cpp body (without banner) defining the function in namespace `ns`; includes `header`.
+std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
+                            ScalarChoice scalars);
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,122 @@
+#include "mbgen/codegen/generate_robot.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <set>
+
+#include "mbgen/codegen/trace_dynamics.hpp"
+#include "mbgen/gen/load_error.hpp"
+
+#ifndef MBGEN_VERSION
+#define MBGEN_VERSION "0.0.0"
+#endif
+
+namespace mbgen::codegen {
+
+namespace {
+
+std::string banner(const CodegenOptions& options) {
+  std::string out = fmt::format("{} {} from", kBannerFirstLine, MBGEN_VERSION);
+  for (const InputFile& in : options.inputs) out += fmt::format("\n//   {} (sha256 {})", in.name, in.sha256);
+  out += "\n// Do not edit: regenerate with `mbgen generate`.\n";
+  return out;
+}
+
+std::string string_array(const std::string& name, const std::vector<std::string>& items) {
+  std::string out = fmt::format("inline constexpr const char* {}[] = {{", name);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    std::string escaped;
+    for (char c : items[i]) escaped += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    out += fmt::format("{}\"{}\"", i ? ", " : "", escaped);
+  }
+  return out + "};\n";
+}
+
+const char* kConventions = R"(// Conventions (the same as mbgen's runtime):
+//  - arrays are plain C arrays; matrices are row-major;
+//  - q has nq entries, v, qdd and tau have nv, in joint_names order;
+//  - a floating base comes first: q = [x y z qx qy qz qw] (base position in the world, unit quaternion
+//    world-from-base, Hamilton, scalar last), v = [v_B w_B] (the base's linear velocity and angular
+//    velocity, both in base coordinates); its tau entries are the wrench on the base in base
+//    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
+//  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
+//  - no function allocates, throws or keeps state: all may run concurrently.
+)";
+
+}  // namespace
+
+std::string sanitize_identifier(const std::string& name) {
+  static const std::set<std::string> keywords = {
+      "alignas", "alignof", "and", "asm", "auto", "bool", "break", "case", "catch", "char", "class", "const",
+      "constexpr", "continue", "default", "delete", "do", "double", "else", "enum", "explicit", "export", "extern",
+      "false", "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace", "new",
+      "noexcept", "not", "nullptr", "operator", "or", "private", "protected", "public", "register", "return", "short",
+      "signed", "sizeof", "static", "struct", "switch", "template", "this", "throw", "true", "try", "typedef",
+      "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile", "while", "std"};
+  std::string out;
+  for (unsigned char c : name) out += std::isalnum(c) ? static_cast<char>(c) : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0])) || keywords.count(out)) out = "_" + out;
+  return out;
+}
+
+std::vector<std::string> default_frames(const Model& model) {
+  std::vector<std::string> frames;
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const Body& b = model.body(BodyIndex(k));
+    if (b.children.empty()) frames.push_back(b.name);
+  }
+  return frames;
+}
+
+std::vector<GeneratedFile> generate_robot(const gen::Description& description, const CodegenOptions& options) {
+  const Model& model = description.model;
+  const std::string& ns = options.name;
+  const std::string header = ns + ".hpp";
+
+  std::vector<std::string> frame_names = options.frames.empty() ? default_frames(model) : options.frames;
+  std::vector<FrameIndex> frames;
+  for (const std::string& name : frame_names) {
+    auto f = model.find_frame(name);
+    if (!f)
+      throw gen::LoadError(description.extras_file.empty() ? description.description_file : description.extras_file, 0,
+                           fmt::format("frame '{}'", name), "is not a frame of the robot",
+                           "name a link or a fixed joint of the description (see `mbgen inspect`)");
+    frames.push_back(*f);
+  }
+
+  std::vector<TracedFunction> functions;
+  functions.push_back(trace_forward_dynamics(model));
+  functions.push_back(trace_inverse_dynamics(model));
+  functions.push_back(trace_mass_matrix(model));
+  functions.push_back(trace_forward_kinematics(model));
+  if (!frames.empty()) {
+    functions.push_back(trace_frame_poses(model, frames));
+    functions.push_back(trace_frame_jacobians(model, frames));
+  }
+  functions.push_back(trace_center_of_mass(model));
+  functions.push_back(trace_centroidal_momentum_matrix(model));
+
+  const std::string top = banner(options);
+  std::vector<GeneratedFile> files;
+
+  std::vector<std::string> body_names;
+  for (int k = 1; k < model.num_bodies(); ++k) body_names.push_back(model.body(BodyIndex(k)).name);
+  std::string h = top + "#pragma once\n\n" + kConventions + fmt::format("\nnamespace {} {{\n\n", ns);
+  h += fmt::format("constexpr int nq = {};\nconstexpr int nv = {};\nconstexpr int num_bodies = {};\n", model.nq(),
+                   model.nv(), model.num_bodies() - 1);
+  h += fmt::format("constexpr int num_frames = {};\nconstexpr bool floating_base = {};\n", frames.size(),
+                   model.floating_base() ? "true" : "false");
+  h += string_array("joint_names", model.joint_names());
+  h += string_array("body_names", body_names);
+  if (!frame_names.empty()) h += string_array("frame_names", frame_names);
+  for (const TracedFunction& f : functions) h += "\n" + emit_declaration(f, options.scalars);
+  h += fmt::format("\n}}  // namespace {}\n", ns);
+  files.push_back({header, h});
+  for (const TracedFunction& f : functions)
+    files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + emit_definition(f, ns, header, options.scalars)});
+  return files;
+}
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,161 @@
+#include "mbgen/codegen/trace_dynamics.hpp"
+
+#include <fmt/format.h>
+
+#include "mbgen/codegen/symbolic.hpp"
+#include "mbgen/mbgen.hpp"
+
+namespace mbgen::codegen {
+
+namespace {
+
+using SymVec = VecX<Sym>;
+
+/// Symbolic input vector: element i of argument `argument`.
+SymVec inputs(int argument, int size) {
+  SymVec x(size);
+  for (int i = 0; i < size; ++i) x[i] = Sym::input(argument, i);
+  return x;
+}
+
+std::vector<int> ids_of(const Eigen::Ref<const MatX<Sym>>& m) {
+  // Row-major order, as every emitted matrix is.
+  std::vector<int> ids;
+  for (int r = 0; r < m.rows(); ++r)
+    for (int c = 0; c < m.cols(); ++c) ids.push_back(m(r, c).id());
+  return ids;
+}
+
+void append_pose(std::vector<int>& ids, const SE3<Sym>& X) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) ids.push_back(X.rotation(r, c).id());
+    ids.push_back(X.translation[r].id());
+  }
+}
+
+ArraySpec q_spec(const Model& m) { return {"q", m.nq(), fmt::format("[{}] joint positions", m.nq())}; }
+ArraySpec v_spec(const Model& m, const char* name, const char* what) {
+  return {name, m.nv(), fmt::format("[{}] {}", m.nv(), what)};
+}
+
+}  // namespace
+
+TracedFunction trace_forward_dynamics(const Model& model) {
+  TracedFunction f;
+  f.name = "forward_dynamics";
+  f.doc = "Joint accelerations qdd = M(q)^-1 (tau - C(q, v) v - g(q)) (articulated-body algorithm).";
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "tau", "joint forces")};
+  f.outputs = {v_spec(model, "qdd", "joint accelerations")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), tau = inputs(2, model.nv());
+  f.output_ids = {ids_of(aba<Sym>(model, data, q, v, tau))};
+  return f;
+}
+
+TracedFunction trace_inverse_dynamics(const Model& model) {
+  TracedFunction f;
+  f.name = "inverse_dynamics";
+  f.doc = "Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).";
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "qdd", "joint accelerations")};
+  f.outputs = {v_spec(model, "tau", "joint forces")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), a = inputs(2, model.nv());
+  f.output_ids = {ids_of(rnea<Sym>(model, data, q, v, a))};
+  return f;
+}
+
+TracedFunction trace_mass_matrix(const Model& model) {
+  TracedFunction f;
+  f.name = "mass_matrix";
+  f.doc = "Joint-space mass matrix M(q) (composite-rigid-body algorithm).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"M", model.nv() * model.nv(), fmt::format("[{0} x {0}, row-major] mass matrix", model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq());
+  f.output_ids = {ids_of(crba<Sym>(model, data, q))};
+  return f;
+}
+
+TracedFunction trace_forward_kinematics(const Model& model) {
+  const int nb = model.num_bodies() - 1;
+  TracedFunction f;
+  f.name = "forward_kinematics";
+  f.doc = "Pose of every body in the world, in body_names order.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"X_WB", 12 * nb, fmt::format("[{} x 12] per body the 3x4 matrix [R_WB | p_WB], row-major", nb)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> ids;
+  for (int k = 1; k < model.num_bodies(); ++k) append_pose(ids, data.X_WB[BodyIndex(k)]);
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameIndex>& frames) {
+  const int n = static_cast<int>(frames.size());
+  TracedFunction f;
+  f.name = "frame_poses";
+  f.doc = "Pose of each frame in frame_names, in the world.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
+  update_frame_placements<Sym>(model, data);
+  std::vector<int> ids;
+  for (FrameIndex fr : frames) append_pose(ids, data.X_WF[fr]);
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_frame_jacobians(const Model& model, const std::vector<FrameIndex>& frames) {
+  const int n = static_cast<int>(frames.size());
+  TracedFunction f;
+  f.name = "frame_jacobians";
+  f.doc = "Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular "
+          "velocity], both in world axes (LOCAL_WORLD_ALIGNED).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix", n, model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> ids;
+  Mat6X<Sym> J(6, model.nv());
+  for (FrameIndex fr : frames) {
+    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
+    for (int id : ids_of(J)) ids.push_back(id);
+  }
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_center_of_mass(const Model& model) {
+  TracedFunction f;
+  f.name = "center_of_mass";
+  f.doc = "Centre of mass of the robot in the world.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"com", 3, "[3] centre of mass, world"}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  f.output_ids = {ids_of(center_of_mass<Sym>(model, data, inputs(0, model.nq())))};
+  return f;
+}
+
+TracedFunction trace_centroidal_momentum_matrix(const Model& model) {
+  TracedFunction f;
+  f.name = "centroidal_momentum_matrix";
+  f.doc = "Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about "
+          "the centre of mass], world axes.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"Ag", 6 * model.nv(), fmt::format("[6 x {}, row-major] centroidal momentum matrix", model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  f.output_ids = {ids_of(centroidal_momentum_matrix<Sym>(model, data, inputs(0, model.nq())))};
+  return f;
+}
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,167 @@
+// Generated code equals the generic runtime it was traced from. Compiled once per robot (see
+// tests/CMakeLists.txt) with MBGEN_GENERATED_HEADER, MBGEN_GENERATED_NS, MBGEN_DESCRIPTION and
+// MBGEN_FLOATING defined.
+//
+// Tolerances. double: 1e-12 relative. The generated code performs the generic code's operations
+// minus exact ones (x*0, x*1, x+0, constant folding) and in places another summation order, so
+// the two differ by round-off only; forward dynamics is compared by its normwise backward error,
+// which does not grow with the conditioning of M.
+// float: the same quantities in single precision (unit round-off u = 6e-8). For a recursion of
+// depth d over n bodies, backward errors grow like c * d * u with small c; d <= 40 here, so we
+// allow 1e-4 (~ 40 * 40 u) for dynamics and kinematics alike, relative to the size of the terms.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include MBGEN_GENERATED_HEADER
+#include "malloc_guard.hpp"
+#include "test_support.hpp"
+
+namespace gen_ns = MBGEN_GENERATED_NS;
+
+namespace mbgen::test {
+namespace {
+
+class GeneratedTest : public ::testing::Test {
+ protected:
+  GeneratedTest()
+      : model(load_tree_with_extras()), data(model), frames(frame_indices(model)) {}
+
+  static Model load_tree_with_extras() {
+    gen::LoadOptions options;
+    options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
+    return gen::load_description(MBGEN_DESCRIPTION, options).model;
+  }
+  static std::vector<FrameIndex> frame_indices(const Model& model) {
+    std::vector<FrameIndex> out;
+    for (const char* name : gen_ns::frame_names) out.push_back(model.frame_index(name));
+    return out;
+  }
+  template <typename T> static VecX<double> widen(const std::vector<T>& x) {
+    VecX<double> out(static_cast<int>(x.size()));
+    for (int i = 0; i < out.size(); ++i) out[i] = static_cast<double>(x[static_cast<std::size_t>(i)]);
+    return out;
+  }
+  template <typename T> static std::vector<T> narrow(const VecX<double>& x) {
+    std::vector<T> out(static_cast<std::size_t>(x.size()));
+    for (int i = 0; i < x.size(); ++i) out[static_cast<std::size_t>(i)] = static_cast<T>(x[i]);
+    return out;
+  }
+  /// The generic reference of every function, flattened as the generated code lays it out.
+  struct Reference {
+    VecX<double> qdd, tau, M, X_WB, X_WF, J, com, Ag, bias;
+    MatX<double> M_matrix;
+  };
+  Reference reference(const VecX<double>& q, const VecX<double>& v, const VecX<double>& tau, const VecX<double>& a) {
+    Reference r;
+    r.qdd = aba<double>(model, data, q, v, tau);
+    r.bias = nonlinear_effects<double>(model, data, q, v);
+    r.tau = rnea<double>(model, data, q, v, a);
+    r.M_matrix = crba<double>(model, data, q);
+    r.M = Eigen::Map<const VecX<double>>(MatX<double>(r.M_matrix.transpose()).data(), model.nv() * model.nv());
+    compute_joint_jacobians<double>(model, data, q);
+    r.X_WB.resize(12 * (model.num_bodies() - 1));
+    for (int k = 1; k < model.num_bodies(); ++k) flatten_pose(data.X_WB[BodyIndex(k)], r.X_WB.data() + 12 * (k - 1));
+    r.X_WF.resize(12 * static_cast<int>(frames.size()));
+    r.J.resize(6 * model.nv() * static_cast<int>(frames.size()));
+    Mat6X<double> J(6, model.nv());
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      flatten_pose(data.X_WF[frames[f]], r.X_WF.data() + 12 * f);
+      frame_jacobian<double>(model, data, frames[f], ReferenceFrame::LocalWorldAligned, J);
+      const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr = J;
+      r.J.segment(static_cast<int>(6 * model.nv() * f), 6 * model.nv()) = Eigen::Map<const VecX<double>>(Jr.data(), 6 * model.nv());
+    }
+    r.com = center_of_mass<double>(model, data, q);
+    const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Ag = centroidal_momentum_matrix<double>(model, data, q);
+    r.Ag = Eigen::Map<const VecX<double>>(Ag.data(), 6 * model.nv());
+    return r;
+  }
+  static void flatten_pose(const SE3<double>& X, double* out) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) out[4 * r + c] = X.rotation(r, c);
+      out[4 * r + 3] = X.translation[r];
+    }
+  }
+
+  /// Runs every generated function for scalar T and compares with the reference.
+  template <typename T> void compare(double tolerance, int trials) {
+    std::mt19937_64 rng(2024);
+    const int nv = model.nv(), nb = model.num_bodies() - 1, nf = static_cast<int>(frames.size());
+    std::vector<T> qdd(nv), tau_out(nv), M(nv * nv), X_WB(12 * nb), X_WF(12 * nf), J(6 * nv * nf), com(3), Ag(6 * nv);
+    double worst[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (int trial = 0; trial < trials; ++trial) {
+      const VecX<double> q = random_configuration<double>(model, rng);
+      const VecX<double> v = random_vector<double>(nv, rng, 2.0);
+      const VecX<double> tau = random_vector<double>(nv, rng, 10.0);
+      const VecX<double> a = random_vector<double>(nv, rng, 5.0);
+      const Reference r = reference(q, v, tau, a);
+      const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(v), taut = narrow<T>(tau), at = narrow<T>(a);
+      gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), qdd.data());
+      gen_ns::inverse_dynamics(qt.data(), vt.data(), at.data(), tau_out.data());
+      gen_ns::mass_matrix(qt.data(), M.data());
+      gen_ns::forward_kinematics(qt.data(), X_WB.data());
+      gen_ns::frame_poses(qt.data(), X_WF.data());
+      gen_ns::frame_jacobians(qt.data(), J.data());
+      gen_ns::center_of_mass(qt.data(), com.data());
+      gen_ns::centroidal_momentum_matrix(qt.data(), Ag.data());
+      // Forward dynamics: normwise backward error, as in test_aba.cpp.
+      const double scale = r.M_matrix.norm() * r.qdd.norm() + tau.norm() + r.bias.norm();
+      worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
+      // Inverse dynamics: relative to the size of its terms.
+      const double id_scale = r.M_matrix.norm() * a.norm() + r.bias.norm() + r.tau.norm();
+      worst[1] = std::max(worst[1], (widen(tau_out) - r.tau).norm() / std::max(1.0, id_scale));
+      worst[2] = std::max(worst[2], relative_error(widen(M), r.M));
+      worst[3] = std::max(worst[3], relative_error(widen(X_WB), r.X_WB));
+      worst[4] = std::max(worst[4], relative_error(widen(X_WF), r.X_WF));
+      worst[5] = std::max(worst[5], relative_error(widen(J), r.J));
+      worst[6] = std::max(worst[6], relative_error(widen(com), r.com));
+      worst[7] = std::max(worst[7], relative_error(widen(Ag), r.Ag));
+    }
+    const char* names[8] = {"forward_dynamics", "inverse_dynamics", "mass_matrix", "forward_kinematics",
+                            "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix"};
+    for (int k = 0; k < 8; ++k) {
+      EXPECT_LT(worst[k], tolerance) << names[k];
+      RecordProperty(names[k], std::to_string(worst[k]));
+    }
+  }
+
+  Model model;
+  Data<double> data;
+  std::vector<FrameIndex> frames;
+};
+
+TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
+  EXPECT_EQ(gen_ns::nq, model.nq());
+  EXPECT_EQ(gen_ns::nv, model.nv());
+  EXPECT_EQ(gen_ns::num_bodies, model.num_bodies() - 1);
+  EXPECT_EQ(gen_ns::floating_base, model.floating_base());
+  const std::vector<std::string> names = model.joint_names();
+  ASSERT_EQ(std::size(gen_ns::joint_names), names.size());
+  for (std::size_t j = 0; j < names.size(); ++j) EXPECT_EQ(names[j], gen_ns::joint_names[j]);
+  for (int k = 1; k < model.num_bodies(); ++k) EXPECT_EQ(model.body(BodyIndex(k)).name, gen_ns::body_names[k - 1]);
+}
+
+TEST_F(GeneratedTest, DoubleEqualsGeneric) { compare<double>(1e-12, 100); }
+
+TEST_F(GeneratedTest, FloatWithinDerivedBound) { compare<float>(1e-4, 100); }
+
+TEST_F(GeneratedTest, NoAllocation) {
+  std::vector<double> q(gen_ns::nq, 0.1), v(gen_ns::nv, 0.2), out(36 * gen_ns::nv * (gen_ns::num_bodies + gen_ns::num_frames + 1));
+  if (gen_ns::floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
+  std::vector<float> qf(q.begin(), q.end()), vf(v.begin(), v.end()), outf(out.size());
+  MallocGuard guard;
+  gen_ns::forward_dynamics(q.data(), v.data(), v.data(), out.data());
+  gen_ns::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
+  gen_ns::mass_matrix(q.data(), out.data());
+  gen_ns::forward_kinematics(q.data(), out.data());
+  gen_ns::frame_poses(q.data(), out.data());
+  gen_ns::frame_jacobians(q.data(), out.data());
+  gen_ns::center_of_mass(q.data(), out.data());
+  gen_ns::centroidal_momentum_matrix(q.data(), out.data());
+  gen_ns::forward_dynamics(qf.data(), vf.data(), vf.data(), outf.data());
+  gen_ns::mass_matrix(qf.data(), outf.data());
+  EXPECT_EQ(guard.count(), 0u);
+}
+
+}  // namespace
+}  // namespace mbgen::test
