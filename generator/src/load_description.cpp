@@ -1,13 +1,44 @@
-// load_description: URDF plus extras into one Description.
+// load_description: URDF plus extras into one Description, then validation.
+// Order matters: the extras' `base` decides how the tree is built, and the extras' names are
+// resolved against the built tree.
+#include <filesystem>
+
+#include "extras_support.hpp"
 #include "mbgen/gen/description.hpp"
+#include "mbgen/gen/validate.hpp"
 
 namespace mbgen::gen {
+
+namespace {
+/// The extras file to use: the one given, else a robot.yaml lying beside the URDF.
+std::optional<std::string> find_extras(const std::string& path, const LoadOptions& options) {
+  if (options.extras_file) return options.extras_file;
+  if (!options.pick_up_robot_yaml) return std::nullopt;
+  const std::filesystem::path beside = std::filesystem::path(path).parent_path() / "robot.yaml";
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(beside, ec)) return beside.string();
+  return std::nullopt;
+}
+}  // namespace
 
 Description load_description(const std::string& path, const LoadOptions& options) {
   Description d;
   d.description_file = path;
-  d.base = options.base.value_or(BaseType::Fixed);
-  d.model = load_urdf_model(path, d.base, d.warnings);
+  std::optional<ExtrasFile> extras;
+  if (auto file = find_extras(path, options)) {
+    extras = read_extras(*file);
+    d.extras_file = *file;
+  }
+  d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
+  d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
+  d.robot_name = d.model.name;
+  if (extras) {
+    if (extras->schema == ExtrasFile::Schema::ParallelLegs)
+      apply_parallel_legs(*extras, d);
+    else
+      apply_mbgen_extras(*extras, d);
+  }
+  validate_description(d);
   return d;
 }
 

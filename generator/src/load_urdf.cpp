@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -16,6 +17,7 @@
 
 #include "mbgen/gen/description.hpp"
 #include "mbgen/gen/load_error.hpp"
+#include "mbgen/gen/validate.hpp"
 
 namespace mbgen::gen {
 
@@ -65,33 +67,58 @@ Inertia<double> to_inertia(const urdf::Link& link) {
 
 /// Document order of the <joint> elements and the line of each link and joint element.
 struct XmlIndex {
-  std::vector<std::string> joint_order;
+  std::vector<std::string> joint_order, link_order;
   std::map<std::string, int> link_line, joint_line;
   std::vector<std::string> joints_without_limit;  ///< revolute/prismatic joints with no <limit>
+  /// revolute/prismatic joints whose <limit> gives neither lower nor upper: URDF's defaults
+  /// [0, 0] would lock them, which is never what such files mean (parallel_legs has 150 of them).
+  std::vector<std::string> joints_without_range;
   std::string urdf_text;  ///< the text handed to urdfdom (with the <limit> elements it insists on)
 };
+
+/// tinyxml2's "Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=4: XMLElement
+/// name=inertial" as "mismatched element (XMLElement name=inertial)": the line is given apart.
+std::string readable_xml_error(const tinyxml2::XMLDocument& doc) {
+  std::string name = doc.ErrorName();
+  if (name.rfind("XML_ERROR_", 0) == 0) name = name.substr(10);
+  for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string full = doc.ErrorStr();
+  const std::size_t colon = full.find(": ");
+  return colon == std::string::npos ? name : fmt::format("{} ({})", name, full.substr(colon + 2));
+}
 
 /// Indexes the XML and, because urdfdom rejects a revolute or prismatic joint without <limit>
 /// (Drake and MuJoCo accept it as unbounded), gives such joints a zero limit, marked unbounded later.
 XmlIndex index_xml(const std::string& path, const std::string& text) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
-    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", doc.ErrorStr()),
+    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", readable_xml_error(doc)),
                     "repair the XML (an unclosed tag or stray character is the usual cause)");
   }
   XmlIndex index;
   tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) throw LoadError(path, 1, "", "no <robot> root element", "a URDF file has one <robot name=...> element");
+  if (!robot) {
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    std::string what = root ? fmt::format("the root element is <{}>, not <robot>", root->Name()) : "no <robot> root element";
+    throw LoadError(path, root ? root->GetLineNum() : 1, "", fmt::format("not a URDF: {}", what),
+                    "give a URDF file (one <robot name=...> element); SDF and MJCF are not read yet");
+  }
   for (tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const char* name = e->Attribute("name");
     if (!name) continue;
-    if (std::string(e->Name()) == "link") index.link_line.emplace(name, e->GetLineNum());
+    if (std::string(e->Name()) == "link") {
+      index.link_order.push_back(name);
+      index.link_line.emplace(name, e->GetLineNum());
+    }
     if (std::string(e->Name()) == "joint") {
       index.joint_order.push_back(name);
       index.joint_line.emplace(name, e->GetLineNum());
       const char* type = e->Attribute("type");
       const bool needs_limit = type && (std::string(type) == "revolute" || std::string(type) == "prismatic");
-      if (needs_limit && !e->FirstChildElement("limit")) {
+      const tinyxml2::XMLElement* given = e->FirstChildElement("limit");
+      if (needs_limit && given && !given->Attribute("lower") && !given->Attribute("upper"))
+        index.joints_without_range.push_back(name);
+      if (needs_limit && !given) {
         index.joints_without_limit.push_back(name);
         tinyxml2::XMLElement* limit = doc.NewElement("limit");
         limit->SetAttribute("effort", 0);
@@ -173,7 +200,10 @@ struct Builder {
                                          joint->name) != xml.joints_without_limit.end();
       if (limit_added)
         warnings.push_back(fmt::format("joint '{}' has no <limit>: loaded as unbounded", joint->name));
-      if (joint->limits && !limit_added && joint->type != urdf::Joint::CONTINUOUS && j.type != JointType::Floating) {
+      const bool no_range = std::find(xml.joints_without_range.begin(), xml.joints_without_range.end(),
+                                      joint->name) != xml.joints_without_range.end();
+      if (joint->limits && !limit_added && !no_range && joint->type != urdf::Joint::CONTINUOUS &&
+          j.type != JointType::Floating) {
         j.bounded = true;
         j.lower = joint->limits->lower;
         j.upper = joint->limits->upper;
@@ -195,9 +225,36 @@ struct Builder {
   }
 };
 
+/// Checks what urdfdom accepts but dynamics cannot use, on the raw per-link and per-joint
+/// values, so that each message names the URDF element and its line.
+void check_urdf_values(const std::string& path, const urdf::ModelInterface& urdf, const XmlIndex& xml,
+                       std::vector<std::string>& warnings) {
+  for (const std::string& link_name : xml.link_order) {
+    urdf::LinkConstSharedPtr link = urdf.getLink(link_name);
+    if (!link || !link->inertial) continue;
+    const urdf::Inertial& in = *link->inertial;
+    Mat3<double> I_C;
+    I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+    check_link_inertia(path, xml.link_line.at(link_name), link_name, in.mass, I_C, warnings);
+  }
+  for (const std::string& joint_name : xml.joint_order) {
+    urdf::JointConstSharedPtr joint = urdf.getJoint(joint_name);
+    if (!joint || !joint->limits) continue;
+    if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::PRISMATIC) continue;
+    if (std::find(xml.joints_without_limit.begin(), xml.joints_without_limit.end(), joint_name) !=
+        xml.joints_without_limit.end())
+      continue;
+    check_joint_limits(path, xml.joint_line.at(joint_name), joint_name, joint->limits->lower, joint->limits->upper);
+  }
+}
+
 }  // namespace
 
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings) {
+  return load_urdf_model(path, base, warnings, nullptr);
+}
+
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines) {
   std::ifstream in(path);
   if (!in) throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
   std::stringstream buffer;
@@ -215,6 +272,17 @@ Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::s
                       "correct the element named above (see the URDF specification)");
     }
   }
+
+  if (lines) {
+    lines->link = xml.link_line;
+    lines->joint = xml.joint_line;
+  }
+  check_urdf_values(path, *urdf, xml, warnings);
+  if (!xml.joints_without_range.empty())
+    warnings.push_back(fmt::format(
+        "{} joint(s) have a <limit> without lower and upper: loaded as unbounded rather than locked at URDF's "
+        "default [0, 0] ({})",
+        xml.joints_without_range.size(), fmt::join(xml.joints_without_range, ", ")));
 
   Builder builder{path, *urdf, xml, base, warnings, Model{}, {}};
   builder.model.name = urdf->getName();

@@ -1,6 +1,7 @@
 #pragma once
 // Description: everything the loader read about a robot: the tree Model, plus what URDF cannot
 // say (closures, actuated joints, drives) from the YAML extras, and the warnings raised.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@ struct ClosureSpec {
   SE3<double> X_BC;     ///< closure frame in frame_b
   Vec3<double> axis = Vec3<double>::UnitZ();  ///< closure joint axis in the closure frame, where it has one
   std::string source;   ///< file and line it came from
+  int source_line = 0;  ///< the line alone (1-based; 0 when unknown), for error messages
+  /// The model frames the two names resolve to (a moving joint's name resolves to its child
+  /// body's frame). Filled by the loader; invalid only while loading.
+  FrameIndex resolved_a, resolved_b;
 };
 
 /// A harmonic-drive (or other geared) actuator on a joint.
@@ -29,6 +34,39 @@ struct DriveSpec {
   double gear_ratio = 1.0;
   double rotor_inertia = 0.0;  ///< rotor inertia about its spin axis, kg m^2
   std::string model = "armature";  ///< armature (reflected inertia) or body (rotor body with gyroscopic terms)
+};
+
+/// One swept-sphere-volume primitive fixed in a link: a point (sphere), a line (capsule) or a
+/// triangle, swept by a sphere of `radius`. Points are in the link's frame.
+struct SsvPrimitive {
+  enum class Kind { Point, Line, Triangle };
+  Kind kind = Kind::Point;
+  std::vector<Vec3<double>> points;  ///< 1, 2 or 3 points
+  double radius = 0.0;
+};
+
+/// What the generated code must provide (`scene:` of the extras). Kept as given; later issues
+/// (planning, collision) interpret it.
+struct SceneSpec {
+  std::vector<std::string> outputs;         ///< forward_dynamics, mass_matrix, ..., in the order given
+  std::vector<std::string> jacobian_frames; ///< from `jacobians: [frame, ...]`
+  double collision_margin = 0.0;
+  std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
+  int prune_samples = 0;                    ///< 0: not given
+  std::string scalar = "double";
+};
+
+/// Where each URDF element starts (1-based lines), so that later checks can point at it.
+struct SourceLines {
+  std::map<std::string, int> link, joint;
+  int line_of_link(const std::string& name) const {
+    auto it = link.find(name);
+    return it == link.end() ? 0 : it->second;
+  }
+  int line_of_joint(const std::string& name) const {
+    auto it = joint.find(name);
+    return it == joint.end() ? 0 : it->second;
+  }
 };
 
 struct Description {
@@ -40,6 +78,15 @@ struct Description {
   std::vector<std::string> actuated_joints;  ///< name_mot of robot.yaml, or `independent` hints
   std::vector<DriveSpec> drives;
   std::vector<std::string> warnings;
+
+  // Added with the YAML extras (issue 2, items 2 and 4).
+  std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name
+  /// joint_name / joint_type of a parallel_legs robot.yaml: URDF revolute joints that stand for
+  /// another joint (SPHERICAL, UJOINT_XY). Recorded only; the tree is not changed yet.
+  std::map<std::string, std::string> joint_type_overrides;
+  std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound
+  std::optional<SceneSpec> scene;
+  SourceLines urdf_lines;  ///< lines of the URDF's <link> and <joint> elements
 };
 
 struct LoadOptions {
@@ -53,5 +100,7 @@ Description load_description(const std::string& path, const LoadOptions& options
 
 /// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);
+/// The same, also reporting where each <link> and <joint> element starts.
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines);
 
 }  // namespace mbgen::gen

@@ -1,0 +1,140 @@
+// `mbgen inspect` end to end: the built binary (MBGEN_BINARY) on every shared URDF (with its
+// robot.yaml where there is one), text and --json, and exit status 2 on bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace mbgen {
+namespace {
+
+const std::string kData = MBGEN_TEST_DATA;
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+/// Runs `mbgen ARGS`, capturing stdout, stderr and the exit status.
+Outcome run_mbgen(const std::string& args) {
+  const std::string err_file =
+      (std::filesystem::temp_directory_path() / ("mbgen_test_" + std::to_string(::getpid()) + ".err")).string();
+  const std::string command = quote(MBGEN_BINARY) + " " + args + " 2>" + quote(err_file);
+  Outcome run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream err(err_file);
+  std::stringstream text;
+  text << err.rdbuf();
+  run.err = text.str();
+  std::filesystem::remove(err_file);
+  return run;
+}
+
+void expect_json_report(const Outcome& run, const std::string& what) {
+  ASSERT_EQ(run.status, 0) << what << "\n" << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << what << ": not JSON";
+  for (const char* key : {"dof", "nq", "nv", "bodies", "joints", "frames", "total_mass", "closures", "actuated", "drives",
+                          "warnings"})
+    EXPECT_TRUE(j.contains(key)) << what << ": no key " << key;
+  EXPECT_EQ(j["dof"], j["nv"]);
+  EXPECT_EQ(j["bodies"].size(), j["joints"].size());
+  for (const auto& body : j["bodies"])
+    for (const char* key : {"name", "parent", "joint", "mass"}) EXPECT_TRUE(body.contains(key)) << what << ": body " << key;
+  for (const auto& joint : j["joints"])
+    for (const char* key : {"name", "type", "parent", "child", "axis", "lower", "upper"})
+      EXPECT_TRUE(joint.contains(key)) << what << ": joint " << key;
+}
+
+class InspectEveryUrdf : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(InspectEveryUrdf, TextJsonFixedAndFloating) {
+  const std::string urdf = quote(GetParam());
+  const Outcome text = run_mbgen("inspect " + urdf);
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("verdict: OK"), std::string::npos);
+  EXPECT_TRUE(text.err.empty()) << text.err;  // urdfdom's console output is captured, not printed
+  expect_json_report(run_mbgen("inspect " + urdf + " --json"), GetParam());
+  const Outcome floating = run_mbgen("inspect " + urdf + " --floating --json");
+  expect_json_report(floating, GetParam() + " --floating");
+  EXPECT_EQ(nlohmann::json::parse(floating.out)["base"], "floating");
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedRobots, InspectEveryUrdf, ::testing::ValuesIn(test::all_urdfs()),
+                         [](const auto& info) { return test::short_name(info.param); });
+
+TEST(Inspect, RobotYamlIsPickedUpAndCanBeGivenExplicitly) {
+  for (const std::string model : {"5bar_linkage", "cassie_like", "digit_like_2legs", "disney_robot", "robot_delta",
+                                  "talos_like", "wl16_like"}) {
+    const std::string dir = test::shared_robot("parallel_legs/" + model);
+    const Outcome picked = run_mbgen("inspect " + quote(dir + "/robot.urdf") + " --json");
+    expect_json_report(picked, model);
+    const Outcome given =
+        run_mbgen("inspect " + quote(dir + "/robot.urdf") + " --extras " + quote(dir + "/robot.yaml") + " --json");
+    expect_json_report(given, model + " --extras");
+    EXPECT_EQ(picked.out, given.out) << model;  // deterministic, and the same file either way
+    EXPECT_FALSE(nlohmann::json::parse(picked.out)["closures"].empty()) << model;
+  }
+}
+
+TEST(Inspect, ExtrasFileIsReported) {
+  const Outcome run = run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --extras " +
+                            quote(kData + "/extras/tiny_arm_full.yaml") + " --json");
+  expect_json_report(run, "tiny_arm");
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["robot"], "tiny_arm_ns");
+  EXPECT_EQ(j["closures"].size(), 2u);
+  EXPECT_EQ(j["closures"][0]["parent"], "tool");
+  EXPECT_EQ(j["drives"][1]["model"], "body");
+  EXPECT_EQ(j["actuated"], nlohmann::json({"shoulder", "knee"}));
+}
+
+TEST(Inspect, BadDescriptionExitsTwoWithTheMessage) {
+  const std::string file = kData + "/bad/negative_mass.urdf";
+  const Outcome run = run_mbgen("inspect " + quote(file));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  EXPECT_EQ(run.err.rfind(file + ":7: error: link 'arm': negative mass", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("\n  fix: "), std::string::npos) << run.err;
+  EXPECT_EQ(run_mbgen("inspect " + quote(file) + " --json").status, 2);
+}
+
+TEST(Inspect, BadExtrasExitsTwo) {
+  const Outcome run = run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --extras " +
+                            quote(kData + "/bad/malformed.yaml"));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("malformed.yaml:4: error: malformed YAML"), std::string::npos) << run.err;
+}
+
+TEST(Inspect, UsageErrorsExitTwo) {
+  EXPECT_EQ(run_mbgen("inspect").status, 2);
+  EXPECT_EQ(run_mbgen("inspect /no/such/file.urdf").status, 2);
+  EXPECT_EQ(run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --fixed --floating").status, 2);
+  EXPECT_EQ(run_mbgen("").status, 2);  // a subcommand is required
+}
+
+TEST(Inspect, Version) {
+  const Outcome run = run_mbgen("--version");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_EQ(run.out.rfind("mbgen ", 0), 0u) << run.out;
+}
+
+}  // namespace
+}  // namespace mbgen
