@@ -110,6 +110,13 @@ TEST(LoadExtras, BadEnumValueSuggestsTheClosest) {
   EXPECT_NE(e.fix().find("did you mean 'floating'?"), std::string::npos) << e.what();
 }
 
+TEST(LoadExtras, DuplicateKeyIsAnError) {
+  const LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/duplicate_key.yaml");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.element(), "key 'base'");
+  EXPECT_EQ(e.problem(), "is given twice");
+}
+
 TEST(LoadExtras, DriveOnAFixedJointIsAnError) {
   const LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/fixed_joint_drive.yaml");
   EXPECT_NE(e.problem().find("'tool_joint', a fixed joint"), std::string::npos) << e.what();

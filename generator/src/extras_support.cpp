@@ -89,8 +89,13 @@ void require_map(const std::string& file, const YAML::Node& node, const std::str
 
 void reject_unknown_keys(const std::string& file, const YAML::Node& map, const std::string& element,
                          const std::vector<std::string>& allowed) {
+  std::vector<std::string> seen;
   for (const auto& entry : map) {
     const std::string key = entry.first.Scalar();
+    if (std::find(seen.begin(), seen.end(), key) != seen.end())
+      fail(file, entry.first, element.empty() ? fmt::format("key '{}'", key) : fmt::format("{}: key '{}'", element, key),
+           "is given twice", "keep one of them");
+    seen.push_back(key);
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
     const std::string where = element.empty() ? fmt::format("key '{}'", key) : fmt::format("{}: key '{}'", element, key);
     fail(file, entry.first, where, "is not a known key",

@@ -224,8 +224,12 @@ ExtrasFile read_extras(const std::string& path) {
   x.schema = legs ? ExtrasFile::Schema::ParallelLegs : ExtrasFile::Schema::Mbgen;
   // Unknown keys are caught here, against the schema chosen (and suggested from both).
   const std::vector<std::string>& keys = legs ? kParallelLegsKeys : kMbgenKeys;
+  std::set<std::string> seen;
   for (const auto& entry : x.root) {
     const std::string key = entry.first.Scalar();
+    // yaml-cpp keeps one of two equal keys silently; a second `base:` is a mistake to report.
+    if (!seen.insert(key).second)
+      fail(path, entry.first, fmt::format("key '{}'", key), "is given twice", "keep one of them");
     if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
     std::vector<std::string> all = kMbgenKeys;
     all.insert(all.end(), kParallelLegsKeys.begin(), kParallelLegsKeys.end());
