@@ -31,7 +31,8 @@ template <typename F> double ns_per_call(F&& f) {
 
 int main() {
   gen::LoadOptions options;
-  options.extras_file = MBGEN_DEMO_EXTRAS;
+  if (std::string(MBGEN_DEMO_EXTRAS).size()) options.extras_file = MBGEN_DEMO_EXTRAS;
+  options.base = gen::BaseType::Floating;
   const gen::Description description = gen::load_description(MBGEN_DEMO_DESCRIPTION, options);
   const Model& model = description.model;
   Data<double> data(model);

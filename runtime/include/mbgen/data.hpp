@@ -40,7 +40,7 @@ template <typename S> struct Data {
   IndexedVector<BodyIndex, Mat6<S>> IA;    ///< articulated-body inertia, body frame
   IndexedVector<BodyIndex, Force<S>> pA;   ///< articulated bias force, body frame
   IndexedVector<BodyIndex, Mat6<S>> U;     ///< IA * S (first nv columns used)
-  IndexedVector<BodyIndex, Mat6<S>> D_inv; ///< (S^T IA S)^-1 (top-left nv x nv used)
+  IndexedVector<BodyIndex, Mat6<S>> D_inv; ///< 1/(S^T IA S) for 1-DoF joints; its LDL^T factor (small_ldlt.hpp) otherwise
   IndexedVector<BodyIndex, Vec6<S>> u;     ///< tau - S^T pA (first nv entries used)
 
   VecX<S> tau;     ///< joint forces (RNEA output)

@@ -48,15 +48,24 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
         joint_project<S>(joint, Force<S>::from_vector(U.col(col)), col_proj);
         for (int r = 0; r < n; ++r) D(r, col) = col_proj[r];
       }
-      spd_inverse<S>(D, n, Dinv);
+      ldlt_factor<S>(D, n, Dinv);  // multi-DoF: Dinv holds the factor of D (small_ldlt.hpp)
     }
     if (body.parent == kWorldBody) continue;
     // Ia = IA - U D^-1 U^T ; pa = pA + Ia c + U D^-1 u
-    Mat6<S> UDinv;
+    Mat6<S> UDinv;  // U D^-1, row r solving D x = U.row(r)^T
     Vec6<S> Dinv_u;
-    for (int col = 0; col < n; ++col) {
-      UDinv.col(col) = U.leftCols(n) * Dinv.col(col).head(n);
-      Dinv_u[col] = Dinv.row(col).head(n).dot(u.head(n));
+    if (n == 1) {
+      UDinv.col(0) = U.col(0) * Dinv(0, 0);
+      Dinv_u[0] = Dinv(0, 0) * u[0];
+    } else {
+      for (int r = 0; r < 6; ++r) {
+        S x[6];
+        for (int c = 0; c < n; ++c) x[c] = U(r, c);
+        ldlt_solve<S>(Dinv, n, x);
+        for (int c = 0; c < n; ++c) UDinv(r, c) = x[c];
+      }
+      for (int c = 0; c < n; ++c) Dinv_u[c] = u[c];
+      ldlt_solve<S>(Dinv, n, Dinv_u.data());
     }
     Mat6<S> Ia;
     for (int r = 0; r < 6; ++r)
@@ -79,7 +88,12 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
     Vec6<S> rhs;
     for (int r = 0; r < n; ++r) rhs[r] = data.u[i][r] - data.U[i].col(r).dot(a_prime.vector());
     S* qdd = data.ddq.data() + joint.idx_v;
-    for (int r = 0; r < n; ++r) qdd[r] = data.D_inv[i].row(r).head(n).dot(rhs.head(n));
+    if (n == 1) {
+      qdd[0] = data.D_inv[i](0, 0) * rhs[0];
+    } else {
+      for (int r = 0; r < n; ++r) qdd[r] = rhs[r];
+      ldlt_solve<S>(data.D_inv[i], n, qdd);
+    }
     data.a[i] = a_prime + joint_velocity<S>(joint, qdd);
   }
   return data.ddq;
