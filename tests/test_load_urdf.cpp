@@ -102,6 +102,8 @@ TEST_P(EverySharedUrdf, LoadsFixedAndFloating) {
   const Model fixed = test::load_tree(GetParam(), BaseType::Fixed);
   const Model floating = test::load_tree(GetParam(), BaseType::Floating);
   EXPECT_GT(fixed.nv(), 0);
+  // The mechanisms in robots/mechanisms are anchored to "world" by moving joints: no base to free.
+  if (GetParam().find("/mechanisms/") != std::string::npos) return;
   EXPECT_TRUE(floating.floating_base());
   EXPECT_EQ(floating.nv(), fixed.nv() + 6);
   EXPECT_EQ(floating.nq(), fixed.nq() + 7);
