@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "mbgen/index.hpp"
+#include "mbgen/loop_closure.hpp"
 #include "mbgen/spatial/inertia.hpp"
 
 namespace mbgen {
@@ -63,6 +64,16 @@ class Model {
 
   std::string name;
   Vec3<double> gravity{0.0, 0.0, -9.81};
+  /// Loop closures on top of the tree, and the sub-systems they form (empty for a tree).
+  /// Filled by the loader's topology stage; see loop_closure.hpp.
+  std::vector<LoopClosure> closures;
+  std::vector<SubSystem> subsystems;
+  /// Total number of stacked constraint rows of all closures (redundant ones included).
+  int num_constraint_rows() const {
+    int m = 0;
+    for (const LoopClosure& c : closures) m += c.rows();
+    return m;
+  }
 
   int nq() const { return nq_; }
   int nv() const { return nv_; }

@@ -1,0 +1,73 @@
+#pragma once
+// Kinematic loops on top of the spanning tree: loop closures (what the tree cannot say) and
+// the sub-systems they form (DESIGN.md, "Kinematic loops and sub-systems").
+//
+// A closure joins a frame Ca fixed in body A to a frame Cb fixed in body B. Its constraint rows
+// are components of the motion of Cb relative to Ca, expressed in Ca, [linear; angular]:
+//   weld       3 linear + 3 angular                         (6 rows)
+//   point      3 linear (a ball joint / spherical closure)  (3 rows)
+//   revolute   3 linear + 2 angular (perpendicular to axis) (5 rows)
+//   prismatic  2 linear (perpendicular to axis) + 3 angular (5 rows)
+//   universal  3 linear + 1 angular (about axis x axis_b)   (4 rows)
+// The stacked rows of all closures, in closure order, are the system's constraint rows;
+// `row_offset` is where a closure's rows start. Rows may be redundant (a 6d closure of a planar
+// loop has rank 3): sub-systems keep an independent subset.
+#include <string>
+#include <vector>
+
+#include "mbgen/index.hpp"
+#include "mbgen/spatial/se3.hpp"
+
+namespace mbgen {
+
+enum class ClosureType { Weld, Point, Revolute, Prismatic, Universal };
+
+inline const char* to_string(ClosureType type) {
+  switch (type) {
+    case ClosureType::Weld: return "weld";
+    case ClosureType::Point: return "point";
+    case ClosureType::Revolute: return "revolute";
+    case ClosureType::Prismatic: return "prismatic";
+    case ClosureType::Universal: return "universal";
+  }
+  return "unknown";
+}
+
+/// Number of constraint rows of a closure type.
+inline int closure_rows(ClosureType type) {
+  switch (type) {
+    case ClosureType::Weld: return 6;
+    case ClosureType::Point: return 3;
+    case ClosureType::Revolute: return 5;
+    case ClosureType::Prismatic: return 5;
+    case ClosureType::Universal: return 4;
+  }
+  return 0;
+}
+
+struct LoopClosure {
+  std::string name;
+  ClosureType type = ClosureType::Weld;
+  BodyIndex body_a, body_b;  ///< the two bodies joined (either may be the world)
+  SE3<double> X_ACa;         ///< closure frame Ca in body A
+  SE3<double> X_BCb;         ///< closure frame Cb in body B (coincides with Ca when closed, up to the free motion)
+  Vec3<double> axis = Vec3<double>::UnitZ();    ///< revolute/prismatic: free axis, in Ca; universal: first axis, fixed in Ca
+  Vec3<double> axis_b = Vec3<double>::UnitY();  ///< universal: second axis, fixed in Cb (perpendicular to `axis` when closed)
+  int row_offset = 0;        ///< first row of this closure in the stacked constraint vector
+  int rows() const { return closure_rows(type); }
+};
+
+/// Bodies that must be solved together: the union of the fundamental cycles that share a body.
+/// All coordinates are velocity indices of 1-DoF tree joints (revolute or prismatic).
+struct SubSystem {
+  std::vector<int> closures;        ///< indices into Model::closures
+  std::vector<BodyIndex> bodies;    ///< bodies on its cycles, ascending (parents first); not the root
+  BodyIndex root;                   ///< deepest common ancestor of its bodies (may be the world)
+  std::vector<int> coordinates;     ///< v indices of the joints moving `bodies`, ascending
+  std::vector<int> independent;     ///< subset of `coordinates`: the sub-system's own coordinates y
+  std::vector<int> dependent;       ///< the rest: z, solved from the closures
+  std::vector<int> rows;            ///< kept (independent) constraint rows, global indices; size = rank
+  int rank() const { return static_cast<int>(rows.size()); }
+};
+
+}  // namespace mbgen
