@@ -12,7 +12,7 @@ namespace {
 class CentroidalTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(CentroidalTest, MatchesDefinitionAndFiniteDifferences) {
-  for (gen::BaseType base : {gen::BaseType::Fixed, gen::BaseType::Floating}) {
+  for (gen::BaseType base : loadable_bases(GetParam())) {
     const Model model = load_tree(GetParam(), base);
     Data<double> data(model), kin(model), other(model);
     std::mt19937_64 rng(21);

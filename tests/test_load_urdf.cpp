@@ -76,6 +76,25 @@ TEST(LoadUrdf, WorldRootIdiomFloatingReplacesTheWeld) {
   EXPECT_NE(d.warnings[0].find("'world_to_base' from 'world' replaced by a floating joint"), std::string::npos);
 }
 
+TEST(LoadUrdf, WorldRootHungByAMovingJointCannotFloat) {
+  gen::LoadOptions options;
+  options.base = BaseType::Floating;
+  const std::string path = kData + "/world_hinge.urdf";
+  try {
+    gen::load_description(path, options);
+    ADD_FAILURE() << "a floating base was accepted for a robot hung from 'world' by a hinge";
+  } catch (const gen::LoadError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), 4);
+    EXPECT_EQ(e.element(), "link 'world'");
+    EXPECT_NE(e.problem().find("only through moving joint(s) (hinge)"), std::string::npos) << e.what();
+    EXPECT_NE(e.fix().find("--fixed"), std::string::npos) << e.what();
+  }
+  // Fixed, it loads as the one-joint arm it is.
+  options.base = BaseType::Fixed;
+  EXPECT_EQ(gen::load_description(path, options).model.nv(), 1);
+}
+
 TEST(LoadUrdf, LimitWithoutRangeIsUnboundedWithAWarning) {
   const gen::Description d = gen::load_description(kData + "/limit_without_range.urdf");
   EXPECT_FALSE(d.model.joint(JointIndex(1)).bounded);
@@ -100,10 +119,15 @@ class EverySharedUrdf : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EverySharedUrdf, LoadsFixedAndFloating) {
   const Model fixed = test::load_tree(GetParam(), BaseType::Fixed);
-  const Model floating = test::load_tree(GetParam(), BaseType::Floating);
   EXPECT_GT(fixed.nv(), 0);
-  // The mechanisms in robots/mechanisms are anchored to "world" by moving joints: no base to free.
-  if (GetParam().find("/mechanisms/") != std::string::npos) return;
+  // The four-bar and the slider-crank are anchored to "world" by moving joints: no base to
+  // free, and asking for one is an error (WorldRootHungByAMovingJointCannotFloat).
+  if (GetParam().find("/mechanisms/four_bar") != std::string::npos ||
+      GetParam().find("/mechanisms/slider_crank") != std::string::npos) {
+    EXPECT_THROW(test::load_tree(GetParam(), BaseType::Floating), gen::LoadError);
+    return;
+  }
+  const Model floating = test::load_tree(GetParam(), BaseType::Floating);
   EXPECT_TRUE(floating.floating_base());
   EXPECT_EQ(floating.nv(), fixed.nv() + 6);
   EXPECT_EQ(floating.nq(), fixed.nq() + 7);

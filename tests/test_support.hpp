@@ -42,6 +42,21 @@ inline Model load_tree(const std::string& path, gen::BaseType base) {
   return gen::load_description(path, options).model;
 }
 
+/// The bases a URDF can be loaded with: fixed always; floating unless the robot hangs from a
+/// "world" link by moving joints only (the loader refuses that, see test_load_urdf.cpp).
+inline std::vector<gen::BaseType> loadable_bases(const std::string& path) {
+  std::vector<gen::BaseType> bases{gen::BaseType::Fixed};
+  gen::LoadOptions options;
+  options.base = gen::BaseType::Floating;
+  options.pick_up_robot_yaml = false;
+  try {
+    gen::load_description(path, options);
+    bases.push_back(gen::BaseType::Floating);
+  } catch (const std::exception&) {
+  }
+  return bases;
+}
+
 /// ||a - b|| / max(1, ||b||): relative for large values, absolute near zero.
 template <typename A, typename B> double relative_error(const A& a, const B& b) {
   return (a - b).norm() / std::max(1.0, static_cast<double>(b.norm()));

@@ -150,6 +150,10 @@ struct Builder {
     auto it = xml.joint_line.find(name);
     return it == xml.joint_line.end() ? 0 : it->second;
   }
+  int line_of_link(const std::string& name) const {
+    auto it = xml.link_line.find(name);
+    return it == xml.link_line.end() ? 0 : it->second;
+  }
 
   /// Attaches link `link_name`, whose frame sits at X_BL in body `body`, and everything below it.
   void attach(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL, bool is_body_frame) {
@@ -304,15 +308,34 @@ Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::s
   const bool world_root = root == "world" && !urdf->getRoot()->inertial;
   if (world_root) {
     if (base == BaseType::Floating) {
-      // A floating base replaces the fixed joint(s) that weld the robot to "world".
+      // A floating base replaces the fixed joint(s) that weld the robot to "world". A moving
+      // joint from "world" stays what it is: say so, since the robot is then not free-floating
+      // there, and refuse if nothing floats at all (a silent fixed base would be nonsense).
+      int replaced = 0;
+      std::vector<std::string> moving;
       for (urdf::JointConstSharedPtr& joint : builder.children_of[root]) {
-        if (joint->type != urdf::Joint::FIXED) continue;
+        if (joint->type != urdf::Joint::FIXED) {
+          moving.push_back(joint->name);
+          continue;
+        }
+        ++replaced;
         auto floating = std::make_shared<urdf::Joint>(*joint);
         floating->type = urdf::Joint::FLOATING;
         warnings.push_back(
             fmt::format("floating base: fixed joint '{}' from 'world' replaced by a floating joint", joint->name));
         joint = floating;
       }
+      if (replaced == 0)
+        throw LoadError(path, builder.line_of_link(root), "link 'world'",
+                        fmt::format("a floating base was asked for, but the robot hangs from 'world' only through "
+                                    "moving joint(s) ({}), so nothing would float",
+                                    fmt::join(moving, ", ")),
+                        "load it with a fixed base (--fixed / `base: fixed`), or attach the base link to 'world' "
+                        "with a fixed joint that mbgen can replace");
+      if (!moving.empty())
+        warnings.push_back(fmt::format("floating base: joint(s) {} from 'world' are moving joints and stay attached to "
+                                       "the world",
+                                       fmt::join(moving, ", ")));
     }
     builder.model.add_frame(Frame{root, FrameKind::Body, kWorldBody, SE3<double>::Identity()});
     builder.attach_children(root, kWorldBody, SE3<double>::Identity());
