@@ -10,13 +10,7 @@
 namespace mbgen::test {
 namespace {
 
-struct Case {
-  std::string path;
-  gen::BaseType base;
-};
-void PrintTo(const Case& c, std::ostream* os) { *os << c.path << (c.base == gen::BaseType::Fixed ? " fixed" : " floating"); }
-
-class AbaTest : public ::testing::TestWithParam<Case> {};
+class AbaTest : public ::testing::TestWithParam<UrdfCase> {};
 
 TEST_P(AbaTest, MatchesCrbaAndRnea) {
   const Model model = load_tree(GetParam().path, GetParam().base);
@@ -46,16 +40,7 @@ TEST_P(AbaTest, MatchesCrbaAndRnea) {
   EXPECT_LT(worst_roundtrip, kTol);
 }
 
-std::vector<Case> cases() {
-  std::vector<Case> out;
-  for (const std::string& path : all_urdfs())
-    for (gen::BaseType base : loadable_bases(path)) out.push_back({path, base});
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(AllUrdfs, AbaTest, ::testing::ValuesIn(cases()), [](const auto& info) {
-  return short_name(info.param.path) + (info.param.base == gen::BaseType::Fixed ? "_fixed" : "_floating");
-});
+INSTANTIATE_TEST_SUITE_P(AllUrdfs, AbaTest, ::testing::ValuesIn(all_urdf_cases()), urdf_case_name);
 
 }  // namespace
 }  // namespace mbgen::test

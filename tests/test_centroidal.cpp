@@ -33,9 +33,7 @@ TEST_P(CentroidalTest, MatchesDefinitionAndFiniteDifferences) {
       // Both sides are sums of the same magnitude; 1e-12 relative to the momentum's size.
       EXPECT_LT(relative_error(hg, h_def), 1e-12);
       // Finite differences: linear momentum = total mass x velocity of the centre of mass.
-      VecX<double> q_plus(model.nq()), q_minus(model.nq());
-      integrate<double>(model, q, v * h, q_plus);
-      integrate<double>(model, q, v * -h, q_minus);
+      const auto [q_plus, q_minus] = central_pair(model, q, v, h);
       const Vec3<double> c_plus = center_of_mass<double>(model, other, q_plus);
       const Vec3<double> c_minus = center_of_mass<double>(model, other, q_minus);
       EXPECT_LT(relative_error(hg.head<3>(), model.total_mass() * (c_plus - c_minus) / (2 * h)), 1e-7);

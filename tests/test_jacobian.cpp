@@ -15,13 +15,7 @@ Vec3<double> rotation_log(const Mat3<double>& Ra, const Mat3<double>& Rb) {
   return aa.axis() * aa.angle();
 }
 
-struct Case {
-  std::string path;
-  gen::BaseType base;
-};
-void PrintTo(const Case& c, std::ostream* os) { *os << c.path << (c.base == gen::BaseType::Fixed ? " fixed" : " floating"); }
-
-class JacobianTest : public ::testing::TestWithParam<Case> {};
+class JacobianTest : public ::testing::TestWithParam<UrdfCase> {};
 
 TEST_P(JacobianTest, FrameJacobiansMatchFiniteDifferencesAndVelocities) {
   const Model model = load_tree(GetParam().path, GetParam().base);
@@ -34,9 +28,7 @@ TEST_P(JacobianTest, FrameJacobiansMatchFiniteDifferencesAndVelocities) {
   for (int trial = 0; trial < 10; ++trial) {
     const VecX<double> q = random_configuration<double>(model, rng);
     const VecX<double> v = random_vector<double>(model.nv(), rng, 1.0);
-    VecX<double> q_plus(model.nq()), q_minus(model.nq());
-    integrate<double>(model, q, v * h, q_plus);
-    integrate<double>(model, q, v * -h, q_minus);
+    const auto [q_plus, q_minus] = central_pair(model, q, v, h);
     compute_joint_jacobians<double>(model, data, q);
     forward_kinematics<double>(model, probe, q, v);
     Data<double> plus(model), minus(model);
@@ -80,9 +72,7 @@ TEST_P(JacobianTest, PointJacobianMatchesFiniteDifferences) {
   Mat3X<double> J(3, model.nv());
   const VecX<double> q = random_configuration<double>(model, rng);
   const VecX<double> v = random_vector<double>(model.nv(), rng, 1.0);
-  VecX<double> q_plus(model.nq()), q_minus(model.nq());
-  integrate<double>(model, q, v * h, q_plus);
-  integrate<double>(model, q, v * -h, q_minus);
+  const auto [q_plus, q_minus] = central_pair(model, q, v, h);
   compute_joint_jacobians<double>(model, data, q);
   forward_kinematics<double>(model, plus, q_plus);
   forward_kinematics<double>(model, minus, q_minus);
@@ -104,9 +94,7 @@ TEST_P(JacobianTest, CenterOfMassJacobianMatchesFiniteDifferences) {
   const double h = 1e-6;
   const VecX<double> q = random_configuration<double>(model, rng);
   const VecX<double> v = random_vector<double>(model.nv(), rng, 1.0);
-  VecX<double> q_plus(model.nq()), q_minus(model.nq());
-  integrate<double>(model, q, v * h, q_plus);
-  integrate<double>(model, q, v * -h, q_minus);
+  const auto [q_plus, q_minus] = central_pair(model, q, v, h);
   const Vec3<double> c_plus = center_of_mass<double>(model, other, q_plus);
   const Vec3<double> c_minus = center_of_mass<double>(model, other, q_minus);
   jacobian_center_of_mass<double>(model, data, q);
@@ -117,16 +105,7 @@ TEST_P(JacobianTest, CenterOfMassJacobianMatchesFiniteDifferences) {
   EXPECT_NEAR(data.mass, model.total_mass(), 1e-12 * model.total_mass());
 }
 
-std::vector<Case> cases() {
-  std::vector<Case> out;
-  for (const std::string& path : all_urdfs())
-    for (gen::BaseType base : loadable_bases(path)) out.push_back({path, base});
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(AllUrdfs, JacobianTest, ::testing::ValuesIn(cases()), [](const auto& info) {
-  return short_name(info.param.path) + (info.param.base == gen::BaseType::Fixed ? "_fixed" : "_floating");
-});
+INSTANTIATE_TEST_SUITE_P(AllUrdfs, JacobianTest, ::testing::ValuesIn(all_urdf_cases()), urdf_case_name);
 
 }  // namespace
 }  // namespace mbgen::test

@@ -3,8 +3,11 @@
 // error measure. Tolerances are stated in each test.
 #include <algorithm>
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "mbgen/gen/description.hpp"
 #include "mbgen/mbgen.hpp"
@@ -55,6 +58,37 @@ inline std::vector<gen::BaseType> loadable_bases(const std::string& path) {
   } catch (const std::exception&) {
   }
   return bases;
+}
+
+/// A URDF and the base to load it with: the parameter of the tests that run on every robot.
+struct UrdfCase {
+  std::string path;
+  gen::BaseType base;
+};
+inline void PrintTo(const UrdfCase& c, std::ostream* os) {
+  *os << c.path << (c.base == gen::BaseType::Fixed ? " fixed" : " floating");
+}
+/// Every URDF with every base it loads with.
+inline std::vector<UrdfCase> all_urdf_cases() {
+  std::vector<UrdfCase> out;
+  for (const std::string& path : all_urdfs())
+    for (gen::BaseType base : loadable_bases(path)) out.push_back({path, base});
+  return out;
+}
+/// Test-name suffix for INSTANTIATE_TEST_SUITE_P over all_urdf_cases().
+inline std::string urdf_case_name(const ::testing::TestParamInfo<UrdfCase>& info) {
+  return short_name(info.param.path) + (info.param.base == gen::BaseType::Fixed ? "_fixed" : "_floating");
+}
+
+/// Configurations q (+) h v and q (-) h v on the manifold, for central differences.
+struct CentralPair {
+  VecX<double> plus, minus;
+};
+inline CentralPair central_pair(const Model& model, const VecX<double>& q, const VecX<double>& v, double h) {
+  CentralPair p{VecX<double>(model.nq()), VecX<double>(model.nq())};
+  integrate<double>(model, q, v * h, p.plus);
+  integrate<double>(model, q, v * -h, p.minus);
+  return p;
 }
 
 /// ||a - b|| / max(1, ||b||): relative for large values, absolute near zero.
