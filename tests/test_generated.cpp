@@ -1,6 +1,6 @@
 // Generated code equals the generic runtime it was traced from. Compiled once per robot (see
-// tests/CMakeLists.txt) with MBGEN_GENERATED_HEADER, MBGEN_GENERATED_NS, MBGEN_DESCRIPTION and
-// MBGEN_FLOATING defined.
+// tests/CMakeLists.txt) with MBGEN_GENERATED_HEADER, MBGEN_GENERATED_NS, MBGEN_DESCRIPTION,
+// MBGEN_EXTRAS (empty: none) and MBGEN_FLOATING defined.
 //
 // Tolerances. double: 1e-12 relative. The generated code performs the generic code's operations
 // minus exact ones (x*0, x*1, x+0, constant folding) and in places another summation order, so
@@ -30,6 +30,7 @@ class GeneratedTest : public ::testing::Test {
   static Model load_tree_with_extras() {
     gen::LoadOptions options;
     options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
+    if (std::string(MBGEN_EXTRAS).size() > 0) options.extras_file = MBGEN_EXTRAS;
     return gen::load_description(MBGEN_DESCRIPTION, options).model;
   }
   static std::vector<FrameIndex> frame_indices(const Model& model) {

@@ -103,8 +103,11 @@ void read_drives(const ExtrasFile& x, const YAML::Node& node, Description& d) {
     reject_unknown_keys(x.path, n, element, {"gear_ratio", "joint", "model", "rotor_inertia"});
     if (!n["joint"]) fail(x.path, n, element, "has no joint", "add `joint:` a moving joint's name");
     DriveSpec drive;
-    resolve_moving_joint(x.path, n["joint"], element + ": joint", d.model);
+    const JointIndex joint = resolve_moving_joint(x.path, n["joint"], element + ": joint", d.model);
     drive.joint = n["joint"].Scalar();
+    if (d.model.joint(joint).nv != 1)
+      fail(x.path, n["joint"], element + ": joint", fmt::format("names '{}', a {} joint", drive.joint, to_string(d.model.joint(joint).type)),
+           "a drive turns one revolute or prismatic joint");
     element = fmt::format("drive of joint '{}'", drive.joint);
     if (!seen.insert(drive.joint).second) fail(x.path, n, element, "is given twice", "keep one drive per joint");
     if (n["gear_ratio"]) drive.gear_ratio = to_number(x.path, n["gear_ratio"], element + ": gear_ratio");
@@ -115,6 +118,22 @@ void read_drives(const ExtrasFile& x, const YAML::Node& node, Description& d) {
     if (drive.rotor_inertia < 0)
       fail(x.path, n["rotor_inertia"], element + ": rotor_inertia", "is negative", "give the rotor's inertia about its spin axis, >= 0 kg m^2");
     d.drives.push_back(drive);
+  }
+}
+
+/// Puts the drives into the model (rotor.hpp): reflected inertia on the diagonal, or a rotor
+/// body; `scene: rotors` overrides each drive's own `model`. Drives sit on 1-DoF joints only
+/// (resolve_moving_joint saw to that: floating joints are not named in extras).
+void apply_drives(Description& d) {
+  for (DriveSpec& drive : d.drives) {
+    if (d.scene && !d.scene->rotors.empty()) drive.model = d.scene->rotors;
+    Joint& joint = d.model.mutable_joint(*d.model.find_joint(drive.joint));
+    if (drive.model == "body") {
+      joint.rotor_gear_ratio = drive.gear_ratio;
+      joint.rotor_inertia = drive.rotor_inertia;
+    } else {
+      joint.armature = drive.gear_ratio * drive.gear_ratio * drive.rotor_inertia;
+    }
   }
 }
 
@@ -181,10 +200,11 @@ void read_outputs(const ExtrasFile& x, const YAML::Node& node, Description& d, S
 
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
-  reject_unknown_keys(x.path, node, "scene", {"collision", "outputs", "scalar"});
+  reject_unknown_keys(x.path, node, "scene", {"collision", "outputs", "rotors", "scalar"});
   SceneSpec scene;
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
+  if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body"});
   if (const YAML::Node& c = node["collision"]) {
     require_map(x.path, c, "scene: collision", "{margin: 0.05, exclude: [[torso, pelvis]]}");
     reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "include", "margin", "prune_samples"});
@@ -255,6 +275,7 @@ void apply_mbgen_extras(const ExtrasFile& x, Description& d) {
     if (root["drives"]) read_drives(x, root["drives"], d);
     if (root["ssv"]) read_ssv(x, root["ssv"], d);
     if (root["scene"]) read_scene(x, root["scene"], d);
+    apply_drives(d);
   } catch (const YAML::Exception& e) {  // what a typed read above missed
     throw LoadError(x.path, e.mark.is_null() ? 0 : e.mark.line + 1, "", fmt::format("unexpected YAML: {}", e.msg),
                     "compare with the schema in docs/extras.md");

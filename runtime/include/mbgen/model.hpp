@@ -38,6 +38,14 @@ struct Joint {
   int idx_q = 0, idx_v = 0, nq = 0, nv = 0;
   bool bounded = false;  ///< revolute with limits, prismatic; false for continuous and floating
   double lower = 0, upper = 0, velocity_limit = 0, effort_limit = 0, damping = 0, friction = 0;
+  /// Geared drive (harmonic drive, ball screw) of a 1-DoF joint; see algorithm/rotor.hpp.
+  /// Armature model: the rotor's reflected inertia N^2 I_r, added to the diagonal of M (as
+  /// Pinocchio's Model::armature). Body model: a rotor that spins about the joint axis, fixed in
+  /// the parent body, at N times the joint rate, with its gyroscopic coupling.
+  double armature = 0;           ///< reflected inertia on the diagonal, kg m^2 (revolute) or kg (prismatic)
+  double rotor_gear_ratio = 0;   ///< body model: rotor rate / joint rate (rad/rad or rad/m); 0 = no rotor body
+  double rotor_inertia = 0;      ///< body model: rotor inertia about its spin axis, kg m^2
+  bool has_rotor_body() const { return rotor_gear_ratio != 0 && rotor_inertia != 0; }
 };
 
 struct Body {

@@ -54,6 +54,7 @@ struct SceneSpec {
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given
   std::string scalar = "double";
+  std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
 };
 
 /// Where each URDF element starts (1-based lines), so that later checks can point at it.

@@ -1,9 +1,33 @@
 #pragma once
 // Articulated-body algorithm (Featherstone): forward dynamics in O(n).
 #include "mbgen/algorithm/kinematics.hpp"
+#include "mbgen/algorithm/rotor.hpp"
 #include "mbgen/algorithm/small_ldlt.hpp"
 
 namespace mbgen {
+
+namespace detail {
+/// The rotor body of the 1-DoF joint moving body i (rotor.hpp) in the ABA's backward pass. With
+/// the rotor, the joint drives the pair (child, rotor): U_t = X^T U + N r in the parent frame,
+/// r = I_R S_R = [0; I_r w], and D already holds N^2 I_r. The child's part, X^T (IA - U U^T/D) X
+/// and X^T (pA + Ia c + U u/D), is added by the caller; this adds the rest:
+///   IA_P += I_R - (N (X^T U) r^T + N r (X^T U)^T + N^2 r r^T) / D
+///   pA_P += pA_R + N r (u - U^T c) / D,   pA_R = v_R x* I_R v_R  (I_R c_R = 0 for an axisymmetric rotor).
+template <typename S>
+void add_rotor_to_parent(const Model& model, Data<S>& data, BodyIndex i, const S& qd, const S& u_minus_Uc) {
+  const Body& body = model.body(i);
+  const Joint& joint = model.joint(body.joint);
+  const BodyIndex p = body.parent;
+  const S Dinv = data.D_inv[i](0, 0);
+  const Vec6<S> XU = force_child_to_parent<S>(joint, data.X_J[i], Force<S>::from_vector(data.U[i].col(0))).vector();
+  const Vec6<S> Nr = rotor_momentum_per_rate<S>(joint).vector() * S(joint.rotor_gear_ratio);
+  data.IA[p] += rotor_inertia_in_parent<S>(joint) -
+                (Nr * XU.transpose() + XU * Nr.transpose() + Nr * Nr.transpose()) * Dinv;
+  // pA_R: the rotor's gyroscopic force (its force at zero accelerations).
+  data.pA[p] += rotor_force<S>(joint, data.v[p], Motion<S>::Zero(), qd, S(0));
+  data.pA[p] += Force<S>::from_vector(Nr * (u_minus_Uc * Dinv));
+}
+}  // namespace detail
 
 /// Joint accelerations ddq (nv) for state (q, v) and joint forces tau (nv), in data.ddq, also
 /// returned. Equal to M(q)^-1 (tau - C(q, v) v - g(q)).
@@ -40,7 +64,9 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
       u[col] = tau[joint.idx_v + col] - proj[col];
     }
     if (n == 1) {
-      Dinv(0, 0) = S(1) / joint_subspace_column<S>(joint, 0).vector().dot(U.col(0));
+      S D = joint_subspace_column<S>(joint, 0).vector().dot(U.col(0));
+      if (joint.armature != 0 || joint.has_rotor_body()) D += S(drive_diagonal_inertia(joint));
+      Dinv(0, 0) = S(1) / D;
     } else {
       Mat6<S> D;
       for (int col = 0; col < n; ++col) {
@@ -76,6 +102,7 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
     Vec6<S> pa = data.pA[i].vector() + Ia * data.c[i].vector() + U.leftCols(n) * Dinv_u.head(n);
     data.IA[body.parent] += inertia_child_to_parent<S>(joint, data.X_J[i], Ia);
     data.pA[body.parent] += force_child_to_parent<S>(joint, data.X_J[i], Force<S>::from_vector(pa));
+    if (joint.has_rotor_body()) detail::add_rotor_to_parent<S>(model, data, i, v[joint.idx_v], u[0] - U.col(0).dot(data.c[i].vector()));
   }
   // Pass 3, root to leaves: accelerations.
   data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
@@ -87,6 +114,8 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
     Motion<S> a_prime = motion_parent_to_child<S>(joint, data.X_J[i], data.a[body.parent]) + data.c[i];
     Vec6<S> rhs;
     for (int r = 0; r < n; ++r) rhs[r] = data.u[i][r] - data.U[i].col(r).dot(a_prime.vector());
+    if (joint.has_rotor_body())  // the rotor's reaction to the parent's acceleration
+      rhs[0] -= S(joint.rotor_gear_ratio) * rotor_momentum_per_rate<S>(joint).angular.dot(data.a[body.parent].angular);
     S* qdd = data.ddq.data() + joint.idx_v;
     if (n == 1) {
       qdd[0] = data.D_inv[i](0, 0) * rhs[0];

@@ -1,6 +1,7 @@
 #pragma once
 // Composite-rigid-body algorithm: the joint-space mass matrix M(q).
 #include "mbgen/algorithm/kinematics.hpp"
+#include "mbgen/algorithm/rotor.hpp"
 
 namespace mbgen {
 
@@ -11,6 +12,9 @@ template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, con
     const Joint& joint = model.joint(model.body(i).joint);
     data.X_J[i] = joint_motion_transform<S>(joint, q.data() + joint.idx_q);
     data.Y[i] = model.body(i).inertia.cast<S>().matrix();
+    // A rotor body moves with its parent except for its own spin (rotor.hpp).
+    const BodyIndex parent = model.body(i).parent;
+    if (joint.has_rotor_body() && parent != kWorldBody) data.Y[parent] += rotor_inertia_in_parent<S>(joint);
   }
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
@@ -30,8 +34,15 @@ template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, con
           data.M(jj.idx_v + r, c) = proj[r];
           data.M(c, jj.idx_v + r) = proj[r];
         }
+        if (j == i && col == 0 && (ji.armature != 0 || ji.has_rotor_body())) {
+          data.M(c, c) += S(drive_diagonal_inertia(ji));
+        }
         const BodyIndex parent = model.body(j).parent;
-        if (parent != kWorldBody) F = force_child_to_parent<S>(jj, data.X_J[j], F);
+        if (parent != kWorldBody) {
+          F = force_child_to_parent<S>(jj, data.X_J[j], F);
+          // This joint's rate also spins its rotor, which pushes on the parent.
+          if (j == i && ji.has_rotor_body()) F += rotor_momentum_per_rate<S>(ji) * S(ji.rotor_gear_ratio);
+        }
         j = parent;
       }
     }

@@ -1,6 +1,7 @@
 #pragma once
 // Recursive Newton-Euler inverse dynamics: tau = M(q) a + C(q, v) v + g(q).
 #include "mbgen/algorithm/kinematics.hpp"
+#include "mbgen/algorithm/rotor.hpp"
 
 namespace mbgen {
 
@@ -22,12 +23,17 @@ const VecX<S>& rnea(const Model& model, Data<S>& data, const ConstVecRef<S>& q, 
                 joint_velocity<S>(joint, a.data() + joint.idx_v) + data.v[i].cross(vj);
     const Inertia<S> I = body.inertia.cast<S>();
     data.f[i] = I * data.a[i] + data.v[i].cross(I * data.v[i]);
+    // A rotor body rides on the parent: its force joins the parent's (rotor.hpp).
+    if (joint.has_rotor_body() && body.parent != kWorldBody)
+      data.f[body.parent] += rotor_force<S>(joint, data.v[body.parent], data.a[body.parent], v[joint.idx_v], a[joint.idx_v]);
   }
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
     joint_project<S>(joint, data.f[i], data.tau.data() + joint.idx_v);
+    if (joint.armature != 0 || joint.has_rotor_body())
+      data.tau[joint.idx_v] += rotor_joint_force<S>(joint, data.a[body.parent], a[joint.idx_v]);
     if (body.parent != kWorldBody) data.f[body.parent] += force_child_to_parent<S>(joint, data.X_J[i], data.f[i]);
   }
   return data.tau;

@@ -56,6 +56,7 @@ template <typename S> struct Force {
   Force operator+(const Force& o) const { return {linear + o.linear, angular + o.angular}; }
   Force operator-(const Force& o) const { return {linear - o.linear, angular - o.angular}; }
   Force operator-() const { return {-linear, -angular}; }
+  Force operator*(const S& s) const { return {linear * s, angular * s}; }
   Force& operator+=(const Force& o) {
     linear += o.linear;
     angular += o.angular;
