@@ -72,6 +72,10 @@ TEST_P(InspectEveryUrdf, TextJsonFixedAndFloating) {
   EXPECT_NE(text.out.find("verdict: OK"), std::string::npos);
   EXPECT_TRUE(text.err.empty()) << text.err;  // urdfdom's console output is captured, not printed
   expect_json_report(run_mbgen("inspect " + urdf + " --json"), GetParam());
+  if (test::loadable_bases(GetParam()).size() < 2) {  // hung from "world" by moving joints
+    EXPECT_EQ(run_mbgen("inspect " + urdf + " --floating --json").status, 2);
+    return;
+  }
   const Outcome floating = run_mbgen("inspect " + urdf + " --floating --json");
   expect_json_report(floating, GetParam() + " --floating");
   EXPECT_EQ(nlohmann::json::parse(floating.out)["base"], "floating");

@@ -103,7 +103,14 @@ void print_text(const Description& d, std::ostream& out) {
                        drive.rotor_inertia, drive.model);
   if (!d.ssv.empty()) {
     out << fmt::format("ssv compounds ({}):\n", d.ssv.size());
-    for (const auto& [link, compound] : d.ssv) out << fmt::format("  {}: {} primitive(s)\n", link, compound.size());
+    for (const auto& [link, compound] : d.ssv)
+      out << fmt::format("  {}: {} primitive(s), from {}\n", link, compound.size(),
+                         compound.empty() ? "-" : compound.front().source);
+  }
+  if (!d.collision_geometry_not_modelled.empty()) {
+    std::vector<std::string> counts;
+    for (const auto& [kind, n] : d.collision_geometry_not_modelled) counts.push_back(fmt::format("{} {}", n, kind));
+    out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
   out << fmt::format("\nwarnings ({}):\n", d.warnings.size());
@@ -161,7 +168,7 @@ Json to_json(const Description& d) {
       static const char* kinds[] = {"point", "line", "triangle"};
       Json points = Json::array();
       for (const Vec3<double>& point : p.points) points.push_back(vec_json(point));
-      list.push_back({{"kind", kinds[static_cast<int>(p.kind)]}, {"points", points}, {"radius", p.radius}});
+      list.push_back({{"kind", kinds[static_cast<int>(p.kind)]}, {"points", points}, {"radius", p.radius}, {"source", p.source}});
     }
     ssv[link] = list;
   }

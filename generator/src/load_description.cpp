@@ -32,6 +32,7 @@ Description load_description(const std::string& path, const LoadOptions& options
   d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
   d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
   d.robot_name = d.model.name;
+  add_collision_ssvs(path, d);
   if (extras) {
     if (extras->schema == ExtrasFile::Schema::ParallelLegs)
       apply_parallel_legs(*extras, d);

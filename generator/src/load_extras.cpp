@@ -174,8 +174,11 @@ void read_ssv(const ExtrasFile& x, const YAML::Node& node, Description& d) {
     resolve_frame(x.path, entry.first, "ssv", d.model);
     require_sequence(x.path, entry.second, element, "[{point: [0, 0, 0], radius: 0.06}]");
     std::vector<SsvPrimitive>& compound = d.ssv[link];
-    for (std::size_t i = 0; i < entry.second.size(); ++i)
+    compound.clear();  // the extras' compound replaces what the URDF's <collision> elements gave
+    for (std::size_t i = 0; i < entry.second.size(); ++i) {
       compound.push_back(read_primitive(x.path, entry.second[i], fmt::format("{}[{}]", element, i)));
+      compound.back().source = fmt::format("{}:{}", x.path, line_of(entry.second[i]));
+    }
   }
 }
 

@@ -18,6 +18,7 @@
 #include "mbgen/gen/description.hpp"
 #include "mbgen/gen/load_error.hpp"
 #include "mbgen/gen/validate.hpp"
+#include "parse_urdf.hpp"
 
 namespace mbgen::gen {
 
@@ -258,24 +259,32 @@ Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::s
   return load_urdf_model(path, base, warnings, nullptr);
 }
 
-Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines) {
+namespace {
+XmlIndex read_and_index(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  const XmlIndex xml = index_xml(path, text);
+  return index_xml(path, buffer.str());
+}
 
-  urdf::ModelInterfaceSharedPtr urdf;
-  {
-    CapturedLog log;
-    urdf = urdf::parseURDF(xml.urdf_text);
-    if (!urdf) {
-      std::string why = log.messages.empty() ? "urdfdom rejected the description" : log.messages.back();
-      throw LoadError(path, 0, "", fmt::format("invalid URDF: {}", why),
-                      "correct the element named above (see the URDF specification)");
-    }
+urdf::ModelInterfaceSharedPtr parse_indexed(const std::string& path, const XmlIndex& xml) {
+  CapturedLog log;
+  urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(xml.urdf_text);
+  if (!urdf) {
+    std::string why = log.messages.empty() ? "urdfdom rejected the description" : log.messages.back();
+    throw LoadError(path, 0, "", fmt::format("invalid URDF: {}", why),
+                    "correct the element named above (see the URDF specification)");
   }
+  return urdf;
+}
+}  // namespace
+
+urdf::ModelInterfaceSharedPtr parse_urdf_file(const std::string& path) { return parse_indexed(path, read_and_index(path)); }
+
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines) {
+  const XmlIndex xml = read_and_index(path);
+  urdf::ModelInterfaceSharedPtr urdf = parse_indexed(path, xml);
 
   if (lines) {
     lines->link = xml.link_line;

@@ -43,6 +43,7 @@ struct SsvPrimitive {
   Kind kind = Kind::Point;
   std::vector<Vec3<double>> points;  ///< 1, 2 or 3 points
   double radius = 0.0;
+  std::string source;  ///< where it was given: the extras' file:line, or the URDF <collision> it models
 };
 
 /// What the generated code must provide (`scene:` of the extras). Kept as given; later issues
@@ -85,7 +86,8 @@ struct Description {
   /// joint_name / joint_type of a parallel_legs robot.yaml: URDF revolute joints that stand for
   /// another joint (SPHERICAL, UJOINT_XY). Recorded only; the tree is not changed yet.
   std::map<std::string, std::string> joint_type_overrides;
-  std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound
+  std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound (extras, else URDF spheres/cylinders)
+  std::map<std::string, int> collision_geometry_not_modelled;  ///< URDF <collision> kinds with no SSV (box, mesh) -> count
   std::optional<SceneSpec> scene;
   SourceLines urdf_lines;  ///< lines of the URDF's <link> and <joint> elements
 };
@@ -98,6 +100,9 @@ struct LoadOptions {
 
 /// Loads a URDF (and extras). Throws LoadError with file, line, element and fix on bad input.
 Description load_description(const std::string& path, const LoadOptions& options = {});
+
+/// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
+void add_collision_ssvs(const std::string& path, Description& d);
 
 /// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);
