@@ -23,6 +23,7 @@
 #include <kdl/jntspaceinertiamatrix.hpp>
 
 #include "bench_generated.hpp"
+#include "bench_rotor.hpp"
 #include "bench_support.hpp"
 #include "kdl_from_urdf.hpp"
 #include "mbgen/gen/description.hpp"
@@ -166,6 +167,7 @@ int main(int argc, char** argv) {
     robots.push_back(load_robot("talos", "talos/talos_reduced.urdf", gen::BaseType::Floating));
     for (const Robot& robot : robots) add_generic(robot);
     for (const Robot& robot : robots) add_generated(robot);
+    add_rotor_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbgen_bench: %s\n", e.what());
