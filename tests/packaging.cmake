@@ -15,3 +15,10 @@ endfunction()
 mbgen_add_firmware_test(iiwa14 ${MBGEN_SHARED_ROBOTS}/iiwa14/iiwa14_primitive_collision.urdf --fixed)
 mbgen_add_firmware_test(lola ${PROJECT_SOURCE_DIR}/robots/lola/lola.urdf
                         --extras ${PROJECT_SOURCE_DIR}/robots/lola/lola.yaml)
+
+# Install: `cmake --install` into a fresh prefix, then a separate project (tests/consumer) finds
+# the package, generates tests/data/tiny_arm.urdf with the installed mbgen, builds and runs.
+add_test(NAME install.consumer
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/consumer/run_consumer_test.sh
+                 ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/consumer ${CMAKE_BUILD_TYPE})
+set_tests_properties(install.consumer PROPERTIES PROCESSORS 2 TIMEOUT 600)
