@@ -22,3 +22,8 @@ add_test(NAME install.consumer
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/consumer/run_consumer_test.sh
                  ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/consumer ${CMAKE_BUILD_TYPE})
 set_tests_properties(install.consumer PROPERTIES PROCESSORS 2 TIMEOUT 600)
+
+# Committed output: generated/ equals what this mbgen makes of robots/, byte for byte
+# (scripts/regenerate.sh updates it).
+add_test(NAME generated.up_to_date
+         COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/regenerate.sh --check --mbgen $<TARGET_FILE:mbgen>)
