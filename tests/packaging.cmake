@@ -27,3 +27,9 @@ set_tests_properties(install.consumer PROPERTIES PROCESSORS 2 TIMEOUT 600)
 # (scripts/regenerate.sh updates it).
 add_test(NAME generated.up_to_date
          COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/regenerate.sh --check --mbgen $<TARGET_FILE:mbgen>)
+
+# bench/report.py (Markdown table + gnuplot chart from Google Benchmark JSON), on a checked-in
+# sample. Debian's python3 first: the script uses its standard library only.
+find_program(MBGEN_PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)
+find_program(MBGEN_PYTHON3 python3)
+add_test(NAME bench.report COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_bench_report.py)
