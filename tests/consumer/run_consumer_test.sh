@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Install test (issue 3): installs the build tree into a fresh prefix, then configures, builds and
+# runs tests/consumer (find_package(mbgen) + mbgen_add_robot) against that prefix alone.
+#
+#   run_consumer_test.sh BUILD_DIR WORK_DIR [CMAKE_BUILD_TYPE]
+set -euo pipefail
+if (($# < 2)); then
+  echo "usage: $0 BUILD_DIR WORK_DIR [CMAKE_BUILD_TYPE]" >&2
+  exit 2
+fi
+build_dir=$1 work_dir=$2 build_type=${3:-Release}
+source_dir=$(cd "$(dirname "$0")" && pwd)
+prefix=$work_dir/prefix
+
+rm -rf "$work_dir"
+mkdir -p "$work_dir"
+cmake --install "$build_dir" --prefix "$prefix" >"$work_dir/install.log"
+for installed in bin/mbgen include/mbgen/mbgen.hpp lib/cmake/mbgen/mbgenConfig.cmake \
+                 lib/cmake/mbgen/mbgenConfigVersion.cmake lib/cmake/mbgen/mbgen_add_robot.cmake; do
+  if [[ ! -e $prefix/$installed ]]; then
+    echo "FAIL: cmake --install did not install $installed (log: $work_dir/install.log)" >&2
+    exit 1
+  fi
+done
+
+# Only the fresh prefix may provide mbgen: no package registry, no MBGEN_EXECUTABLE from outside.
+cmake -S "$source_dir" -B "$work_dir/build" -DCMAKE_BUILD_TYPE="$build_type" \
+      -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -UMBGEN_EXECUTABLE \
+      >"$work_dir/configure.log" || { cat "$work_dir/configure.log"; exit 1; }
+if ! grep -q "mbgen generator: $prefix/bin/mbgen" "$work_dir/configure.log"; then
+  echo "FAIL: the consumer did not pick the installed generator:" >&2
+  grep "mbgen generator" "$work_dir/configure.log" >&2 || true
+  exit 1
+fi
+cmake --build "$work_dir/build" -j2 >"$work_dir/build.log" || { cat "$work_dir/build.log"; exit 1; }
+"$work_dir/build/consumer"

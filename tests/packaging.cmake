@@ -1,0 +1,35 @@
+# Packaging checks (issue 3), included at the end of tests/CMakeLists.txt. Each is a script run by
+# ctest: they exercise the built `mbgen` command, the install tree and the committed output, not a
+# C++ API. Exit code 77 means "skipped" (a tool that CI has is missing on this machine).
+
+# Firmware: float code for a shared arm and for the Lola biped compiles for a Cortex-M7 with
+# Debian's arm-none-eabi-g++ and references no heap or C++ runtime symbol (tests/firmware/).
+function(mbgen_add_firmware_test robot description)
+  add_test(NAME firmware.${robot}
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/firmware/check_firmware.sh
+                   $<TARGET_FILE:mbgen> ${PROJECT_SOURCE_DIR}/runtime/include
+                   ${CMAKE_CURRENT_BINARY_DIR}/firmware/${robot} ${robot} ${description} ${ARGN})
+  # The script compiles on every core.
+  set_tests_properties(firmware.${robot} PROPERTIES SKIP_RETURN_CODE 77 PROCESSORS 2 TIMEOUT 900)
+endfunction()
+mbgen_add_firmware_test(iiwa14 ${MBGEN_SHARED_ROBOTS}/iiwa14/iiwa14_primitive_collision.urdf --fixed)
+mbgen_add_firmware_test(lola ${PROJECT_SOURCE_DIR}/robots/lola/lola.urdf
+                        --extras ${PROJECT_SOURCE_DIR}/robots/lola/lola.yaml)
+
+# Install: `cmake --install` into a fresh prefix, then a separate project (tests/consumer) finds
+# the package, generates tests/data/tiny_arm.urdf with the installed mbgen, builds and runs.
+add_test(NAME install.consumer
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/consumer/run_consumer_test.sh
+                 ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/consumer ${CMAKE_BUILD_TYPE})
+set_tests_properties(install.consumer PROPERTIES PROCESSORS 2 TIMEOUT 600)
+
+# Committed output: generated/ equals what this mbgen makes of robots/, byte for byte
+# (scripts/regenerate.sh updates it).
+add_test(NAME generated.up_to_date
+         COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/regenerate.sh --check --mbgen $<TARGET_FILE:mbgen>)
+
+# bench/report.py (Markdown table + gnuplot chart from Google Benchmark JSON), on a checked-in
+# sample. Debian's python3 first: the script uses its standard library only.
+find_program(MBGEN_PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)
+find_program(MBGEN_PYTHON3 python3)
+add_test(NAME bench.report COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_bench_report.py)
