@@ -30,7 +30,7 @@ inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 /// in  v: [46] joint velocities
 /// in  tau: [46] joint forces
 /// out qdd: [46] joint accelerations
-/// Cost: 11248 operations: 4709 additions/subtractions, 6386 multiplications, 70 divisions, 15 negations, 68 sin/cos, 0 square roots.
+/// Cost: 11335 operations: 4753 additions/subtractions, 6429 multiplications, 70 divisions, 15 negations, 68 sin/cos, 0 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 void forward_dynamics(const float* q, const float* v, const float* tau, float* qdd);
 
@@ -39,14 +39,14 @@ void forward_dynamics(const float* q, const float* v, const float* tau, float* q
 /// in  v: [46] joint velocities
 /// in  qdd: [46] joint accelerations
 /// out tau: [46] joint forces
-/// Cost: 5440 operations: 2333 additions/subtractions, 3035 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
+/// Cost: 5476 operations: 2351 additions/subtractions, 3053 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 void inverse_dynamics(const float* q, const float* v, const float* qdd, float* tau);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [47] joint positions
 /// out M: [46 x 46, row-major] mass matrix
-/// Cost: 6312 operations: 2348 additions/subtractions, 3861 multiplications, 0 divisions, 35 negations, 68 sin/cos, 0 square roots.
+/// Cost: 6325 operations: 2361 additions/subtractions, 3861 multiplications, 0 divisions, 35 negations, 68 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
 void mass_matrix(const float* q, float* M);
 
