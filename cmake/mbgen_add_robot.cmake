@@ -9,7 +9,7 @@
 # host build of mbgen), else the mbgen target of this build or of the installed package.
 #
 #   NAME        C++ namespace and file prefix (default: <target>)
-#   SCALAR      scalar types emitted (default: both)
+#   SCALAR      scalar types emitted (default: the extras' scene `scalar:`, else both)
 #   OUTPUT_DIR  default: ${CMAKE_CURRENT_BINARY_DIR}/mbgen/<NAME>
 
 # The functions every generation emits, one source file each (<NAME>_<function>.cpp).
@@ -28,15 +28,15 @@ function(mbgen_add_robot)
   if(NOT MB_NAME)
     set(MB_NAME ${MB_TARGET})
   endif()
-  if(NOT MB_SCALAR)
-    set(MB_SCALAR both)
-  endif()
   if(NOT MB_OUTPUT_DIR)
     set(MB_OUTPUT_DIR ${CMAKE_CURRENT_BINARY_DIR}/mbgen/${MB_NAME})
   endif()
   get_filename_component(description ${MB_DESCRIPTION} ABSOLUTE)
 
-  set(arguments generate ${description} --out ${MB_OUTPUT_DIR} --name ${MB_NAME} --scalar ${MB_SCALAR} --quiet)
+  set(arguments generate ${description} --out ${MB_OUTPUT_DIR} --name ${MB_NAME} --quiet)
+  if(MB_SCALAR)
+    list(APPEND arguments --scalar ${MB_SCALAR})
+  endif()
   set(inputs ${description})
   if(MB_EXTRAS)
     get_filename_component(extras ${MB_EXTRAS} ABSOLUTE)

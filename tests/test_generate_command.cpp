@@ -20,10 +20,10 @@ std::string read(const fs::path& p) {
   return s.str();
 }
 
-int generate(const fs::path& out, const std::string& name) {
-  const std::string cmd = std::string(MBGEN_BINARY) + " generate " +
-                          mbgen::test::shared_robot("iiwa14/iiwa14_primitive_collision.urdf") + " --out " +
-                          out.string() + " --name " + name + " --quiet 2>/dev/null";
+int generate(const fs::path& out, const std::string& name, const std::string& more = "",
+             const std::string& description = mbgen::test::shared_robot("iiwa14/iiwa14_primitive_collision.urdf")) {
+  const std::string cmd = std::string(MBGEN_BINARY) + " generate " + description + " --out " + out.string() +
+                          " --name " + name + " " + more + " --quiet 2>/dev/null";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -54,6 +54,20 @@ TEST(GenerateCommand, NeverOverwritesAForeignFile) {
   EXPECT_EQ(generate(dir, "arm"), 2);
   EXPECT_EQ(read(dir / "arm.hpp"), "// my own header\n");
   EXPECT_FALSE(fs::exists(dir / "arm_forward_dynamics.cpp"));  // nothing written at all
+}
+
+TEST(GenerateCommand, TheScenesScalarUnlessTheCommandLineSaysOtherwise) {
+  const std::string data = MBGEN_TEST_DATA;
+  const fs::path dir = fresh_dir("scalar");
+  // tiny_arm_full.yaml's scene asks for float: no double entry point is emitted.
+  ASSERT_EQ(generate(dir, "arm", "--extras " + data + "/extras/tiny_arm_full.yaml", data + "/tiny_arm.urdf"), 0);
+  std::string header = read(dir / "arm.hpp");
+  EXPECT_NE(header.find("void forward_dynamics(const float* q"), std::string::npos);
+  EXPECT_EQ(header.find("void forward_dynamics(const double* q"), std::string::npos);
+  ASSERT_EQ(generate(dir, "arm", "--scalar both --extras " + data + "/extras/tiny_arm_full.yaml", data + "/tiny_arm.urdf"), 0);
+  header = read(dir / "arm.hpp");
+  EXPECT_NE(header.find("void forward_dynamics(const double* q"), std::string::npos);
+  EXPECT_NE(header.find("void forward_dynamics(const float* q"), std::string::npos);
 }
 
 }  // namespace

@@ -32,7 +32,6 @@ inline constexpr const char* frame_names[] = {"foot"};
 /// out qdd: [8] joint accelerations
 /// Cost: 400 operations: 150 additions/subtractions, 230 multiplications, 5 divisions, 3 negations, 12 sin/cos, 0 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
-void forward_dynamics(const float* q, const float* v, const float* tau, float* qdd);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [8] joint positions
@@ -41,48 +40,41 @@ void forward_dynamics(const float* q, const float* v, const float* tau, float* q
 /// out tau: [8] joint forces
 /// Cost: 392 operations: 145 additions/subtractions, 228 multiplications, 0 divisions, 7 negations, 12 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
-void inverse_dynamics(const float* q, const float* v, const float* qdd, float* tau);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [8] joint positions
 /// out M: [8 x 8, row-major] mass matrix
 /// Cost: 72 operations: 34 additions/subtractions, 31 multiplications, 0 divisions, 1 negations, 6 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
-void mass_matrix(const float* q, float* M);
 
 /// Pose of every body in the world, in body_names order.
 /// in  q: [8] joint positions
 /// out X_WB: [8 x 12] per body the 3x4 matrix [R_WB | p_WB], row-major
 /// Cost: 71 operations: 20 additions/subtractions, 30 multiplications, 0 divisions, 9 negations, 12 sin/cos, 0 square roots.
 void forward_kinematics(const double* q, double* X_WB);
-void forward_kinematics(const float* q, float* X_WB);
 
 /// Pose of each frame in frame_names, in the world.
 /// in  q: [8] joint positions
 /// out X_WF: [1 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
 /// Cost: 27 operations: 7 additions/subtractions, 13 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
 void frame_poses(const double* q, double* X_WF);
-void frame_poses(const float* q, float* X_WF);
 
 /// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 /// in  q: [8] joint positions
 /// out J: [1 x 6 x 8] per frame a row-major 6 x nv matrix
 /// Cost: 37 operations: 10 additions/subtractions, 18 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 void frame_jacobians(const double* q, double* J);
-void frame_jacobians(const float* q, float* J);
 
 /// Centre of mass of the robot in the world.
 /// in  q: [8] joint positions
 /// out com: [3] centre of mass, world
 /// Cost: 114 operations: 50 additions/subtractions, 49 multiplications, 3 divisions, 0 negations, 12 sin/cos, 0 square roots.
 void center_of_mass(const double* q, double* com);
-void center_of_mass(const float* q, float* com);
 
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [8] joint positions
 /// out Ag: [6 x 8, row-major] centroidal momentum matrix
 /// Cost: 825 operations: 343 additions/subtractions, 433 multiplications, 3 divisions, 34 negations, 12 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
-void centroidal_momentum_matrix(const float* q, float* Ag);
 
 }  // namespace ankle_2dof

@@ -895,6 +895,4 @@ void centroidal_momentum_matrix_impl(const S* q, S* Ag) {
 
 void centroidal_momentum_matrix(const double* q, double* Ag) { centroidal_momentum_matrix_impl<double>(q, Ag); }
 
-void centroidal_momentum_matrix(const float* q, float* Ag) { centroidal_momentum_matrix_impl<float>(q, Ag); }
-
 }  // namespace ankle_2dof

@@ -141,6 +141,4 @@ void forward_dynamics_impl(const S* q, const S* v, const S* tau, S* qdd) {
 
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd) { forward_dynamics_impl<double>(q, v, tau, qdd); }
 
-void forward_dynamics(const float* q, const float* v, const float* tau, float* qdd) { forward_dynamics_impl<float>(q, v, tau, qdd); }
-
 }  // namespace four_bar

@@ -112,6 +112,4 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
 
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau) { inverse_dynamics_impl<double>(q, v, qdd, tau); }
 
-void inverse_dynamics(const float* q, const float* v, const float* qdd, float* tau) { inverse_dynamics_impl<float>(q, v, qdd, tau); }
-
 }  // namespace four_bar

@@ -32,7 +32,6 @@ inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 /// out qdd: [46] joint accelerations
 /// Cost: 11335 operations: 4753 additions/subtractions, 6429 multiplications, 70 divisions, 15 negations, 68 sin/cos, 0 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
-void forward_dynamics(const float* q, const float* v, const float* tau, float* qdd);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [47] joint positions
@@ -41,48 +40,41 @@ void forward_dynamics(const float* q, const float* v, const float* tau, float* q
 /// out tau: [46] joint forces
 /// Cost: 5476 operations: 2351 additions/subtractions, 3053 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
-void inverse_dynamics(const float* q, const float* v, const float* qdd, float* tau);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [47] joint positions
 /// out M: [46 x 46, row-major] mass matrix
 /// Cost: 6325 operations: 2361 additions/subtractions, 3861 multiplications, 0 divisions, 35 negations, 68 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
-void mass_matrix(const float* q, float* M);
 
 /// Pose of every body in the world, in body_names order.
 /// in  q: [47] joint positions
 /// out X_WB: [41 x 12] per body the 3x4 matrix [R_WB | p_WB], row-major
 /// Cost: 1135 operations: 422 additions/subtractions, 645 multiplications, 0 divisions, 0 negations, 68 sin/cos, 0 square roots.
 void forward_kinematics(const double* q, double* X_WB);
-void forward_kinematics(const float* q, float* X_WB);
 
 /// Pose of each frame in frame_names, in the world.
 /// in  q: [47] joint positions
 /// out X_WF: [3 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
 /// Cost: 464 operations: 166 additions/subtractions, 270 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
 void frame_poses(const double* q, double* X_WF);
-void frame_poses(const float* q, float* X_WF);
 
 /// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 /// in  q: [47] joint positions
 /// out J: [3 x 6 x 46] per frame a row-major 6 x nv matrix
 /// Cost: 841 operations: 340 additions/subtractions, 474 multiplications, 0 divisions, 0 negations, 27 sin/cos, 0 square roots.
 void frame_jacobians(const double* q, double* J);
-void frame_jacobians(const float* q, float* J);
 
 /// Centre of mass of the robot in the world.
 /// in  q: [47] joint positions
 /// out com: [3] centre of mass, world
 /// Cost: 1413 operations: 589 additions/subtractions, 753 multiplications, 3 divisions, 0 negations, 68 sin/cos, 0 square roots.
 void center_of_mass(const double* q, double* com);
-void center_of_mass(const float* q, float* com);
 
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [47] joint positions
 /// out Ag: [6 x 46, row-major] centroidal momentum matrix
 /// Cost: 8414 operations: 3836 additions/subtractions, 4347 multiplications, 3 divisions, 160 negations, 68 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
-void centroidal_momentum_matrix(const float* q, float* Ag);
 
 }  // namespace lola

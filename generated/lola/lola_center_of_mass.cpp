@@ -1438,6 +1438,4 @@ void center_of_mass_impl(const S* q, S* com) {
 
 void center_of_mass(const double* q, double* com) { center_of_mass_impl<double>(q, com); }
 
-void center_of_mass(const float* q, float* com) { center_of_mass_impl<float>(q, com); }
-
 }  // namespace lola

@@ -1649,6 +1649,4 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
 
 void forward_kinematics(const double* q, double* X_WB) { forward_kinematics_impl<double>(q, X_WB); }
 
-void forward_kinematics(const float* q, float* X_WB) { forward_kinematics_impl<float>(q, X_WB); }
-
 }  // namespace lola

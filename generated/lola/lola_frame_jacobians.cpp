@@ -1691,6 +1691,4 @@ void frame_jacobians_impl(const S* q, S* J) {
 
 void frame_jacobians(const double* q, double* J) { frame_jacobians_impl<double>(q, J); }
 
-void frame_jacobians(const float* q, float* J) { frame_jacobians_impl<float>(q, J); }
-
 }  // namespace lola

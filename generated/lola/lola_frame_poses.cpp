@@ -522,6 +522,4 @@ void frame_poses_impl(const S* q, S* X_WF) {
 
 void frame_poses(const double* q, double* X_WF) { frame_poses_impl<double>(q, X_WF); }
 
-void frame_poses(const float* q, float* X_WF) { frame_poses_impl<float>(q, X_WF); }
-
 }  // namespace lola

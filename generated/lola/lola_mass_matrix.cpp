@@ -8463,6 +8463,4 @@ void mass_matrix_impl(const S* q, S* M) {
 
 void mass_matrix(const double* q, double* M) { mass_matrix_impl<double>(q, M); }
 
-void mass_matrix(const float* q, float* M) { mass_matrix_impl<float>(q, M); }
-
 }  // namespace lola

@@ -18,7 +18,7 @@ namespace mbgen::cli {
 namespace {
 
 struct GenerateOptions {
-  std::string description, extras, out, name, scalar = "both";
+  std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
   std::vector<std::string> frames;
   bool floating = false, fixed = false, quiet = false;
 };
@@ -34,9 +34,11 @@ int run_generate(const GenerateOptions& o) {
 
     codegen::CodegenOptions options;
     options.name = codegen::sanitize_identifier(!o.name.empty() ? o.name : d.robot_name.empty() ? d.model.name : d.robot_name);
-    options.scalars = o.scalar == "double" ? codegen::ScalarChoice::Double
-                      : o.scalar == "float" ? codegen::ScalarChoice::Float
-                                            : codegen::ScalarChoice::Both;
+    // --scalar wins; else the scene's `scalar:` (a firmware scene asks for float alone); else both.
+    const std::string scalar = !o.scalar.empty() ? o.scalar : d.scene && !d.scene->scalar.empty() ? d.scene->scalar : "both";
+    options.scalars = scalar == "double" ? codegen::ScalarChoice::Double
+                      : scalar == "float" ? codegen::ScalarChoice::Float
+                                          : codegen::ScalarChoice::Both;
     options.frames = o.frames;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
@@ -74,7 +76,7 @@ void add_generate_command(CLI::App& app, int& status) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "output directory (created if missing)")->required();
   cmd->add_option("--name", options->name, "C++ namespace (default: the extras' robot, else the URDF's name)");
-  cmd->add_option("--scalar", options->scalar, "scalar types to emit")
+  cmd->add_option("--scalar", options->scalar, "scalar types to emit (default: the scene's scalar, else both)")
       ->check(CLI::IsMember({"double", "float", "both"}));
   cmd->add_option("--frames", options->frames, "frames for frame_poses/frame_jacobians (default: scene, else leaf bodies)")
       ->delimiter(',');

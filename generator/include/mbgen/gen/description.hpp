@@ -54,7 +54,7 @@ struct SceneSpec {
   double collision_margin = 0.0;
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given
-  std::string scalar = "double";
+  std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
   std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
 };
 
