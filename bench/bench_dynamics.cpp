@@ -6,7 +6,8 @@
 //   robots           iiwa14 (fixed base, nv 7), hyq (floating, nv 18), talos (floating, talos_reduced, nv 38)
 //   implementations  generic (mbgen's runtime instantiated with double),
 //                    generated (the code `mbgen generate` emits, bench_generated.cpp),
-//                    kdl (orocos-kdl, fixed-base chains only: iiwa14)
+//                    kdl (orocos-kdl: every algorithm on the iiwa14 chain; rnea on hyq and talos
+//                    as a tree with six virtual base joints)
 //
 // Every implementation of one robot runs on the same seeded states (bench_support.hpp).
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include <kdl/jacobian.hpp>
 #include <kdl/jntarray.hpp>
 #include <kdl/jntspaceinertiamatrix.hpp>
+#include <kdl/treeidsolver_recursive_newton_euler.hpp>
 
 #include "bench_generated.hpp"
 #include "bench_rotor.hpp"
@@ -151,6 +153,44 @@ void add_kdl(const Robot& robot, const std::string& root, const std::string& tip
                            });
 }
 
+/// orocos-kdl's inverse dynamics on a floating-base robot: TreeIdSolver_RNE on the tree with six
+/// virtual joints (x, y, z, roll, pitch, yaw) under the root link (kdl_floating_tree_from_urdf_file,
+/// checked against mbgen in test_peer_kdl's PeerKdlFloating), the way KDL users model a floating
+/// base. The same nv as mbgen's floating joint; the virtual joints take the sample's base entries
+/// (positions from q[0..5], so the quaternion's x, y, z serve as angles).
+void add_kdl_floating_rnea(const Robot& robot) {
+  const KDL::Tree tree = peer::kdl_floating_tree_from_urdf_file(robot.urdf);
+  const std::map<std::string, unsigned> tree_index = peer::kdl_tree_joint_indices(tree);
+  const Model& model = robot.model;
+  if (static_cast<int>(tree_index.size()) != model.nv())
+    throw std::runtime_error("the floating KDL tree of " + robot.name + " does not match mbgen's nv");
+  const char* base_joints[] = {"floating_x", "floating_y", "floating_z", "floating_rx", "floating_ry", "floating_rz"};
+  std::vector<unsigned> kdl_of_v(model.nv());
+  for (int k = 0; k < 6; ++k) kdl_of_v[k] = tree_index.at(base_joints[k]);
+  for (int j = 2; j < model.num_joints(); ++j) kdl_of_v[model.joint(JointIndex(j)).idx_v] = tree_index.at(model.joint(JointIndex(j)).name);
+  auto to_kdl = [&](const VecX<double>& x, int offset) {  // offset: where the joints start in x (q: 7, v: 6)
+    KDL::JntArray out(model.nv());
+    for (int k = 0; k < 6; ++k) out(kdl_of_v[k]) = x[k];
+    for (int k = 6; k < model.nv(); ++k) out(kdl_of_v[k]) = x[offset + k - 6];
+    return out;
+  };
+  auto pool = std::make_shared<std::vector<KdlSample>>();
+  for (const Sample& s : *robot.pool) pool->push_back({to_kdl(s.q, 7), to_kdl(s.v, 6), to_kdl(s.a, 6), to_kdl(s.tau, 6)});
+  std::shared_ptr<const std::vector<KdlSample>> inputs = pool;
+  const Vec3<double> g = model.gravity;
+  struct Work {
+    Work(const KDL::Tree& t, const Vec3<double>& g, int n) : tree(t), solver(tree, KDL::Vector(g.x(), g.y(), g.z())), out(n) {}
+    KDL::Tree tree;
+    KDL::TreeIdSolver_RNE solver;
+    KDL::JntArray out;
+  };
+  add_benchmark<KdlSample>("rnea", robot.name, "kdl", inputs,
+                           [w = std::make_shared<Work>(tree, g, model.nv())](const KdlSample& s) {
+                             w->solver.CartToJnt(s.q, s.v, s.a, KDL::WrenchMap(), w->out);
+                             return w->out.data.data();
+                           });
+}
+
 }  // namespace
 }  // namespace mbgen::bench
 
@@ -169,6 +209,8 @@ int main(int argc, char** argv) {
     for (const Robot& robot : robots) add_generated(robot);
     add_rotor_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
+    add_kdl_floating_rnea(robots[1]);
+    add_kdl_floating_rnea(robots[2]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbgen_bench: %s\n", e.what());
     return 1;

@@ -8,7 +8,7 @@ packages=(
   libtinyxml2-dev libconsole-bridge-dev libssl-dev
   libgtest-dev libbenchmark-dev liborocos-kdl-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
-  gnuplot-nox python3
+  gnuplot-nox python3 valgrind
 )
 missing=()
 for p in "${packages[@]}"; do

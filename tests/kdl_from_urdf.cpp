@@ -89,6 +89,35 @@ KDL::Tree kdl_tree_from_urdf_file(const std::string& path) {
   return tree;
 }
 
+KDL::Tree kdl_floating_tree_from_urdf_file(const std::string& path) {
+  urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(path);
+  if (!model) throw std::runtime_error("kdl_from_urdf: urdfdom could not parse '" + path + "'");
+  std::map<std::string, std::vector<urdf::JointConstSharedPtr>> children_of;
+  for (const auto& [name, joint] : model->joints_) children_of[joint->parent_link_name].push_back(joint);
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  KDL::Tree tree("kdl_world");
+  const struct {
+    const char* name;
+    KDL::Joint::JointType type;
+  } virtual_joints[] = {{"floating_x", KDL::Joint::TransX}, {"floating_y", KDL::Joint::TransY},
+                        {"floating_z", KDL::Joint::TransZ}, {"floating_rx", KDL::Joint::RotX},
+                        {"floating_ry", KDL::Joint::RotY},  {"floating_rz", KDL::Joint::RotZ}};
+  std::string parent = "kdl_world";
+  for (int k = 0; k < 6; ++k) {
+    const bool last = k == 5;
+    const std::string segment_name = last ? root->name : std::string(virtual_joints[k].name) + "_link";
+    const KDL::RigidBodyInertia inertia =
+        last && root->inertial ? to_kdl(*root->inertial) : KDL::RigidBodyInertia::Zero();
+    const KDL::Segment segment(segment_name, KDL::Joint(virtual_joints[k].name, virtual_joints[k].type),
+                               KDL::Frame::Identity(), inertia);
+    if (!tree.addSegment(segment, parent))
+      throw std::runtime_error("kdl_from_urdf: cannot add virtual segment '" + segment_name + "'");
+    parent = segment_name;
+  }
+  add_children(*model, children_of, root->name, tree);
+  return tree;
+}
+
 KDL::Chain kdl_chain_with_welded_branches(const KDL::Tree& tree, const std::string& root, const std::string& tip,
                                           const std::map<std::string, double>& off_chain_q) {
   KDL::Chain plain;

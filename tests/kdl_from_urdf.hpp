@@ -22,6 +22,14 @@ namespace mbgen::peer {
 /// Parses a URDF file with urdfdom and converts it. Throws std::runtime_error if it cannot.
 KDL::Tree kdl_tree_from_urdf_file(const std::string& path);
 
+/// The same robot with a floating base, as KDL users model one: six virtual joints between a new
+/// root segment "kdl_world" and the URDF root link, translations along the world x, y, z axes
+/// (joints floating_x, floating_y, floating_z) then rotations about x, y, z (floating_rx,
+/// floating_ry, floating_rz: roll-pitch-yaw), all through the root link's origin. The first five
+/// carry massless segments; the sixth is the root link with its inertia. With the virtual joints
+/// at zero and at rest, their forces are the wrench on the base at its origin in world axes.
+KDL::Tree kdl_floating_tree_from_urdf_file(const std::string& path);
+
 /// The chain root -> tip of `tree`, with every subtree that hangs off the chain (links reached
 /// through joints that are not on the chain) welded rigidly onto the chain segment it hangs from:
 /// its inertia is lumped into that segment with the off-chain joints held at `off_chain_q`

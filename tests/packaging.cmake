@@ -33,3 +33,11 @@ add_test(NAME generated.up_to_date
 find_program(MBGEN_PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)
 find_program(MBGEN_PYTHON3 python3)
 add_test(NAME bench.report COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_bench_report.py)
+
+# Instructions per call of the generated forward dynamics under callgrind (bench/), against the
+# operation count: fails above 4 instructions per operation (the code stopped being straight-line).
+if(MBGEN_BUILD_BENCH)
+  add_test(NAME bench.instructions_per_call
+           COMMAND bash ${PROJECT_SOURCE_DIR}/bench/instructions_per_call.sh ${PROJECT_BINARY_DIR})
+  set_tests_properties(bench.instructions_per_call PROPERTIES TIMEOUT 300)
+endif()

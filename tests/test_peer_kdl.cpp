@@ -251,5 +251,57 @@ INSTANTIATE_TEST_SUITE_P(
                       PeerCase{"panda", "panda/panda.urdf", "panda_link0", "panda_hand_tcp"}),
     [](const auto& info) { return info.param.name; });
 
+// Floating base: KDL has none, so kdl_floating_tree_from_urdf_file puts six virtual joints
+// (x, y, z, roll, pitch, yaw) under the root link, as KDL users do (and as the benchmarks' `kdl`
+// inverse dynamics on hyq and talos does). With the base at the world origin, unrotated and at
+// rest, the virtual joints' forces are the wrench on the base at its origin in world axes = base
+// axes: mbgen's floating-base rows of tau. The leg and arm joints move at random. Same 1e-9.
+class PeerKdlFloating : public ::testing::TestWithParam<PeerCase> {};
+
+TEST_P(PeerKdlFloating, InverseDynamicsAtBaseRest) {
+  const Model model = load_tree(shared_robot(GetParam().urdf), gen::BaseType::Floating);
+  ASSERT_TRUE(model.floating_base());
+  const KDL::Tree tree = peer::kdl_floating_tree_from_urdf_file(shared_robot(GetParam().urdf));
+  const std::map<std::string, unsigned> index = peer::kdl_tree_joint_indices(tree);
+  ASSERT_EQ(static_cast<int>(index.size()), model.nv()) << "six virtual joints + the robot's joints";
+  const char* base_joints[] = {"floating_x", "floating_y", "floating_z", "floating_rx", "floating_ry", "floating_rz"};
+  std::vector<unsigned> tree_of_v(model.nv());  // KDL index of each mbgen v entry
+  for (int k = 0; k < 6; ++k) tree_of_v[k] = index.at(base_joints[k]);
+  for (int j = 2; j < model.num_joints(); ++j) tree_of_v[model.joint(JointIndex(j)).idx_v] = index.at(model.joint(JointIndex(j)).name);
+  auto to_tree = [&](const VecX<double>& x) {  // x has nv entries (base entries zero here)
+    KDL::JntArray out(model.nv());
+    for (int k = 0; k < model.nv(); ++k) out(tree_of_v[k]) = x[k];
+    return out;
+  };
+  Data<double> data(model);
+  KDL::TreeIdSolver_RNE solver(tree, KDL::Vector(model.gravity.x(), model.gravity.y(), model.gravity.z()));
+  KDL::JntArray tau_kdl(model.nv());
+  std::mt19937_64 rng(19);
+  double worst = 0;
+  for (int trial = 0; trial < kStates; ++trial) {
+    VecX<double> q = random_configuration<double>(model, rng);
+    q.head<7>() << 0, 0, 0, 0, 0, 0, 1;  // base at the world origin, unrotated
+    VecX<double> v = random_vector<double>(model.nv(), rng, 2.0), a = random_vector<double>(model.nv(), rng, 5.0);
+    v.head<6>().setZero();
+    a.head<6>().setZero();
+    VecX<double> q_v(model.nv());  // joint positions in v layout (base entries zero)
+    q_v.head<6>().setZero();
+    q_v.tail(model.nv() - 6) = q.tail(model.nq() - 7);
+    const VecX<double> tau = rnea<double>(model, data, q, v, a);
+    ASSERT_EQ(solver.CartToJnt(to_tree(q_v), to_tree(v), to_tree(a), KDL::WrenchMap(), tau_kdl), 0);
+    VecX<double> tau_from_kdl(model.nv());
+    for (int k = 0; k < model.nv(); ++k) tau_from_kdl[k] = tau_kdl(tree_of_v[k]);
+    worst = std::max(worst, relative_error(tau, tau_from_kdl));
+  }
+  std::printf("  %s floating-base inverse dynamics: worst relative error %.2e\n", GetParam().name.c_str(), worst);
+  EXPECT_LT(worst, kTol);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Legged, PeerKdlFloating,
+    ::testing::Values(PeerCase{"hyq", "hyq/hyq_no_sensors.urdf", "", ""},
+                      PeerCase{"talos", "talos/talos_reduced.urdf", "", ""}),
+    [](const auto& info) { return info.param.name; });
+
 }  // namespace
 }  // namespace mbgen::test
