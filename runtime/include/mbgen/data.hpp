@@ -1,7 +1,7 @@
 #pragma once
 // Data<S>: work memory of the algorithms for scalar S. Making it allocates; after that no
 // algorithm allocates (tests/test_no_allocation.cpp proves it with a malloc guard).
-#include "mbgen/model.hpp"
+#include "mbgen/subsystem_work.hpp"
 
 namespace mbgen {
 
@@ -26,7 +26,12 @@ template <typename S> struct Data {
         M(MatX<S>::Zero(model.nv(), model.nv())),
         J(Mat6X<S>::Zero(6, model.nv())),
         Ag(Mat6X<S>::Zero(6, model.nv())),
-        Jcom(Mat3X<S>::Zero(3, model.nv())) {}
+        Jcom(Mat3X<S>::Zero(3, model.nv())),
+        subsystem_of_body(model.num_bodies(), -1) {
+    for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k)
+      for (BodyIndex b : model.subsystems[k].bodies) subsystem_of_body[b] = static_cast<int>(k);
+  }
 
   IndexedVector<BodyIndex, SE3<S>> X_J;    ///< joint transform: pose of each body in its joint frame
   IndexedVector<BodyIndex, SE3<S>> X_PB;   ///< pose of each body in its parent
@@ -53,6 +58,9 @@ template <typename S> struct Data {
   Vec3<S> com = Vec3<S>::Zero();   ///< centre of mass, world
   Vec3<S> vcom = Vec3<S>::Zero();  ///< velocity of the centre of mass, world
   Mat3X<S> Jcom;                   ///< centre-of-mass Jacobian, world
+
+  std::vector<SubSystemWork<S>> subsystem;        ///< one per Model::subsystems entry
+  IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body
 };
 
 }  // namespace mbgen

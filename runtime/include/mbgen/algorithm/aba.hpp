@@ -3,6 +3,7 @@
 #include "mbgen/algorithm/kinematics.hpp"
 #include "mbgen/algorithm/rotor.hpp"
 #include "mbgen/algorithm/small_ldlt.hpp"
+#include "mbgen/algorithm/subsystem_aba.hpp"
 
 namespace mbgen {
 
@@ -31,6 +32,13 @@ void add_rotor_to_parent(const Model& model, Data<S>& data, BodyIndex i, const S
 
 /// Joint accelerations ddq (nv) for state (q, v) and joint forces tau (nv), in data.ddq, also
 /// returned. Equal to M(q)^-1 (tau - C(q, v) v - g(q)).
+///
+/// With loops (Model::subsystems not empty), each sub-system is one aggregate body
+/// (subsystem_aba.hpp) and the caller first sets its velocity and acceleration maps G, g in
+/// data.subsystem for this state, with (q, v) consistent with the closures. tau then holds the
+/// forces of every tree joint (those on dependent joints act through G^T); the result is the
+/// accelerations of every tree joint, qdd_s = G ydd + g inside sub-systems, and ydd is in
+/// data.subsystem[s].ydd. Still O(n) overall.
 template <typename S>
 const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                    const ConstVecRef<S>& tau) {
@@ -51,6 +59,10 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
   // Pass 2, leaves to root: articulated inertias and bias forces.
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
+    if (const int s = data.subsystem_of_body[i]; s >= 0) {  // a sub-system: once, at its first body
+      if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_backward<S>(model, data, s, tau);
+      continue;
+    }
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
     const int n = joint.nv;
@@ -108,6 +120,10 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
   data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
+    if (const int s = data.subsystem_of_body[i]; s >= 0) {
+      if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_forward<S>(model, data, s);
+      continue;
+    }
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
     const int n = joint.nv;

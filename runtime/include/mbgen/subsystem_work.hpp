@@ -1,0 +1,75 @@
+#pragma once
+// Work memory of one sub-system (loop_closure.hpp) for the articulated-body algorithm with
+// sub-systems (algorithm/subsystem_aba.hpp), sized once from the model: k coordinates, p
+// independent coordinates, m bodies. Part of Data<S>.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mbgen/model.hpp"
+
+namespace mbgen {
+
+template <typename S> struct SubSystemWork {
+  SubSystemWork() = default;
+  /// Throws std::invalid_argument if the sub-system is not one aba() can treat: its bodies must
+  /// be moved by 1-DoF joints (coordinates[j] the joint of bodies[j]), each body's parent must be
+  /// in the sub-system or be its root, and no joint may carry a rotor body (armature is fine).
+  SubSystemWork(const Model& model, const SubSystem& s)
+      : G(MatX<S>::Zero(k(s), p(s))),
+        g(VecX<S>::Zero(k(s))),
+        H(MatX<S>::Zero(6 * m(s), p(s))),
+        F(MatX<S>::Zero(6 * m(s), p(s))),
+        bias(MatX<S>::Zero(6, m(s))),
+        U(MatX<S>::Zero(6, p(s))),
+        UDinv(MatX<S>::Zero(6, p(s))),
+        D(MatX<S>::Zero(p(s), p(s))),
+        D_factor(D),
+        u(VecX<S>::Zero(p(s))),
+        ydd(u),
+        scratch(u) {
+    auto fail = [&](const std::string& what) {
+      throw std::invalid_argument("sub-system of closure(s) rooted at body '" + model.body(s.root).name + "': " + what);
+    };
+    if (s.coordinates.size() != s.bodies.size()) fail("needs one coordinate per body");
+    for (std::size_t j = 0; j < s.bodies.size(); ++j) {
+      const Body& body = model.body(s.bodies[j]);
+      const Joint& joint = model.joint(body.joint);
+      if (joint.nv != 1 || joint.idx_v != s.coordinates[j])
+        fail("body '" + body.name + "' must be moved by the 1-DoF joint of coordinate " + std::to_string(s.coordinates[j]));
+      if (joint.has_rotor_body())
+        fail("joint '" + joint.name + "' has a rotor body; inside a loop use the armature model (scene `rotors: armature`)");
+      int parent = -1;
+      for (std::size_t i = 0; i < j; ++i)
+        if (s.bodies[i] == body.parent) parent = static_cast<int>(i);
+      if (parent < 0 && body.parent != s.root)
+        fail("body '" + body.name + "' hangs from '" + model.body(body.parent).name + "', which is neither in the sub-system nor its root");
+      parent_local.push_back(parent);
+    }
+  }
+
+  /// Inputs of a step, set by the closure maps for the current state: the coordinates' rates are
+  /// qd_s = G yd and their accelerations qdd_s = G ydd + g (rows in SubSystem::coordinates order,
+  /// columns in SubSystem::independent order).
+  MatX<S> G;
+  VecX<S> g;
+
+  MatX<S> H;         ///< 6m x p: acceleration of each body per unit ydd, body frame (rows 6j .. 6j+5)
+  MatX<S> F;         ///< 6m x p: IA_b H_b, then gathered leaves to root
+  MatX<S> bias;      ///< 6 x m: each body's acceleration at ydd = 0 with the root at rest, body frame
+  MatX<S> U;         ///< 6 x p: sum over bodies of X^T IA H, in the root frame
+  MatX<S> UDinv;     ///< 6 x p: U D^-1
+  MatX<S> D;         ///< p x p: sum over bodies of H^T IA H (+ drive inertias G^T diag(armature) G)
+  MatX<S> D_factor;  ///< LDL^T factor of D (dense_ldlt.hpp)
+  VecX<S> u;         ///< p: independent forces G^T tau_s minus the bias forces' share
+  VecX<S> ydd;       ///< p: accelerations of the independent coordinates (result)
+  VecX<S> scratch;   ///< p
+  std::vector<int> parent_local;  ///< per body: its parent's position in bodies, or -1 (the root)
+
+ private:
+  static int k(const SubSystem& s) { return static_cast<int>(s.coordinates.size()); }
+  static int p(const SubSystem& s) { return static_cast<int>(s.independent.size()); }
+  static int m(const SubSystem& s) { return static_cast<int>(s.bodies.size()); }
+};
+
+}  // namespace mbgen
