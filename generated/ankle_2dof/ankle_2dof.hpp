@@ -74,7 +74,7 @@ void center_of_mass(const double* q, double* com);
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [8] joint positions
 /// out Ag: [6 x 8, row-major] centroidal momentum matrix
-/// Cost: 825 operations: 343 additions/subtractions, 433 multiplications, 3 divisions, 34 negations, 12 sin/cos, 0 square roots.
+/// Cost: 676 operations: 277 additions/subtractions, 368 multiplications, 3 divisions, 16 negations, 12 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 }  // namespace ankle_2dof

@@ -74,7 +74,7 @@ void center_of_mass(const double* q, double* com);
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [3] joint positions
 /// out Ag: [6 x 3, row-major] centroidal momentum matrix
-/// Cost: 123 operations: 41 additions/subtractions, 65 multiplications, 2 divisions, 9 negations, 6 sin/cos, 0 square roots.
+/// Cost: 112 operations: 39 additions/subtractions, 59 multiplications, 2 divisions, 6 negations, 6 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 }  // namespace four_bar

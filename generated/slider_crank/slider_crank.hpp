@@ -74,7 +74,7 @@ void center_of_mass(const double* q, double* com);
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [3] joint positions
 /// out Ag: [6 x 3, row-major] centroidal momentum matrix
-/// Cost: 89 operations: 30 additions/subtractions, 47 multiplications, 0 divisions, 8 negations, 4 sin/cos, 0 square roots.
+/// Cost: 80 operations: 28 additions/subtractions, 43 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 }  // namespace slider_crank

@@ -16,6 +16,7 @@ template <typename S> struct Data {
         c(model.num_bodies()),
         f(model.num_bodies()),
         Y(model.num_bodies(), Mat6<S>::Zero()),
+        composite(model.num_bodies()),
         IA(model.num_bodies(), Mat6<S>::Zero()),
         pA(model.num_bodies()),
         U(model.num_bodies(), Mat6<S>::Zero()),
@@ -41,7 +42,8 @@ template <typename S> struct Data {
   IndexedVector<BodyIndex, Motion<S>> a;   ///< body spatial acceleration (incl. -gravity), body frame
   IndexedVector<BodyIndex, Motion<S>> c;   ///< velocity-product acceleration v x (S v_j), body frame
   IndexedVector<BodyIndex, Force<S>> f;    ///< net force transmitted by each joint, body frame
-  IndexedVector<BodyIndex, Mat6<S>> Y;     ///< composite inertia (CRBA), body frame, or world frame (centroidal)
+  IndexedVector<BodyIndex, Mat6<S>> Y;     ///< composite inertia (CRBA), body frame
+  IndexedVector<BodyIndex, InertiaMoments<S>> composite;  ///< composite mass moments about the world origin (centroidal)
   IndexedVector<BodyIndex, Mat6<S>> IA;    ///< articulated-body inertia, body frame
   IndexedVector<BodyIndex, Force<S>> pA;   ///< articulated bias force, body frame
   IndexedVector<BodyIndex, Mat6<S>> U;     ///< IA * S (first nv columns used)

@@ -6,31 +6,32 @@
 
 namespace mbgen {
 
-/// A_G (6 x nv) in data.Ag, also returned; sets data.com, data.mass and data.J. O(n) passes plus
-/// one 6-vector product per column: world composite inertias times world joint columns.
+/// A_G (6 x nv) in data.Ag, also returned; sets data.com, data.mass and data.J. O(n): the bodies'
+/// mass moments about the world origin (InertiaMoments: 10 numbers, they add without division)
+/// are summed leaves to root into composites, and column c of A_G is the momentum of the
+/// composite supported by joint c moving with the world joint column J_c, shifted to the CoM.
 template <typename S> const Mat6X<S>& centroidal_momentum_matrix(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   compute_joint_jacobians<S>(model, data, q);
   data.mass = S(0);
-  data.com.setZero();
+  Vec3<S> first_moment = Vec3<S>::Zero();
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
-    const Inertia<S> I_W = model.body(i).inertia.cast<S>().transformed(data.X_WB[i]);
-    data.Y[i] = I_W.matrix();  // world-frame inertia at the world origin
-    data.mass += I_W.mass;
-    data.com += I_W.mass * I_W.com;
+    data.composite[i] = InertiaMoments<S>::of(model.body(i).inertia, data.X_WB[i]);
+    data.mass += data.composite[i].mass;
+    first_moment += data.composite[i].first_moment;
   }
-  data.com /= data.mass;
+  data.com = first_moment / data.mass;
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
     const BodyIndex parent = model.body(i).parent;
-    if (parent != kWorldBody) data.Y[parent] += data.Y[i];
+    if (parent != kWorldBody) data.composite[parent] += data.composite[i];
   }
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
     const Joint& joint = model.joint(model.body(i).joint);
     for (int col = 0; col < joint.nv; ++col) {
       const int c = joint.idx_v + col;
-      Force<S> h_O = Force<S>::from_vector(data.Y[i] * data.J.col(c));
+      const Force<S> h_O = data.composite[i] * Motion<S>::from_vector(data.J.col(c));
       data.Ag.col(c).template head<3>() = h_O.linear;
       data.Ag.col(c).template tail<3>() = h_O.angular - data.com.cross(h_O.linear);
     }

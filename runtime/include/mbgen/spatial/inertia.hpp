@@ -71,6 +71,55 @@ template <typename S> Mat3<S> rotate_symmetric(const Mat3<S>& R, const Mat3<S>& 
   return out;
 }
 
+/// The inertia of a body, or of several bodies together, as its mass moments about a frame's
+/// origin: mass m, first moment h = m c, rotational inertia I_O about the origin. Unlike Inertia
+/// (centre of mass form), moments of bodies in one frame simply add (no division by the total
+/// mass), and the momentum of a motion [v; w] is [m v - h x w; I_O w + h x v]: 10 numbers and
+/// about 40 operations where the 6x6 matrix takes 36 and 66.
+template <typename S> struct InertiaMoments {
+  S mass = S(0);
+  Vec3<S> first_moment = Vec3<S>::Zero();
+  Mat3<S> rotational = Mat3<S>::Zero();  ///< about the origin, symmetric
+
+  /// The moments of body inertia I (given in frame B) about the origin of frame A, X_AB its pose.
+  static InertiaMoments of(const Inertia<double>& I, const SE3<S>& X_AB) {
+    InertiaMoments out;
+    out.mass = S(I.mass);
+    const Vec3<S> c = X_AB.act(I.com.cast<S>());
+    out.first_moment = out.mass * c;
+    // R I_c R^T - m [c]x^2 = R I_c R^T + m (|c|^2 1 - c c^T), upper triangle mirrored.
+    out.rotational = rotate_symmetric<S>(X_AB.rotation, I.inertia_com.cast<S>());
+    const Vec3<S>& h = out.first_moment;
+    out.rotational(0, 0) += h.y() * c.y() + h.z() * c.z();
+    out.rotational(1, 1) += h.x() * c.x() + h.z() * c.z();
+    out.rotational(2, 2) += h.x() * c.x() + h.y() * c.y();
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j) {
+        out.rotational(i, j) -= h[i] * c[j];
+        out.rotational(j, i) = out.rotational(i, j);
+      }
+    return out;
+  }
+
+  InertiaMoments& operator+=(const InertiaMoments& o) {
+    mass += o.mass;
+    first_moment += o.first_moment;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        rotational(i, j) += o.rotational(i, j);
+        rotational(j, i) = rotational(i, j);
+      }
+    return *this;
+  }
+
+  /// Momentum (about the origin) of the bodies moving with spatial velocity m = [v; w].
+  Force<S> operator*(const Motion<S>& m) const {
+    Vec3<S> angular;
+    for (int i = 0; i < 3; ++i) angular[i] = rotational.row(i).dot(m.angular);
+    return {mass * m.linear - first_moment.cross(m.angular), angular + first_moment.cross(m.linear)};
+  }
+};
+
 /// A spatial inertia (composite or articulated; symmetric 6x6 on [linear; angular] motions)
 /// re-expressed in axes rotated by R (frame with the same origin): diag(R) I diag(R)^T.
 template <typename S> Mat6<S> rotate_spatial_inertia(const Mat3<S>& R, const Mat6<S>& I) {
