@@ -609,7 +609,7 @@ TEST(SsvDistance, ContinuityAcrossFeatureSwitches) {
 /// The reference is checked against dense sampling of both cores (21 x 21 parameters each):
 /// the sampled minimum is never below the reference (it would be missing a minimum), and not far
 /// above it (the sampling resolution).
-TEST(Reference, NotAboveDenseSampling) {
+TEST(SsvReference, NotAboveDenseSampling) {
   Gen g(10);
   for (int k = 0; k < 60; ++k) {
     const TriD x = random_tri(g, 1), y = random_tri(g, 1);

@@ -42,24 +42,28 @@ template <typename S> ClosestPoints<S> closest_point_segment(const Vec3<S>& p, c
   return make_closest<S>(p, a + t * (b - a));
 }
 
-/// Closest points of the segments p0-p1 (core 1) and q0-q1 (core 2).
+/// Closest points of the segments p0-p1 (core 1) and q0-q1 (core 2), parameters s, t in [0, 1].
 ///
-/// The squared distance |p0 + s d1 - q0 - t d2|^2 is convex on [0,1]^2. Its minimum is either
-/// the stationary point of the infinite lines, when that lies inside the square, or on one of
-/// the square's four sides, i.e. an endpoint against the other segment: the minimum of four
-/// point-segment distances, each computed stably. Rules:
-///  - Line-line stationary point: s = (n . (d2 x r)) / |n|^2 with n = d1 x d2, r = p0 - q0 (the
-///    Lagrange identity turns Ericson's (b f - c e) / (a e - b^2) into cross products, which do
-///    not cancel catastrophically for small angles); t is then the projection of the point at s
-///    onto the second line, so the pair is consistent even when s is inaccurate.
-///  - Parallel and nearly parallel: the stationary point is used only when
-///    |d1 x d2|^2 > eps^2 |d1|^2 |d2|^2, i.e. sin(angle) > eps (machine epsilon of S). This is
-///    scale free (it compares the cross product with the lengths of the segments themselves),
-///    and below it the computed cross product is rounding noise (each component carries an
-///    error ~eps |d1| |d2|). The four endpoint candidates are exact for parallel segments and
-///    within |d1| sin(angle) <= eps |d1| of the minimum below the threshold.
-///  - Zero-length segments: n = 0, so the endpoint candidates run, and they reduce to
-///    point-segment or point-point (closest_parameter_on_segment's rule).
+/// Ericson's clamping scheme (Real-Time Collision Detection 5.1.9) on the convex squared
+/// distance |p0 + s d1 - q0 - t d2|^2: s from the infinite lines, clamped; t of the point at s,
+/// and if t leaves [0, 1] it is clamped and s recomputed for it. Robustness rules:
+///  - Line-line parameter: s = (n . (d2 x r)) / |n|^2 with n = d1 x d2, r = p0 - q0. The
+///    Lagrange identity turns Ericson's (b f - c e) / (a e - b^2) into cross products: a e - b^2
+///    cancels catastrophically for small angles (its error is ~eps a e, so sin^2 of the angle is
+///    known only to ~eps absolute), |d1 x d2|^2 keeps a relative error ~eps / sin(angle).
+///  - Parallel and nearly parallel: s comes from the lines only when
+///    |d1 x d2|^2 > eps^2 |d1|^2 |d2|^2, i.e. sin(angle) > eps (machine epsilon of S). The test is
+///    scale free (the cross product against the segments' own lengths, not a fixed 1e-6), and
+///    below it the computed cross product is rounding noise. Then s = 0 and the clamping steps
+///    find a closest pair, which is exact for parallel segments (any pair in the overlap is
+///    closest) and within |d1| sin(angle) <= eps |d1| of the minimum below the threshold.
+///    Above the threshold, s's error slides the pair along the valley of the near-parallel
+///    pair, whose slope is sin(angle): the distance error stays ~eps |d1|.
+///  - Zero-length segments: |d1|^2 = 0 or |d2|^2 = 0 gives n = 0, so s = 0. A zero-length
+///    second segment takes the clamping branch (t = 0, s = the point q0 projected onto the
+///    first), a zero-length first one stays at s = 0 (t = p0 projected onto the second), so
+///    point-segment and point-point come out of the same steps (closest_parameter_on_segment's
+///    rule).
 template <typename S>
 ClosestPoints<S> closest_segment_segment(const Vec3<S>& p0, const Vec3<S>& p1, const Vec3<S>& q0, const Vec3<S>& q1) {
   const Vec3<S> d1 = p1 - p0, d2 = q1 - q0;
@@ -67,21 +71,16 @@ ClosestPoints<S> closest_segment_segment(const Vec3<S>& p0, const Vec3<S>& p1, c
   const Vec3<S> n = d1.cross(d2);
   const S nn = n.squaredNorm();
   const S eps = std::numeric_limits<S>::epsilon();
-  if (nn > eps * eps * a * e) {
-    const S s = n.dot(d2.cross(p0 - q0)) / nn;
-    if (s >= S(0) && s <= S(1)) {
-      const Vec3<S> c1 = p0 + s * d1;
-      const S t = (c1 - q0).dot(d2) / e;
-      if (t >= S(0) && t <= S(1)) return make_closest<S>(c1, q0 + t * d2);
-    }
+  S s = nn > eps * eps * a * e ? clamp01(n.dot(d2.cross(p0 - q0)) / nn) : S(0);
+  Vec3<S> c1 = p0 + s * d1;
+  const S t = e > S(0) ? (c1 - q0).dot(d2) / e : S(0);
+  if (!(e > S(0)) || t < S(0) || t > S(1)) {
+    const Vec3<S> c2 = q0 + clamp01(t) * d2;
+    s = closest_parameter_on_segment(c2, p0, p1);
+    c1 = p0 + s * d1;
+    return make_closest<S>(c1, c2);
   }
-  // The minimum is on a side of the parameter square.
-  ClosestPoints<S> best = closest_point_segment(p0, q0, q1);
-  best = take_closer(best, closest_point_segment(p1, q0, q1));
-  const ClosestPoints<S> r0 = closest_point_segment(q0, p0, p1);
-  const ClosestPoints<S> r1 = closest_point_segment(q1, p0, p1);
-  best = take_closer(best, ClosestPoints<S>{r0.c2, r0.c1, r0.dist2});
-  return take_closer(best, ClosestPoints<S>{r1.c2, r1.c1, r1.dist2});
+  return make_closest<S>(c1, q0 + t * d2);
 }
 
 }  // namespace mbgen::collision

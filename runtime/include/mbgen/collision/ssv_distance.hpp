@@ -93,7 +93,7 @@ SsvDistance<S> finish(const ClosestPoints<S>& c, S r1, S r2, S scale, Fallback f
   out.core2 = c.c2;
   const Vec3<S> diff = c.c2 - c.c1;
   out.core_distance = sqrt(c.dist2);
-  out.normal = c.dist2 > threshold ? Vec3<S>(diff / out.core_distance) : fallback();
+  out.normal = c.dist2 > threshold ? Vec3<S>(diff * (S(1) / out.core_distance)) : fallback();
   out.distance = out.core_distance - r1 - r2;
   out.point1 = c.c1 + r1 * out.normal;
   out.point2 = c.c2 - r2 * out.normal;
