@@ -135,11 +135,9 @@ double core_size(const Core& c) {
   return m;
 }
 
-/// The scale of a case: the largest coordinate magnitude, at least the size of either core,
-/// at least 1e-3 (cases at the mm scale are built near the origin).
-double scale_of(const Core& a, const Core& b) {
-  return std::max({max_coord(a), max_coord(b), core_size(a), core_size(b), 1e-3});
-}
+/// The scale of a case: the largest coordinate magnitude, at least the size of either core (cases
+/// at the mm scale are built near the origin).
+double scale_of(const Core& a, const Core& b) { return std::max({max_coord(a), max_coord(b), core_size(a), core_size(b)}); }
 
 template <typename X> X swapped_radius(X x, double r) {
   x.radius = r;
@@ -469,6 +467,63 @@ TEST(SsvDistance, TriangleAdversarial) {
   EXPECT_EQ(chk.failures, 0);
   EXPECT_EQ(chk_float.failures, 0);
   std::printf("triangle adversarial: %d cases (worst %.2e scale), float %d (worst %.2e scale)\n", chk.cases,
+              chk.worst_distance_error, chk_float.cases, chk_float.worst_distance_error);
+}
+
+/// Extreme scales: the same random cases scaled by 1e-70 .. 1e70 (double) and 1e-6 .. 1e8
+/// (float), inside the documented range (fourth powers must not overflow), checked in full; and
+/// at 1e-300 / 1e-200 (squared lengths underflow) for finite results with unit normals only.
+template <typename S, typename X, typename Y> void check_finite_scaled(Checker& chk, const X& x, const Y& y) {
+  if constexpr (std::is_same_v<S, double>) {
+    const SsvDistance<double> r = ssv_distance(x, y);
+    if (!all_finite(r) || std::fabs(r.normal.norm() - 1) > kDouble.unit) chk.fail("non-finite or non-unit at tiny scale");
+  } else {
+    const SsvDistance<float> r = ssv_distance(to_float(x), to_float(y));
+    if (!all_finite(r) || std::fabs(static_cast<double>(r.normal.norm()) - 1) > kFloat.unit)
+      chk.fail("non-finite or non-unit at tiny scale");
+  }
+  ++chk.cases;
+}
+
+template <typename X> X scaled(X x, double f);
+template <> PointD scaled(PointD x, double f) { return {x.center * f, x.radius * f}; }
+template <> LineD scaled(LineD x, double f) { return {x.p0 * f, x.p1 * f, x.radius * f}; }
+template <> TriD scaled(TriD x, double f) { return {x.a * f, x.b * f, x.c * f, x.radius * f}; }
+
+TEST(SsvDistance, ExtremeScales) {
+  Checker chk{"extreme scales"}, chk_float{"extreme scales float"};
+  Gen g(11);
+  for (int k = 0; k < 600; ++k) {
+    const PointD p = point(g.vec(1), g.radius(1));
+    const LineD l = random_line(g, 1), l2 = random_line(g, 1);
+    const TriD t = random_tri(g, 1), t2 = random_tri(g, 1);
+    for (double f : {1e-70, 1e-30, 1e30, 1e70}) {
+      check_pair(chk, chk_float, scaled(p, f), scaled(l, f), false);
+      check_pair(chk, chk_float, scaled(l, f), scaled(l2, f), false);
+      check_pair(chk, chk_float, scaled(l, f), scaled(t, f), false);
+      check_pair(chk, chk_float, scaled(t, f), scaled(t2, f), false);
+    }
+    for (double f : {1e-6, 1e-3, 1e3, 1e8}) {
+      Checker unused{"unused"};
+      check_pair(unused, chk_float, scaled(l, f), scaled(l2, f), true);
+      check_pair(unused, chk_float, scaled(l, f), scaled(t, f), true);
+      check_pair(unused, chk_float, scaled(t, f), scaled(t2, f), true);
+    }
+    for (double f : {1e-300, 1e-200}) {
+      check_finite_scaled<double>(chk, scaled(l, f), scaled(l2, f));
+      check_finite_scaled<double>(chk, scaled(l, f), scaled(t, f));
+      check_finite_scaled<double>(chk, scaled(t, f), scaled(t2, f));
+      check_finite_scaled<double>(chk, scaled(p, f), scaled(t, f));
+    }
+    for (double f : {1e-30, 1e-25}) {
+      check_finite_scaled<float>(chk_float, scaled(l, f), scaled(l2, f));
+      check_finite_scaled<float>(chk_float, scaled(l, f), scaled(t, f));
+      check_finite_scaled<float>(chk_float, scaled(t, f), scaled(t2, f));
+    }
+  }
+  EXPECT_EQ(chk.failures, 0);
+  EXPECT_EQ(chk_float.failures, 0);
+  std::printf("extreme scales: %d double cases (worst %.2e scale), %d float (worst %.2e scale)\n", chk.cases,
               chk.worst_distance_error, chk_float.cases, chk_float.worst_distance_error);
 }
 

@@ -97,7 +97,8 @@ Piercing<S> pierce_segment_triangle(const Vec3<S>& p0, const Vec3<S>& p1, const 
   using std::abs;
   using std::sqrt;
   const S deep = abs(s1) >= abs(s0) ? s1 : s0;
-  const Vec3<S> unit = plane.n / sqrt(plane.nn);
+  const Vec3<S> w = plane.n / plane.n.cwiseAbs().maxCoeff();  // rescaled: |n|^2 may be denormal
+  const Vec3<S> unit = w / sqrt(w.squaredNorm());
   return {true, x, deep > S(0) ? Vec3<S>(-unit) : unit};
 }
 

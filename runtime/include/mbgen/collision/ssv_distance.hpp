@@ -100,10 +100,13 @@ SsvDistance<S> finish(const ClosestPoints<S>& c, S r1, S r2, S scale, Fallback f
   return out;
 }
 
-template <typename S> S scale_of(const Vec3<S>& p) { return max_abs(p); }
+/// The largest coordinate magnitude of the points (element-wise max, then one reduction).
+template <typename S> Vec3<S> abs_max(const Vec3<S>& p) { return p.cwiseAbs(); }
+template <typename S, typename... More> Vec3<S> abs_max(const Vec3<S>& p, const More&... more) {
+  return p.cwiseAbs().cwiseMax(abs_max(more...));
+}
 template <typename S, typename... More> S scale_of(const Vec3<S>& p, const More&... more) {
-  const S x = max_abs(p), y = scale_of(more...);
-  return x >= y ? x : y;
+  return abs_max(p, more...).maxCoeff();
 }
 
 /// The PT fallback: the triangle normal, or perpendicular to an edge, or +z.
