@@ -6,7 +6,8 @@
 //                    (FCL's distance answers contacts by another path);
 //                    near_parallel (ll only): 1 m segments at 1e-12 .. 1e-2 rad, 1 mm .. 1 cm apart
 //   implementations  generic (mbgen's ssv_distance<double>: distance, witness points, normal),
-//                    fcl (FCL 0.7, pp, pl and ll only)
+//                    fcl (FCL 0.7, pp, pl and ll only),
+//                    fcl_distance (ll/random only: the fcl::distance route below, for reference)
 //
 // FCL route: fcl::detail::GJKSolver_libccd<double>::shapeDistance(shape1, X1, shape2, X2, &d,
 // &p1, &p2), with the shapes and poses built beforehand (a capsule's pose from its segment: not
@@ -14,16 +15,20 @@
 // (sphereSphereDistance, sphereCapsuleDistance, capsuleCapsuleDistance), so it is the cheapest
 // route a fair user has. fcl::distance(o1, o2, request, result) on preallocated
 // CollisionObjects whose transforms are set per sample reaches the same functions through the
-// distance dispatch table and DistanceResult bookkeeping, and measured 2-3x slower here, so it
-// is not the one compared. Both implementations return witness points.
+// distance dispatch table and DistanceResult bookkeeping and is 2-3x slower; it is kept as
+// `ssv_ll/random/fcl_distance` because it is the call most FCL users write. All
+// implementations return witness points (fcl_distance: enable_nearest_points).
 #include <cmath>
 #include <memory>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/distance.h>
 
 #include "bench_support.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
@@ -141,12 +146,55 @@ void add_fcl(const std::string& pair, const std::string& name, const std::shared
     double d;
     fcl::Vector3d p1, p2;
   };
-  add_benchmark(pair, name, "fcl", to_fcl(*pool),
+  // The same geometry: FCL and mbgen agree on every sample (to 1e-6: FCL is inexact near parallel,
+  // tests/test_ssv_peer_fcl.cpp), else the registration fails loudly.
+  const auto inputs = to_fcl(*pool);
+  const fcl::detail::GJKSolver_libccd<double> check;
+  for (std::size_t k = 0; k < kPoolSize; ++k) {
+    double d = 0;
+    fcl::Vector3d p1, p2;  // capsuleCapsuleDistance asserts that they are given
+    const P& p = (*inputs)[k];
+    check.shapeDistance(p.s1, p.X1, p.s2, p.X2, &d, &p1, &p2);
+    if (std::fabs(d - collision::ssv_distance((*pool)[k].x, (*pool)[k].y).distance) > 1e-6)
+      throw std::logic_error(pair + "/" + name + ": FCL and mbgen disagree on sample " + std::to_string(k));
+  }
+  add_benchmark(pair, name, "fcl", inputs,
                 [solver = fcl::detail::GJKSolver_libccd<double>(), out = Out{0, fcl::Vector3d::Zero(), fcl::Vector3d::Zero()}](
                     const P& p) mutable {
                   solver.shapeDistance(p.s1, p.X1, p.s2, p.X2, &out.d, &out.p1, &out.p2);
                   return &out;
                 });
+}
+
+/// fcl::distance on two preallocated CollisionObjects whose transforms are set per sample.
+void add_fcl_distance(const std::string& pair, const std::string& name,
+                      const std::shared_ptr<const std::vector<SsvPair<LineSsv<double>, LineSsv<double>>>>& pool) {
+  using P = FclPair<fcl::Capsuled, fcl::Capsuled>;
+  struct Work {
+    std::vector<std::shared_ptr<fcl::Capsuled>> shapes1, shapes2;  // per sample (lengths differ)
+    std::vector<fcl::CollisionObjectd> objects1, objects2;
+    fcl::DistanceRequestd request;
+    fcl::DistanceResultd result;
+  };
+  const auto inputs = to_fcl(*pool);
+  auto work = std::make_shared<Work>();
+  work->request.enable_nearest_points = true;
+  for (const P& p : *inputs) {
+    work->shapes1.push_back(std::make_shared<fcl::Capsuled>(p.s1));
+    work->shapes2.push_back(std::make_shared<fcl::Capsuled>(p.s2));
+    work->objects1.emplace_back(work->shapes1.back());
+    work->objects2.emplace_back(work->shapes2.back());
+  }
+  // Sample k (its index in the pool) uses the k-th preallocated pair of objects, whose shapes
+  // match it; only the transforms are set in the loop.
+  add_benchmark(pair, name, "fcl_distance", inputs, [work, first = inputs->data()](const P& p) {
+    const std::size_t k = static_cast<std::size_t>(&p - first);
+    work->objects1[k].setTransform(p.X1);
+    work->objects2[k].setTransform(p.X2);
+    work->result.clear();
+    fcl::distance(&work->objects1[k], &work->objects2[k], work->request, work->result);
+    return &work->result.min_distance;
+  });
 }
 
 /// Registered at static initialisation, as BENCHMARK() does, so that main (bench_dynamics.cpp)
@@ -165,6 +213,7 @@ const bool registered = [] {
   add_fcl("ssv_pl", "random", pl);
   add_generic("ssv_ll", "random", ll);
   add_fcl("ssv_ll", "random", ll);
+  add_fcl_distance("ssv_ll", "random", ll);
   add_generic("ssv_ll", "near_parallel", ll_parallel);
   add_fcl("ssv_ll", "near_parallel", ll_parallel);
   add_generic("ssv_pt", "random", random_pool<PointSsv<double>, TriangleSsv<double>>(make_point, make_tri));
