@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "mbgen/gen/description.hpp"
+#include "inspect_collision.hpp"
 #include "mbgen/gen/load_error.hpp"
 
 namespace mbgen::cli {
@@ -26,6 +27,7 @@ struct InspectOptions {
   std::string description;
   std::string extras;
   bool floating = false, fixed = false, json = false;
+  int samples = -1;  ///< collision pruning samples; -1: the scene's prune_samples or the default
 };
 
 const char* to_string(FrameKind kind) {
@@ -71,7 +73,7 @@ void print_tree(const Model& model, BodyIndex b, const std::string& prefix, bool
     print_tree(model, body.children[i], child_prefix, i + 1 == body.children.size(), out);
 }
 
-void print_text(const Description& d, std::ostream& out) {
+void print_text(const Description& d, const gen::CollisionScene* collision, std::ostream& out) {
   const Model& m = d.model;
   out << "description: " << d.description_file << "\n";
   out << "extras:      " << (d.extras_file.empty() ? "(none)" : d.extras_file) << "\n";
@@ -113,6 +115,7 @@ void print_text(const Description& d, std::ostream& out) {
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
+  if (collision) print_collision_scene(*collision, out);
   out << fmt::format("\nwarnings ({}):\n", d.warnings.size());
   for (const std::string& w : d.warnings) out << "  - " << w << "\n";
   out << fmt::format("\nverdict: OK: '{}' loads ({} DoF, {} closure(s) as given, {} warning(s))\n", d.robot_name,
@@ -218,10 +221,20 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
   if (options.fixed) load.base = BaseType::Fixed;
   try {
     const Description d = gen::load_description(options.description, load);
-    if (options.json)
-      out << to_json(d).dump(2) << "\n";
-    else
-      print_text(d, out);
+    std::optional<gen::CollisionScene> collision;
+    if (!d.ssv.empty()) {
+      gen::CollisionSceneOptions scene_options = gen::collision_scene_options(d);
+      if (options.samples >= 0) scene_options.samples = options.samples;
+      scene_options.progress = !options.json;
+      collision = gen::build_collision_scene(d, scene_options);
+    }
+    if (options.json) {
+      Json j = to_json(d);
+      if (collision) j["collision_pairs"] = collision_scene_json(*collision);
+      out << j.dump(2) << "\n";
+    } else {
+      print_text(d, collision ? &*collision : nullptr, out);
+    }
     return 0;
   } catch (const gen::LoadError& e) {
     err << e.what() << "\n";
@@ -244,6 +257,9 @@ void add_inspect_command(CLI::App& app, int& status) {
   CLI::Option* fixed = inspect->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)");
   floating->excludes(fixed);
   inspect->add_flag("--json", options->json, "print one JSON object instead of the report");
+  inspect->add_option("--samples", options->samples,
+                      "configurations sampled to prune collision pairs (default: the scene's prune_samples, else 10000)")
+      ->check(CLI::NonNegativeNumber);
   inspect->callback([options, &status] { status = run_inspect(*options, std::cout, std::cerr); });
 }
 
