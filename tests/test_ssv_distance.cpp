@@ -43,6 +43,7 @@
 
 #include <Eigen/QR>
 
+#include "malloc_guard.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
 
 namespace mbgen::collision {
@@ -547,6 +548,35 @@ TEST(SsvDistance, ExtremeScales) {
   EXPECT_EQ(chk_float.failures, 0);
   std::printf("extreme scales: %d double cases (worst %.2e scale), %d float (worst %.2e scale)\n", chk.cases,
               chk.worst_distance_error, chk_float.cases, chk_float.worst_distance_error);
+}
+
+/// No heap: every pair kind, double and float, on prepared inputs, under the malloc guard.
+TEST(SsvDistance, NoAllocation) {
+  Gen g(12);
+  std::vector<PointD> points;
+  std::vector<LineD> lines;
+  std::vector<TriD> tris;
+  for (int k = 0; k < 64; ++k) {
+    points.push_back(point(g.vec(1), g.radius(1)));
+    lines.push_back(random_line(g, 1));
+    tris.push_back(random_tri(g, 1));
+  }
+  double sum = 0;
+  float sum_f = 0;
+  {
+    test::MallocGuard guard;
+    for (int k = 0; k < 64; ++k) {
+      const int j = (k + 1) % 64;
+      sum += ssv_distance(points[k], points[j]).distance + ssv_distance(points[k], lines[j]).distance +
+             ssv_distance(points[k], tris[j]).distance + ssv_distance(lines[k], lines[j]).distance +
+             ssv_distance(lines[k], tris[j]).distance + ssv_distance(tris[k], tris[j]).distance;
+      sum_f += ssv_distance(to_float(lines[k]), to_float(lines[j])).distance +
+               ssv_distance(to_float(tris[k]), to_float(tris[j])).distance +
+               ssv_distance(to_float(points[k]), to_float(tris[j])).distance;
+    }
+    EXPECT_EQ(guard.count(), 0u);
+  }
+  EXPECT_TRUE(std::isfinite(sum) && std::isfinite(sum_f));
 }
 
 /// Hand-worked values and the documented fallback normals.
