@@ -38,10 +38,12 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/QR>
 
+#include "malloc_guard.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
 
 namespace mbgen::collision {
@@ -471,8 +473,9 @@ TEST(SsvDistance, TriangleAdversarial) {
 }
 
 /// Extreme scales: the same random cases scaled by 1e-70 .. 1e70 (double) and 1e-6 .. 1e8
-/// (float), inside the documented range (fourth powers must not overflow), checked in full; and
-/// at 1e-300 / 1e-200 (squared lengths underflow) for finite results with unit normals only.
+/// (float), inside the documented range (fourth powers must not overflow), and cases mixing
+/// magnitudes over that range, checked in full; at 1e-300 / 1e-200 (squared lengths underflow)
+/// for finite results with unit normals only.
 template <typename S, typename X, typename Y> void check_finite_scaled(Checker& chk, const X& x, const Y& y) {
   if constexpr (std::is_same_v<S, double>) {
     const SsvDistance<double> r = ssv_distance(x, y);
@@ -521,10 +524,59 @@ TEST(SsvDistance, ExtremeScales) {
       check_finite_scaled<float>(chk_float, scaled(t, f), scaled(t2, f));
     }
   }
+  // Mixed magnitudes within one case: every coordinate +-10^u, u uniform in [-70, 70] (double)
+  // or [-6, 8] (float), checked in full (scale: the largest coordinate).
+  auto wild = [&g](double lo, double hi) {
+    Vec3<double> v;
+    for (int i = 0; i < 3; ++i) v[i] = (g.integer(0, 1) ? 1 : -1) * std::pow(10.0, g.uniform(lo, hi));
+    return v;
+  };
+  for (int k = 0; k < 500; ++k) {
+    for (auto [lo, hi, with_float] : {std::tuple<double, double, bool>{-70, 70, false}, {-6, 8, true}}) {
+      Checker& c = with_float ? chk_float : chk;
+      Checker unused{"unused"};
+      Checker& cd = with_float ? unused : chk;
+      const LineD l = line(wild(lo, hi), wild(lo, hi), 0), l2 = line(wild(lo, hi), wild(lo, hi), 0);
+      const TriD t = tri(wild(lo, hi), wild(lo, hi), wild(lo, hi), 0), t2 = tri(wild(lo, hi), wild(lo, hi), wild(lo, hi), 0);
+      check_pair(cd, c, point(wild(lo, hi), 0), l, with_float);
+      check_pair(cd, c, l, l2, with_float);
+      check_pair(cd, c, l, t, with_float);
+      check_pair(cd, c, t, t2, with_float);
+    }
+  }
   EXPECT_EQ(chk.failures, 0);
   EXPECT_EQ(chk_float.failures, 0);
   std::printf("extreme scales: %d double cases (worst %.2e scale), %d float (worst %.2e scale)\n", chk.cases,
               chk.worst_distance_error, chk_float.cases, chk_float.worst_distance_error);
+}
+
+/// No heap: every pair kind, double and float, on prepared inputs, under the malloc guard.
+TEST(SsvDistance, NoAllocation) {
+  Gen g(12);
+  std::vector<PointD> points;
+  std::vector<LineD> lines;
+  std::vector<TriD> tris;
+  for (int k = 0; k < 64; ++k) {
+    points.push_back(point(g.vec(1), g.radius(1)));
+    lines.push_back(random_line(g, 1));
+    tris.push_back(random_tri(g, 1));
+  }
+  double sum = 0;
+  float sum_f = 0;
+  {
+    test::MallocGuard guard;
+    for (int k = 0; k < 64; ++k) {
+      const int j = (k + 1) % 64;
+      sum += ssv_distance(points[k], points[j]).distance + ssv_distance(points[k], lines[j]).distance +
+             ssv_distance(points[k], tris[j]).distance + ssv_distance(lines[k], lines[j]).distance +
+             ssv_distance(lines[k], tris[j]).distance + ssv_distance(tris[k], tris[j]).distance;
+      sum_f += ssv_distance(to_float(lines[k]), to_float(lines[j])).distance +
+               ssv_distance(to_float(tris[k]), to_float(tris[j])).distance +
+               ssv_distance(to_float(points[k]), to_float(tris[j])).distance;
+    }
+    EXPECT_EQ(guard.count(), 0u);
+  }
+  EXPECT_TRUE(std::isfinite(sum) && std::isfinite(sum_f));
 }
 
 /// Hand-worked values and the documented fallback normals.

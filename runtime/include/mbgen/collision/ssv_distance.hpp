@@ -16,8 +16,8 @@
 // between the cores is noise or undefined, so each pair kind uses a fixed rule instead:
 //   PP  +z (0, 0, 1).
 //   PL  a unit vector perpendicular to the segment (perpendicular()), +z if it has zero length.
-//   PT  the triangle's unit normal (b - a) x (c - a); a degenerate triangle: perpendicular to
-//       its longest edge a-b or a-c; all corners equal: +z.
+//   PT  the triangle's unit normal (b - a) x (c - a); a degenerate triangle (sine of the angle
+//       at a at most eps): perpendicular to b - a (to c - a when a == b); all corners equal: +z.
 //   LL  (p1 - p0) x (q1 - q0) normalised (crossing segments); parallel: perpendicular to the
 //       first segment (or the second if the first has zero length); both points: +z.
 //   LT  segment piercing the triangle: the triangle normal oriented by
@@ -26,7 +26,7 @@
 //   TT  an edge piercing the other triangle: as LT (negated when the edge is triangle 2's);
 //       otherwise the PT rule applied to triangle 2.
 // These normals are always unit and finite; unlike the normal between apart cores they do not
-// flip when the arguments are swapped.
+// in general flip when the arguments are swapped (LL's cross product does).
 #include <cmath>
 #include <limits>
 
