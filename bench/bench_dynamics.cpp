@@ -26,6 +26,7 @@
 
 #include "bench_generated.hpp"
 #include "bench_rotor.hpp"
+#include "bench_self_distance.hpp"
 #include "bench_support.hpp"
 #include "kdl_from_urdf.hpp"
 #include "mbgen/gen/description.hpp"
@@ -208,6 +209,7 @@ int main(int argc, char** argv) {
     for (const Robot& robot : robots) add_generic(robot);
     for (const Robot& robot : robots) add_generated(robot);
     add_rotor_benchmarks();
+    add_self_distance_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
     add_kdl_floating_rnea(robots[1]);
     add_kdl_floating_rnea(robots[2]);
