@@ -26,7 +26,11 @@ template <typename S> struct Data {
         M(MatX<S>::Zero(model.nv(), model.nv())),
         J(Mat6X<S>::Zero(6, model.nv())),
         Ag(Mat6X<S>::Zero(6, model.nv())),
-        Jcom(Mat3X<S>::Zero(3, model.nv())) {}
+        Jcom(Mat3X<S>::Zero(3, model.nv())),
+        Phi(VecX<S>::Zero(model.num_constraint_rows())),
+        Phi_q(MatX<S>::Zero(model.num_constraint_rows(), model.nv())),
+        gamma(VecX<S>::Zero(model.num_constraint_rows())),
+        zero_v(VecX<S>::Zero(model.nv())) {}
 
   IndexedVector<BodyIndex, SE3<S>> X_J;    ///< joint transform: pose of each body in its joint frame
   IndexedVector<BodyIndex, SE3<S>> X_PB;   ///< pose of each body in its parent
@@ -53,6 +57,12 @@ template <typename S> struct Data {
   Vec3<S> com = Vec3<S>::Zero();   ///< centre of mass, world
   Vec3<S> vcom = Vec3<S>::Zero();  ///< velocity of the centre of mass, world
   Mat3X<S> Jcom;                   ///< centre-of-mass Jacobian, world
+
+  // Loop closures (algorithm/closure.hpp); m = model.num_constraint_rows(), 0 for a tree.
+  VecX<S> Phi;     ///< stacked closure residual (m)
+  MatX<S> Phi_q;   ///< constraint Jacobian (m x nv), velocity coordinates
+  VecX<S> gamma;   ///< bias with Phi_q qdd = gamma (m)
+  VecX<S> zero_v;  ///< nv zeros: the joint accelerations of the velocity-product pass
 };
 
 }  // namespace mbgen

@@ -3,6 +3,7 @@
 #include "mbgen/algorithm/aba.hpp"
 #include "mbgen/algorithm/center_of_mass.hpp"
 #include "mbgen/algorithm/centroidal.hpp"
+#include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/algorithm/crba.hpp"
 #include "mbgen/algorithm/energy.hpp"

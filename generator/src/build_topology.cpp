@@ -1,0 +1,57 @@
+// Closures as given (ClosureSpec) into the Model (LoopClosure), and the topology stage in order.
+#include <fmt/format.h>
+
+#include "mbgen/algorithm/closure.hpp"
+#include "mbgen/gen/load_error.hpp"
+#include "mbgen/gen/topology.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+
+ClosureType closure_type(const Description& d, const ClosureSpec& spec) {
+  if (spec.type == "weld" || spec.type == "6d") return ClosureType::Weld;
+  if (spec.type == "spherical" || spec.type == "3d") return ClosureType::Point;
+  if (spec.type == "revolute") return ClosureType::Revolute;
+  if (spec.type == "prismatic") return ClosureType::Prismatic;
+  if (spec.type == "universal") return ClosureType::Universal;
+  throw LoadError(d.extras_file, spec.source_line, fmt::format("closure '{}'", spec.name),
+                  fmt::format("has type '{}', which the loop builder does not know", spec.type),
+                  "use revolute, prismatic, universal, spherical or weld (6d / 3d in robot.yaml)");
+}
+
+}  // namespace
+
+void add_closures_to_model(Description& d) {
+  Model& model = d.model;
+  model.closures.clear();
+  int offset = 0;
+  for (const ClosureSpec& spec : d.closures) {
+    LoopClosure c;
+    c.name = spec.name;
+    c.type = closure_type(d, spec);
+    const Frame& fa = model.frame(spec.resolved_a);
+    const Frame& fb = model.frame(spec.resolved_b);
+    c.body_a = fa.body;
+    c.body_b = fb.body;
+    c.X_ACa = fa.X_BF * spec.X_AC;
+    c.X_BCb = fb.X_BF * spec.X_BC;
+    c.axis = spec.axis.normalized();
+    c.axis_b = closure_axis_basis(c.axis).col(0);
+    c.row_offset = offset;
+    offset += c.rows();
+    model.closures.push_back(c);
+  }
+}
+
+void build_topology(Description& d) {
+  if (d.closures.empty()) {
+    d.closed_dof = d.model.nv();
+    return;
+  }
+  add_closures_to_model(d);
+  assemble_closures(d);
+  find_subsystems(d);
+}
+
+}  // namespace mbgen::gen
