@@ -35,7 +35,12 @@ inline const char* to_string(LoopSolveStatus s) {
 struct LoopSolveOptions {
   double tolerance = 1e-12;          ///< max |Phi| over the kept rows
   int max_iterations = 20;
-  double singular_tolerance = 1e-8;  ///< smallest / largest |LU pivot| of Phi_z below this: singular
+  /// Smallest / largest |LU pivot| of Phi_z below this: singular. At a dead point the closure
+  /// has a double root, which Newton approaches only to ~sqrt(tolerance) = 1e-6 before the
+  /// residual test stops it, and the pivot ratio there is of that order (1.7e-6 for the
+  /// slider-crank of test_loop_maps): one order above it, 1e-5, is the finest distinction the
+  /// residual tolerance supports (z moving 1e5 times faster than y counts as the dead point).
+  double singular_tolerance = 1e-5;
 };
 
 /// Work memory of the loop maps for one model: per sub-system its Phi_z, Phi_y blocks and LU
