@@ -252,6 +252,14 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
   d.assembly.sigma_max = best->sigma_max;
   d.assembly.seeds = seeds;
   d.assembly.iterations = iterations;
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    const double x = joint.nq == 1 ? best->q[joint.idx_q] : 0.0;
+    if (joint.bounded && (x < joint.lower || x > joint.upper))
+      d.warnings.push_back(fmt::format("assembly: joint '{}' is at {:.6g}, outside its limits [{:.6g}, {:.6g}], in the "
+                                       "closed pose (limits are not imposed on the assembly)",
+                                       joint.name, x, joint.lower, joint.upper));
+  }
   if (best->sigma_min < options.conditioning * best->sigma_max)
     d.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned (smallest kept singular "
                                      "value of Phi_q {:.3g}, largest {:.3g})",

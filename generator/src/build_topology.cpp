@@ -44,6 +44,25 @@ void add_closures_to_model(Description& d) {
   }
 }
 
+std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure) {
+  const BodyIndex top = common_ancestor(model, closure.body_a, closure.body_b);
+  std::vector<BodyIndex> path, down;
+  for (BodyIndex b = closure.body_a; b != top; b = model.body(b).parent) path.push_back(b);
+  path.push_back(top);
+  for (BodyIndex b = closure.body_b; b != top; b = model.body(b).parent) down.push_back(b);
+  path.insert(path.end(), down.rbegin(), down.rend());
+  return path;
+}
+
+std::string coordinate_name(const Model& model, int v_index) {
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    if (v_index < joint.idx_v || v_index >= joint.idx_v + joint.nv) continue;
+    return joint.nv == 1 ? joint.name : fmt::format("{}[{}]", joint.name, v_index - joint.idx_v);
+  }
+  return fmt::format("v[{}]", v_index);
+}
+
 void build_topology(Description& d) {
   if (d.closures.empty()) {
     d.closed_dof = d.model.nv();

@@ -57,6 +57,13 @@ void assemble_closures(Description& d, const AssemblyOptions& options = {});
 /// and d.closed_dof. A hinted joint that must be dependent gets a warning.
 void find_subsystems(Description& d, const AssemblyOptions& options = {});
 
+/// The fundamental cycle of a closure as a path of bodies: body_a up to the common ancestor,
+/// the ancestor (the cycle's root), then down to body_b.
+std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure);
+
+/// Name of the joint a velocity index belongs to (with the axis suffix `[k]` inside a floating joint).
+std::string coordinate_name(const Model& model, int v_index);
+
 /// The last three steps above, in order (load_description calls it after validation; without
 /// closures it only sets d.closed_dof = nv).
 void build_topology(Description& d);
