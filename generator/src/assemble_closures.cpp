@@ -200,7 +200,8 @@ bool better(const Attempt& x, const Attempt& y, double conditioning) {
       if (spec.name == c.name && line == 0) line = spec.source_line;
   }
   throw LoadError(d.extras_file, line, fmt::format("closure{} {}", names.size() > 1 ? "s" : "", fmt::join(names, ", ")),
-                  fmt::format("cannot be assembled: no pose of the tree closes {} (best of {} starting poses leaves {} open)",
+                  fmt::format("cannot be assembled: no pose of the tree closes {0}; the best of {1} starting poses leaves {0} "
+                              "open: {2}",
                               names.size() > 1 ? "them" : "it", seeds, fmt::join(open, ", ")),
                   "check the closure's frames, origins (parent_origin / child_origin), axis and type against the URDF: "
                   "the two closure frames must be able to meet");

@@ -132,12 +132,13 @@ void find_subsystems(Description& d, const AssemblyOptions& options) {
     MatrixXd kept_block(rank, k);
     for (int r = 0; r < rank; ++r)
       for (int c = 0; c < k; ++c) kept_block(r, c) = Phi_q(kept[r], s.coordinates[c]);
-    // Dependent coordinates: the best-conditioned square block, taken from the joints that are
-    // not actuated while they keep it well conditioned; what is left is independent.
+    // Dependent coordinates: a square block of full rank, taken from the joints that are not
+    // actuated while they still add rank (pivoting picks the best-conditioned of them), then from
+    // the actuated ones; what is left is independent: the actuators first, the idle spins too.
     std::vector<bool> free_joint(k);
     for (int c = 0; c < k; ++c) free_joint[c] = hinted.count(joint_of_coordinate(model, s.coordinates[c]).name) == 0;
     const double scale = std::max(1.0, sigma_max);
-    std::vector<int> z = pick_columns(kept_block, rank, free_joint, options.conditioning * scale,
+    std::vector<int> z = pick_columns(kept_block, rank, free_joint, options.rank_tolerance * scale,
                                       options.rank_tolerance * scale);
     if (static_cast<int>(z.size()) != rank)
       throw LoadError(d.extras_file, 0, fmt::format("loops of closure '{}'", model.closures[i].name),
