@@ -78,7 +78,7 @@ TEST_P(LegsTopology, FiguresMatchLoopsMd) {
             << total_rank(m) << ", mobility " << d.closed_dof << ", sub-systems " << groups
             << ", assembly: max joint change " << d.assembly.max_joint_change << " (" << d.assembly.max_change_joint
             << "), seeds " << d.assembly.seeds << ", sigma_min " << d.assembly.sigma_min << " / sigma_max "
-            << d.assembly.sigma_max << "\n";
+            << d.assembly.sigma_max << ", worst condition of Phi_z " << 1 / d.assembly.dependent_conditioning << "\n";
 }
 
 TEST_P(LegsTopology, MotorsAreIndependentAndIdleSpinsToo) {
@@ -122,8 +122,8 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
     for (int r = 0; r < s.rank(); ++r)
       for (int c = 0; c < s.rank(); ++c) Phi_z(r, c) = Phi_q(s.rows[r], s.dependent[c]);
     const VecX<double> sv = Eigen::JacobiSVD<MatX<double>>(Phi_z).singularValues();
-    // Condition number below 1e4 (measured: at most ~6e3, robot_delta's coaxial spins).
-    EXPECT_GT(sv[sv.size() - 1], 1e-4 * sv[0]) << f.model;
+    // The assembly prefers poses where this condition number stays below 1e3.
+    EXPECT_GT(sv[sv.size() - 1], 1e-3 * sv[0]) << f.model;
     std::cout << "[ Phi_z    ] " << f.model << ": " << s.rank() << " x " << s.rank() << ", condition " << sv[0] / sv[sv.size() - 1] << "\n";
   }
 }

@@ -106,6 +106,7 @@ struct Attempt {
   double displacement = 0;
   std::string moved_most;
   double sigma_min = 0, sigma_max = 0;
+  double dependent_conditioning = 0;  ///< worst sigma_min / sigma_max of the sub-systems' Phi_z
   int rank = 0;
   int iterations = 0;
 };
@@ -163,7 +164,9 @@ void finish(const Model& model, const VectorXd& q0, Attempt& a) {
   }
 }
 
-void measure_conditioning(const Model& model, Data<double>& data, const AssemblyOptions& options, Attempt& a) {
+void measure_conditioning(const Description& d, const Model& model, Data<double>& data, const AssemblyOptions& options,
+                          Attempt& a) {
+  a.dependent_conditioning = choose_subsystems(d, a.q, options).worst_conditioning;
   const MatrixXd Phi_q = closure_jacobian<double>(model, data, a.q);
   const VectorXd sv = Eigen::JacobiSVD<MatrixXd>(Phi_q).singularValues();
   a.sigma_max = sv.size() ? sv[0] : 0;
@@ -176,9 +179,9 @@ void measure_conditioning(const Model& model, Data<double>& data, const Assembly
 /// Better: higher rank (a lower one is a singular pose), then well conditioned, then nearer.
 bool better(const Attempt& x, const Attempt& y, double conditioning) {
   if (x.rank != y.rank) return x.rank > y.rank;
-  const bool wx = x.sigma_min >= conditioning * x.sigma_max, wy = y.sigma_min >= conditioning * y.sigma_max;
+  const bool wx = x.dependent_conditioning >= conditioning, wy = y.dependent_conditioning >= conditioning;
   if (wx != wy) return wx;
-  if (!wx) return x.sigma_min / x.sigma_max > y.sigma_min / y.sigma_max;
+  if (!wx) return x.dependent_conditioning > y.dependent_conditioning;
   return x.displacement < y.displacement;
 }
 
@@ -217,7 +220,6 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
   std::optional<Attempt> best;
   Attempt closest_open;
   int iterations = 0, seeds = 0;
-  constexpr int kMinSeeds = 4;  // the generic rank shows only after a few closed poses
   for (int seed = 0; seed < options.max_seeds; ++seed) {
     Attempt a;
     a.q = q0;
@@ -239,10 +241,9 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
       continue;
     }
     finish(model, q0, a);
-    measure_conditioning(model, data, options, a);
+    measure_conditioning(d, model, data, options, a);
     if (!best || better(a, *best, options.conditioning)) best = a;
-    const bool well = best->sigma_min >= options.conditioning * best->sigma_max;
-    if (well && seeds >= kMinSeeds) break;
+    if (best->dependent_conditioning >= options.conditioning && seeds >= options.min_seeds) break;
   }
   if (!best) report_open(d, model, data, closest_open, seeds);
   d.assembly.q = best->q;
@@ -261,10 +262,11 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
                                        "closed pose (limits are not imposed on the assembly)",
                                        joint.name, x, joint.lower, joint.upper));
   }
-  if (best->sigma_min < options.conditioning * best->sigma_max)
-    d.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned (smallest kept singular "
-                                     "value of Phi_q {:.3g}, largest {:.3g})",
-                                     best->sigma_min, best->sigma_max));
+  d.assembly.dependent_conditioning = best->dependent_conditioning;
+  if (best->dependent_conditioning < options.conditioning)
+    d.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned: a dependent block Phi_z "
+                                     "has condition {:.3g} (smallest kept singular value of Phi_q {:.3g}, largest {:.3g})",
+                                     1 / best->dependent_conditioning, best->sigma_min, best->sigma_max));
 }
 
 }  // namespace mbgen::gen

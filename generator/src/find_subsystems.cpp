@@ -70,14 +70,11 @@ std::vector<int> pick_columns(MatrixXd A, int count, const std::vector<bool>& pr
 
 }  // namespace
 
-void find_subsystems(Description& d, const AssemblyOptions& options) {
-  Model& model = d.model;
-  model.subsystems.clear();
+SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, const AssemblyOptions& options) {
+  const Model& model = d.model;
+  SubSystemChoice out;
   const int n = static_cast<int>(model.closures.size());
-  if (n == 0) {
-    d.closed_dof = model.nv();
-    return;
-  }
+  if (n == 0) return out;
   // Group the closures: union-find over shared cycle bodies (= shared moving joints).
   std::vector<std::set<int>> cycles;
   for (const LoopClosure& c : model.closures) cycles.push_back(cycle_bodies(model, c));
@@ -90,9 +87,9 @@ void find_subsystems(Description& d, const AssemblyOptions& options) {
     }
 
   Data<double> data(model);
-  const MatrixXd Phi_q = closure_jacobian<double>(model, data, d.assembly.q);
+  const MatrixXd Phi_q = closure_jacobian<double>(model, data, q);
   std::set<std::string> hinted(d.actuated_joints.begin(), d.actuated_joints.end());
-  int total_rank = 0;
+  out.worst_conditioning = 1.0;
   for (int i = 0; i < n; ++i) {
     if (find_root(parent, i) != i) continue;
     SubSystem s;
@@ -144,20 +141,33 @@ void find_subsystems(Description& d, const AssemblyOptions& options) {
       throw LoadError(d.extras_file, 0, fmt::format("loops of closure '{}'", model.closures[i].name),
                       "no set of dependent coordinates makes the constraint rows solvable",
                       "report this model: the rank of the rows and their coordinates disagree");
+    if (rank > 0) {
+      MatrixXd Phi_z(rank, rank);
+      for (int c = 0; c < rank; ++c) Phi_z.col(c) = kept_block.col(z[c]);
+      const Eigen::VectorXd sz = Eigen::JacobiSVD<MatrixXd>(Phi_z).singularValues();
+      out.worst_conditioning = std::min(out.worst_conditioning, sz[rank - 1] / sz[0]);
+    }
     std::vector<bool> is_dependent(k, false);
     for (int c : z) is_dependent[c] = true;
     for (int c = 0; c < k; ++c) (is_dependent[c] ? s.dependent : s.independent).push_back(s.coordinates[c]);
     std::sort(s.dependent.begin(), s.dependent.end());
     for (int c : z)
       if (!free_joint[c])
-        d.warnings.push_back(fmt::format(
+        out.warnings.push_back(fmt::format(
             "actuated joint '{}' is a dependent coordinate of the loops of closure '{}': the other joints of its "
             "loops determine it, so it cannot be an independent coordinate there",
             joint_of_coordinate(model, s.coordinates[c]).name, model.closures[i].name));
-    total_rank += rank;
-    model.subsystems.push_back(std::move(s));
+    out.total_rank += rank;
+    out.subsystems.push_back(std::move(s));
   }
-  d.closed_dof = model.nv() - total_rank;
+  return out;
+}
+
+void find_subsystems(Description& d, const AssemblyOptions& options) {
+  SubSystemChoice choice = choose_subsystems(d, d.assembly.q, options);
+  d.model.subsystems = std::move(choice.subsystems);
+  d.warnings.insert(d.warnings.end(), choice.warnings.begin(), choice.warnings.end());
+  d.closed_dof = d.model.nv() - choice.total_rank;
 }
 
 }  // namespace mbgen::gen

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -95,8 +96,10 @@ void print_loops(const Description& d, std::ostream& out) {
                        fmt::join(body_names(m, gen::cycle_path(m, c)), " - "));
   const gen::AssemblyReport& a = d.assembly;
   out << fmt::format("assembly: largest joint change from the zero pose {:.6g} (joint '{}'), max |Phi| {:.3g}, "
-                     "smallest kept singular value of Phi_q {:.6g} (largest {:.6g}), {} starting pose(s), {} iterations\n",
-                     a.max_joint_change, a.max_change_joint, a.residual, a.sigma_min, a.sigma_max, a.seeds, a.iterations);
+                     "smallest kept singular value of Phi_q {:.6g} (largest {:.6g}), worst condition of Phi_z {:.4g}, "
+                     "{} starting pose(s), {} iterations\n",
+                     a.max_joint_change, a.max_change_joint, a.residual, a.sigma_min, a.sigma_max,
+                     a.dependent_conditioning > 0 ? 1 / a.dependent_conditioning : INFINITY, a.seeds, a.iterations);
   out << fmt::format("sub-systems ({}):\n", m.subsystems.size());
   for (std::size_t k = 0; k < m.subsystems.size(); ++k) {
     const SubSystem& s = m.subsystems[k];
@@ -268,6 +271,7 @@ Json to_json(const Description& d) {
                 {"residual", d.assembly.residual},
                 {"sigma_min", d.assembly.sigma_min},
                 {"sigma_max", d.assembly.sigma_max},
+                {"dependent_condition", d.assembly.dependent_conditioning > 0 ? 1 / d.assembly.dependent_conditioning : -1.0},
                 {"seeds", d.assembly.seeds},
                 {"q", std::vector<double>(d.assembly.q.data(), d.assembly.q.data() + d.assembly.q.size())}};
   Json overrides = Json::object();

@@ -80,6 +80,7 @@ struct AssemblyReport {
   double residual = 0;             ///< max |Phi| at q
   double sigma_min = 0;            ///< smallest kept singular value of Phi_q at q
   double sigma_max = 0;            ///< largest singular value of Phi_q at q
+  double dependent_conditioning = 0;  ///< worst 1 / condition number of the sub-systems' Phi_z at q
   int seeds = 0;                   ///< starting points tried (1: the zero pose sufficed)
   int iterations = 0;              ///< Levenberg-Marquardt iterations, all seeds
 };

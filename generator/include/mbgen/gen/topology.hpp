@@ -33,9 +33,12 @@ struct AssemblyOptions {
   double tolerance = 1e-12;         ///< max |Phi| of a closed pose
   int max_iterations = 400;         ///< per seed
   int max_seeds = 24;               ///< the zero pose, then perturbed seeds
-  /// A closed pose is well conditioned when its smallest kept singular value of Phi_q is at
-  /// least this fraction of the largest; a worse one is kept only if no seed gives better.
+  /// A closed pose is well conditioned when, with the sub-systems' independent coordinates
+  /// chosen there (actuated joints first), every dependent block Phi_z has its smallest singular
+  /// value at least this fraction of its largest: the actuators then move the loops without a
+  /// nearby dead point. A worse pose is kept only if no seed gives better.
   double conditioning = 1e-3;
+  int min_seeds = 4;                ///< closed poses compared before the first well-conditioned one is taken
   /// Rank tolerance (LOOPS.md): singular values below rank_tolerance * max(1, sigma_max) are zero.
   double rank_tolerance = 1e-7;
 };
@@ -46,6 +49,17 @@ struct AssemblyOptions {
 /// coordinates are wrapped to (-pi, pi]. Throws a LoadError naming each closure that stays
 /// open and by how much.
 void assemble_closures(Description& d, const AssemblyOptions& options = {});
+
+/// Sub-systems at a pose q, without touching d (find_subsystems and the assembly's choice of
+/// pose use it): the sub-systems, the total rank, the warnings it would give, and the worst
+/// conditioning (smallest / largest singular value) of the sub-systems' dependent blocks Phi_z.
+struct SubSystemChoice {
+  std::vector<SubSystem> subsystems;
+  int total_rank = 0;
+  double worst_conditioning = 1.0;
+  std::vector<std::string> warnings;
+};
+SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, const AssemblyOptions& options = {});
 
 /// At d.assembly.q: fundamental cycle of each closure (tree path body_a -> common ancestor ->
 /// body_b); closures whose cycles share a moving joint are one sub-system (loops that only

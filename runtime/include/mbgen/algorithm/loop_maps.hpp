@@ -35,6 +35,10 @@ inline const char* to_string(LoopSolveStatus s) {
 struct LoopSolveOptions {
   double tolerance = 1e-12;          ///< max |Phi| over the kept rows
   int max_iterations = 20;
+  /// Newton steps are scaled down to at most this (rad or m) in their largest entry: with an
+  /// ill-conditioned Phi_z (wl16_like's, condition ~6e3) a full first step can overshoot out of
+  /// the basin; near the solution the steps are far smaller and Newton stays quadratic.
+  double max_step = 0.1;
   /// Smallest / largest |LU pivot| of Phi_z below this: singular. At a dead point the closure
   /// has a double root, which Newton approaches only to ~sqrt(tolerance) = 1e-6 before the
   /// residual test stops it, and the pivot ratio there is of that order (1.7e-6 for the
@@ -136,7 +140,9 @@ LoopSolveStatus solve_dependent_coordinates(const Model& model, Data<S>& data, L
       const SubSystem& s = model.subsystems[k];
       for (int r = 0; r < s.rank(); ++r) ws.rhs[k][r] = data.Phi[s.rows[r]];
       ws.sol[k] = ws.lu[k].solve(ws.rhs[k]);
-      for (int c = 0; c < s.rank(); ++c) q[ws.q_index_of_v[s.dependent[c]]] -= ws.sol[k][c];
+      const S largest = s.rank() > 0 ? ws.sol[k].cwiseAbs().maxCoeff() : S(0);
+      const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
+      for (int c = 0; c < s.rank(); ++c) q[ws.q_index_of_v[s.dependent[c]]] -= scale * ws.sol[k][c];
     }
   }
 }
