@@ -91,6 +91,58 @@ inline CentralPair central_pair(const Model& model, const VecX<double>& q, const
   return p;
 }
 
+/// The closed-loop descriptions the loop tests run on: the parallel_legs models (disney_robot
+/// with its 9 valid overrides, tests/data/parallel_legs), the mechanisms and Lola.
+struct LoopCase {
+  std::string name, urdf, extras;  ///< extras empty: the robot.yaml beside the URDF
+};
+inline std::vector<LoopCase> loop_cases() {
+  std::vector<LoopCase> cases;
+  for (const char* m : {"5bar_linkage", "cassie_like", "digit_like_2legs", "robot_delta", "talos_like", "wl16_like"})
+    cases.push_back({m, shared_robot(std::string("parallel_legs/") + m + "/robot.urdf"), ""});
+  cases.push_back({"disney_robot", shared_robot("parallel_legs/disney_robot/robot.urdf"),
+                   MBGEN_TEST_DATA "/parallel_legs/disney_robot_9_of_10.yaml"});
+  for (const char* m : {"four_bar", "slider_crank", "ankle_2dof"})
+    cases.push_back({m, MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".urdf",
+                     MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".yaml"});
+  cases.push_back({"lola", MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml"});
+  return cases;
+}
+inline void PrintTo(const LoopCase& c, std::ostream* os) { *os << c.name; }
+inline gen::Description load_loop_case(const LoopCase& c) {
+  gen::LoadOptions options;
+  if (!c.extras.empty()) options.extras_file = c.extras;
+  return gen::load_description(c.urdf, options);
+}
+
+/// A seeded random consistent state of a closed-loop model: from the closed pose q_closed, the
+/// independent coordinates move by up to `spread` (rad; a tenth of it in metres for prismatic
+/// joints, whose travel is short), Newton closes the loops again, and v = G vy
+/// with vy uniform in [-1, 1]. False if Newton does not converge there.
+template <typename Rng>
+bool consistent_state(const Model& model, const VecX<double>& q_closed, Rng& rng, double spread, VecX<double>& q,
+                      VecX<double>& v) {
+  Data<double> data(model);
+  LoopWorkspace<double> ws(model);
+  q = q_closed;
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int y : ws.independent) {
+    if (ws.q_index_of_v[y] < 0) continue;  // inside a floating base: left where it is
+    const Joint* joint = nullptr;
+    for (int j = 1; j < model.num_joints(); ++j)
+      if (model.joint(JointIndex(j)).idx_v == y) joint = &model.joint(JointIndex(j));
+    double& x = q[ws.q_index_of_v[y]];
+    x += spread * (joint->type == JointType::Prismatic ? 0.1 : 1.0) * unit(rng);
+    if (joint->bounded) x = std::clamp(x, joint->lower, joint->upper);  // Lola's knee nut stops at 5 mm
+  }
+  if (solve_dependent_coordinates<double>(model, data, ws, q) != LoopSolveStatus::Converged) return false;
+  if (loop_velocity_map<double>(model, data, ws, q) != LoopSolveStatus::Converged) return false;
+  VecX<double> vy(static_cast<int>(ws.independent.size()));
+  for (int i = 0; i < vy.size(); ++i) vy[i] = unit(rng);
+  v = ws.G * vy;
+  return true;
+}
+
 /// ||a - b|| / max(1, ||b||): relative for large values, absolute near zero.
 template <typename A, typename B> double relative_error(const A& a, const B& b) {
   return (a - b).norm() / std::max(1.0, static_cast<double>(b.norm()));

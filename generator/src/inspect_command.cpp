@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -14,6 +15,8 @@
 #include "mbgen/gen/description.hpp"
 #include "inspect_collision.hpp"
 #include "mbgen/gen/load_error.hpp"
+#include "mbgen/algorithm/closure.hpp"
+#include "mbgen/gen/topology.hpp"
 
 namespace mbgen::cli {
 
@@ -73,6 +76,50 @@ void print_tree(const Model& model, BodyIndex b, const std::string& prefix, bool
     print_tree(model, body.children[i], child_prefix, i + 1 == body.children.size(), out);
 }
 
+std::vector<std::string> body_names(const Model& m, const std::vector<BodyIndex>& bodies) {
+  std::vector<std::string> names;
+  for (BodyIndex b : bodies) names.push_back(m.body(b).name);
+  return names;
+}
+
+std::vector<std::string> coordinate_names(const Model& m, const std::vector<int>& coordinates) {
+  std::vector<std::string> names;
+  for (int v : coordinates) names.push_back(gen::coordinate_name(m, v));
+  return names;
+}
+
+void print_loops(const Description& d, std::ostream& out) {
+  const Model& m = d.model;
+  if (m.closures.empty()) return;
+  out << fmt::format("\nloops ({}), each closure's cycle from its first body through the root to its second:\n",
+                     m.closures.size());
+  for (const LoopClosure& c : m.closures)
+    out << fmt::format("  {}: {}, {} rows: {}\n", c.name, mbgen::to_string(c.type), c.rows(),
+                       fmt::join(body_names(m, gen::cycle_path(m, c)), " - "));
+  const gen::AssemblyReport& a = d.assembly;
+  out << fmt::format("assembly: largest joint change from the zero pose {:.6g} (joint '{}'), max |Phi| {:.3g}, "
+                     "smallest kept singular value of Phi_q {:.6g} (largest {:.6g}), worst condition of Phi_z {:.4g}, "
+                     "{} starting pose(s), {} iterations\n",
+                     a.max_joint_change, a.max_change_joint, a.residual, a.sigma_min, a.sigma_max,
+                     a.dependent_conditioning > 0 ? 1 / a.dependent_conditioning : INFINITY, a.seeds, a.iterations);
+  out << fmt::format("sub-systems ({}):\n", m.subsystems.size());
+  for (std::size_t k = 0; k < m.subsystems.size(); ++k) {
+    const SubSystem& s = m.subsystems[k];
+    std::vector<std::string> closures;
+    int rows = 0;
+    for (int c : s.closures) {
+      closures.push_back(m.closures[c].name);
+      rows += m.closures[c].rows();
+    }
+    out << fmt::format("  {}: closures {}; root '{}'; {} coordinates, {} constraint rows, rank {} ({} redundant)\n", k + 1,
+                       fmt::join(closures, ", "), m.body(s.root).name, s.coordinates.size(), rows, s.rank(), rows - s.rank());
+    out << fmt::format("     bodies: {}\n", fmt::join(body_names(m, s.bodies), ", "));
+    out << fmt::format("     independent ({}): {}\n", s.independent.size(), fmt::join(coordinate_names(m, s.independent), ", "));
+    out << fmt::format("     dependent ({}): {}\n", s.dependent.size(), fmt::join(coordinate_names(m, s.dependent), ", "));
+  }
+  out << fmt::format("closed-system DoF: {} (tree {} - rank {})\n", d.closed_dof, m.nv(), m.nv() - d.closed_dof);
+}
+
 void print_text(const Description& d, const gen::CollisionScene* collision, std::ostream& out) {
   const Model& m = d.model;
   out << "description: " << d.description_file << "\n";
@@ -94,9 +141,11 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   out << fmt::format("\nclosures as given ({}):\n", d.closures.size());
   for (const gen::ClosureSpec& c : d.closures)
     out << fmt::format("  {}: {} between '{}' and '{}'\n", c.name, c.type, c.frame_a, c.frame_b);
+  print_loops(d, out);
   out << fmt::format("\nactuated joints ({}): {}\n", d.actuated_joints.size(), fmt::join(d.actuated_joints, ", "));
   if (!d.joint_type_overrides.empty()) {
-    out << fmt::format("joint type overrides ({}, recorded, tree unchanged):\n", d.joint_type_overrides.size());
+    out << fmt::format("joint type overrides ({}, each a chain of revolute joints <joint>_x, _y[, _z]):\n",
+                       d.joint_type_overrides.size());
     for (const auto& [joint, type] : d.joint_type_overrides) out << fmt::format("  {}: {}\n", joint, type);
   }
   out << fmt::format("drives ({}):\n", d.drives.size());
@@ -118,8 +167,8 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   if (collision) print_collision_scene(*collision, out);
   out << fmt::format("\nwarnings ({}):\n", d.warnings.size());
   for (const std::string& w : d.warnings) out << "  - " << w << "\n";
-  out << fmt::format("\nverdict: OK: '{}' loads ({} DoF, {} closure(s) as given, {} warning(s))\n", d.robot_name,
-                     m.nv(), d.closures.size(), d.warnings.size());
+  out << fmt::format("\nverdict: OK: '{}' loads ({} DoF, {} closure(s), closed-system DoF {}, {} warning(s))\n",
+                     d.robot_name, m.nv(), d.closures.size(), d.closed_dof, d.warnings.size());
 }
 
 Json to_json(const Description& d) {
@@ -191,6 +240,43 @@ Json to_json(const Description& d) {
                {"prune_samples", d.scene->prune_samples}}},
              {"scalar", d.scene->scalar}};
   }
+  Json loops = Json::array();
+  for (const LoopClosure& c : m.closures)
+    loops.push_back({{"name", c.name},
+                     {"type", mbgen::to_string(c.type)},
+                     {"rows", c.rows()},
+                     {"body_a", m.body(c.body_a).name},
+                     {"body_b", m.body(c.body_b).name},
+                     {"root", m.body(common_ancestor(m, c.body_a, c.body_b)).name},
+                     {"bodies", body_names(m, gen::cycle_path(m, c))}});
+  Json subsystems = Json::array();
+  for (const SubSystem& s : m.subsystems) {
+    std::vector<std::string> closures;
+    int rows = 0;
+    for (int c : s.closures) {
+      closures.push_back(m.closures[c].name);
+      rows += m.closures[c].rows();
+    }
+    subsystems.push_back({{"closures", closures},
+                          {"root", m.body(s.root).name},
+                          {"bodies", body_names(m, s.bodies)},
+                          {"independent", coordinate_names(m, s.independent)},
+                          {"dependent", coordinate_names(m, s.dependent)},
+                          {"rows", rows},
+                          {"rank", s.rank()},
+                          {"kept_rows", s.rows},
+                          {"size", s.coordinates.size()}});
+  }
+  Json assembly;  // null without closures
+  if (!m.closures.empty())
+    assembly = {{"max_joint_change", d.assembly.max_joint_change},
+                {"joint", d.assembly.max_change_joint},
+                {"residual", d.assembly.residual},
+                {"sigma_min", d.assembly.sigma_min},
+                {"sigma_max", d.assembly.sigma_max},
+                {"dependent_condition", d.assembly.dependent_conditioning > 0 ? 1 / d.assembly.dependent_conditioning : -1.0},
+                {"seeds", d.assembly.seeds},
+                {"q", std::vector<double>(d.assembly.q.data(), d.assembly.q.data() + d.assembly.q.size())}};
   Json overrides = Json::object();
   for (const auto& [joint, type] : d.joint_type_overrides) overrides[joint] = type;
   return Json{{"description", d.description_file},
@@ -207,6 +293,10 @@ Json to_json(const Description& d) {
               {"closures", closures},
               {"actuated", d.actuated_joints},
               {"joint_type_overrides", overrides},
+              {"loops", loops},
+              {"subsystems", subsystems},
+              {"closed_dof", d.closed_dof},
+              {"assembly", assembly},
               {"drives", drives},
               {"ssv", ssv},
               {"scene", scene},

@@ -5,6 +5,7 @@
 
 #include "extras_support.hpp"
 #include "mbgen/gen/description.hpp"
+#include "mbgen/gen/topology.hpp"
 #include "mbgen/gen/validate.hpp"
 
 namespace mbgen::gen {
@@ -39,7 +40,9 @@ Description load_description(const std::string& path, const LoadOptions& options
     else
       apply_mbgen_extras(*extras, d);
   }
+  apply_joint_type_overrides(d);  // before validation: the chains' joints must move mass too
   validate_description(d);
+  build_topology(d);
   return d;
 }
 

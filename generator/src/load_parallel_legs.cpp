@@ -99,13 +99,12 @@ void read_joint_types(const ExtrasFile& x, Description& d) {
     const std::string name = to_string(x.path, names[i], element);
     auto joint = d.model.find_joint(name);
     if (!joint) {
-      // A warning, not an error: the override only matters for the later loop solver, and the
-      // robot must stay inspectable (disney_robot ships with such a misspelling).
+      // An error: the override changes the mechanism (a ball instead of a hinge), so skipping it
+      // would load another robot. disney_robot ships with such a misspelling (LOOPS.md).
       const std::string hint = did_you_mean(name, joints);
-      d.warnings.push_back(fmt::format("{}:{}: {} names '{}', which is no moving joint of the URDF{}; its joint_type {} "
-                                       "is not recorded",
-                                       x.path, line_of(names[i]), element, name, hint.empty() ? "" : " (" + hint + ")", type));
-      continue;
+      fail(x.path, names[i], element,
+           fmt::format("names '{}', which is no moving joint of the URDF, so its joint_type {} cannot be applied", name, type),
+           hint.empty() ? "name a revolute joint of the URDF" : hint + " (correct the name in joint_name)");
     }
     if (d.model.joint(*joint).type != JointType::Revolute)
       fail(x.path, names[i], element, fmt::format("names '{}', which is not a revolute joint", name),

@@ -28,6 +28,10 @@ template <typename S> struct Data {
         J(Mat6X<S>::Zero(6, model.nv())),
         Ag(Mat6X<S>::Zero(6, model.nv())),
         Jcom(Mat3X<S>::Zero(3, model.nv())),
+        Phi(VecX<S>::Zero(model.num_constraint_rows())),
+        Phi_q(MatX<S>::Zero(model.num_constraint_rows(), model.nv())),
+        gamma(VecX<S>::Zero(model.num_constraint_rows())),
+        zero_v(VecX<S>::Zero(model.nv())),
         subsystem_of_body(model.num_bodies(), -1) {
     for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k)
@@ -61,7 +65,13 @@ template <typename S> struct Data {
   Vec3<S> vcom = Vec3<S>::Zero();  ///< velocity of the centre of mass, world
   Mat3X<S> Jcom;                   ///< centre-of-mass Jacobian, world
 
-  std::vector<SubSystemWork<S>> subsystem;        ///< one per Model::subsystems entry
+  // Loop closures (algorithm/closure.hpp); m = model.num_constraint_rows(), 0 for a tree.
+  VecX<S> Phi;     ///< stacked closure residual (m)
+  MatX<S> Phi_q;   ///< constraint Jacobian (m x nv), velocity coordinates
+  VecX<S> gamma;   ///< bias with Phi_q qdd = gamma (m)
+  VecX<S> zero_v;  ///< nv zeros: the joint accelerations of the velocity-product pass
+
+  std::vector<SubSystemWork<S>> subsystem;          ///< one per Model::subsystems entry (aba with loops)
   IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body
 };
 

@@ -71,6 +71,20 @@ struct SourceLines {
   }
 };
 
+/// What assembly found (topology.hpp): the closed pose nearest the zero pose that is well
+/// conditioned, and how far it is from the zero pose.
+struct AssemblyReport {
+  VecX<double> q;                  ///< assembled configuration (nq); empty without closures
+  double max_joint_change = 0;     ///< max |q - q0| over the 1-DoF joints (rad or m)
+  std::string max_change_joint;    ///< the joint that moved most
+  double residual = 0;             ///< max |Phi| at q
+  double sigma_min = 0;            ///< smallest kept singular value of Phi_q at q
+  double sigma_max = 0;            ///< largest singular value of Phi_q at q
+  double dependent_conditioning = 0;  ///< worst 1 / condition number of the sub-systems' Phi_z at q
+  int seeds = 0;                   ///< starting points tried (1: the zero pose sufficed)
+  int iterations = 0;              ///< Levenberg-Marquardt iterations, all seeds
+};
+
 struct Description {
   Model model;
   std::string description_file;       ///< as given on the command line
@@ -84,8 +98,13 @@ struct Description {
   // Added with the YAML extras (issue 2, items 2 and 4).
   std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name
   /// joint_name / joint_type of a parallel_legs robot.yaml: URDF revolute joints that stand for
-  /// another joint (SPHERICAL, UJOINT_XY). Recorded only; the tree is not changed yet.
+  /// another joint (SPHERICAL, UJOINT_XY). The loader replaces each by a chain of revolute
+  /// joints `<joint>_x`, `<joint>_y`(, `<joint>_z`) (topology.hpp).
   std::map<std::string, std::string> joint_type_overrides;
+  /// Loops (topology.hpp): model.closures and model.subsystems are filled from `closures`
+  /// after an assembly; these say how the pose was found.
+  AssemblyReport assembly;
+  int closed_dof = 0;  ///< DoF of the closed system: nv - total rank of the closure rows
   std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound (extras, else URDF spheres/cylinders)
   std::map<std::string, int> collision_geometry_not_modelled;  ///< URDF <collision> kinds with no SSV (box, mesh) -> count
   std::optional<SceneSpec> scene;

@@ -1,0 +1,243 @@
+#pragma once
+// Loop-closure constraints on top of the tree: residual Phi(q), Jacobian Phi_q (velocity
+// coordinates) and bias gamma with Phi_q qdd = gamma. Row convention: loop_closure.hpp.
+//
+// Rows of one closure, with Ca, Cb its two frames, R = R_CaCb, r = p_CaCb (Cb's origin in Ca)
+// and (u1, u2, a) the right-handed basis of Ca whose third vector is the closure axis a:
+//   weld       [r; vee(R - R^T)/2]
+//   point      r
+//   revolute   [r; -u2.(R a); u1.(R a)]
+//   prismatic  [u1.r; u2.r; vee(R - R^T)/2]
+//   universal  [r; -a.(R b)]                    (b = axis_b, fixed in Cb)
+// Phi_q has the rows of the relative motion of Cb with respect to Ca, expressed in Ca: the
+// linear rows are the exact derivative of Phi everywhere, the angular rows on the closed set
+// Phi = 0 (where R a = a, R = I), which is where the dynamics use them; Newton, which may start
+// off it, keeps its quadratic convergence (the Jacobian error is O(|Phi|)).
+//
+// Only the joints strictly below the closure's common ancestor enter Phi_q: those above move
+// Ca and Cb alike, and their columns are exact zeros rather than round-off.
+#include "mbgen/algorithm/jacobian.hpp"
+
+namespace mbgen {
+
+/// Right-handed orthonormal basis (u1, u2, a) of a closure frame whose third column is the unit
+/// axis a. u1 = normalize(e x a), e the coordinate axis least aligned with a (the first such),
+/// so the basis is a constant of the model.
+inline Mat3<double> closure_axis_basis(const Vec3<double>& axis) {
+  const Vec3<double> a = axis.normalized();
+  int least = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(a[k]) < std::abs(a[least])) least = k;
+  const Vec3<double> u1 = Vec3<double>::Unit(least).cross(a).normalized();
+  Mat3<double> B;
+  B << u1, a.cross(u1), a;
+  return B;
+}
+
+/// Deepest body that supports both a and b (the world if nothing else): where a closure's
+/// fundamental cycle turns. Bodies are numbered parents first, so the larger index climbs.
+inline BodyIndex common_ancestor(const Model& model, BodyIndex a, BodyIndex b) {
+  while (a != b) {
+    if (a.value() > b.value())
+      a = model.body(a).parent;
+    else
+      b = model.body(b).parent;
+  }
+  return a;
+}
+
+namespace detail {
+
+/// vee((R - R^T) / 2): the rotation vector of R to first order.
+template <typename S> Vec3<S> rotation_skew_vee(const Mat3<S>& R) {
+  return Vec3<S>(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / S(2);
+}
+
+/// World quantities of a frame fixed in a body at X_BC: pose, velocity and classical
+/// (non-spatial) acceleration of its origin, angular velocity and acceleration, all in world
+/// axes. Needs data.X_WB and, for the rates, data.v and data.a (body frame) of kinematics.
+template <typename S> struct FrameState {
+  Mat3<S> R;
+  Vec3<S> p, v, w, dv, dw;
+};
+
+template <typename S>
+FrameState<S> closure_frame_state(const Data<S>& data, BodyIndex b, const SE3<double>& X_BC, bool with_rates) {
+  FrameState<S> f;
+  const SE3<S>& X_WB = data.X_WB[b];
+  const Vec3<S> r = X_BC.translation.cast<S>();
+  f.R = X_WB.rotation * X_BC.rotation.cast<S>();
+  f.p = X_WB.act(r);
+  if (!with_rates) return f;
+  const Motion<S>& vb = data.v[b];
+  const Motion<S>& ab = data.a[b];
+  const Vec3<S> v_point = vb.linear + vb.angular.cross(r);  // body axes
+  f.v = X_WB.rotation * v_point;
+  f.w = X_WB.rotation * vb.angular;
+  // a is the derivative of the body twist's components: the point's classical acceleration
+  // adds the transport term w x v_point.
+  f.dv = X_WB.rotation * (ab.linear + ab.angular.cross(r) + vb.angular.cross(v_point));
+  f.dw = X_WB.rotation * ab.angular;
+  return f;
+}
+
+/// Residual rows of one closure into out[0 .. rows). Needs data.X_WB.
+template <typename S> void closure_residual_rows(const Model& model, const Data<S>& data, const LoopClosure& c, S* out) {
+  (void)model;
+  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
+  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
+  const Mat3<S> R = A.R.transpose() * B.R;
+  const Vec3<S> r = A.R.transpose() * (B.p - A.p);
+  const Mat3<double> basis = closure_axis_basis(c.axis);
+  const Vec3<S> u1 = basis.col(0).cast<S>(), u2 = basis.col(1).cast<S>(), a = basis.col(2).cast<S>();
+  switch (c.type) {
+    case ClosureType::Weld: {
+      const Vec3<S> e = rotation_skew_vee<S>(R);
+      for (int k = 0; k < 3; ++k) out[k] = r[k], out[3 + k] = e[k];
+      break;
+    }
+    case ClosureType::Point:
+      for (int k = 0; k < 3; ++k) out[k] = r[k];
+      break;
+    case ClosureType::Revolute: {
+      const Vec3<S> Ra = R * a;
+      for (int k = 0; k < 3; ++k) out[k] = r[k];
+      out[3] = -u2.dot(Ra);
+      out[4] = u1.dot(Ra);
+      break;
+    }
+    case ClosureType::Prismatic: {
+      const Vec3<S> e = rotation_skew_vee<S>(R);
+      out[0] = u1.dot(r);
+      out[1] = u2.dot(r);
+      for (int k = 0; k < 3; ++k) out[2 + k] = e[k];
+      break;
+    }
+    case ClosureType::Universal:
+      for (int k = 0; k < 3; ++k) out[k] = r[k];
+      out[3] = -a.dot(R * c.axis_b.cast<S>());
+      break;
+  }
+}
+
+/// Maps a relative motion of Cb with respect to Ca (in Ca: linear rows of the origin, angular)
+/// to the closure's rows. n_u is the universal closure's angular row direction a x (R b).
+template <typename S>
+void select_closure_rows(const LoopClosure& c, const Mat3<double>& basis, const Vec3<S>& n_u, const Vec3<S>& lin,
+                         const Vec3<S>& ang, S* out, int stride) {
+  const Vec3<S> u1 = basis.col(0).cast<S>(), u2 = basis.col(1).cast<S>();
+  switch (c.type) {
+    case ClosureType::Weld:
+      for (int k = 0; k < 3; ++k) out[k * stride] = lin[k], out[(3 + k) * stride] = ang[k];
+      break;
+    case ClosureType::Point:
+      for (int k = 0; k < 3; ++k) out[k * stride] = lin[k];
+      break;
+    case ClosureType::Revolute:
+      for (int k = 0; k < 3; ++k) out[k * stride] = lin[k];
+      out[3 * stride] = u1.dot(ang);
+      out[4 * stride] = u2.dot(ang);
+      break;
+    case ClosureType::Prismatic:
+      out[0] = u1.dot(lin);
+      out[stride] = u2.dot(lin);
+      for (int k = 0; k < 3; ++k) out[(2 + k) * stride] = ang[k];
+      break;
+    case ClosureType::Universal:
+      for (int k = 0; k < 3; ++k) out[k * stride] = lin[k];
+      out[3 * stride] = n_u.dot(ang);
+      break;
+  }
+}
+
+/// a x (R b) of a universal closure (zero vector otherwise), R = R_CaCb.
+template <typename S> Vec3<S> universal_row_direction(const LoopClosure& c, const Mat3<double>& basis, const Mat3<S>& R) {
+  if (c.type != ClosureType::Universal) return Vec3<S>::Zero();
+  return basis.col(2).cast<S>().cross(R * c.axis_b.cast<S>());
+}
+
+/// Jacobian rows of one closure into the block J (rows x nv), zeroing it first. Needs
+/// compute_joint_jacobians (data.J, data.X_WB).
+template <typename S, typename Block> void closure_jacobian_rows(const Model& model, const Data<S>& data, const LoopClosure& c, Block&& J) {
+  J.setZero();
+  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
+  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
+  const Mat3<double> basis = closure_axis_basis(c.axis);
+  const Vec3<S> n_u = universal_row_direction<S>(c, basis, Mat3<S>(A.R.transpose() * B.R));
+  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+  // A column moves Cb's origin (b side, +) or the point of body A coincident with it (a side, -).
+  for (int side = 0; side < 2; ++side) {
+    const S sign = side == 0 ? S(1) : S(-1);
+    for (BodyIndex j = side == 0 ? c.body_b : c.body_a; j != top; j = model.body(j).parent) {
+      const Joint& joint = model.joint(model.body(j).joint);
+      for (int k = 0; k < joint.nv; ++k) {
+        const int col = joint.idx_v + k;
+        const Vec3<S> lin_W = data.J.col(col).template head<3>();
+        const Vec3<S> ang_W = data.J.col(col).template tail<3>();
+        const Vec3<S> lin = sign * (A.R.transpose() * (lin_W + ang_W.cross(B.p)));
+        const Vec3<S> ang = sign * (A.R.transpose() * ang_W);
+        S rows[6];
+        select_closure_rows<S>(c, basis, n_u, lin, ang, rows, 1);
+        for (int i = 0; i < c.rows(); ++i) J(i, col) += rows[i];
+      }
+    }
+  }
+}
+
+/// Rows of d/dt (Phi_q v) at zero joint accelerations into out[0 .. rows). Needs kinematics with
+/// velocities v and accelerations 0 (data.X_WB, data.v, data.a).
+template <typename S> void closure_velocity_product_rows(const Data<S>& data, const LoopClosure& c, S* out) {
+  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, true);
+  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, true);
+  const Mat3<S> Rt = A.R.transpose();
+  const Vec3<S> d = B.p - A.p, dd = B.v - A.v;
+  // c_lin = Ra^T (vb - va - wa x d), c_ang = Ra^T (wb - wa); d/dt Ra^T = -Ra^T [wa]x.
+  const Vec3<S> rel_lin = dd - A.w.cross(d), rel_ang = B.w - A.w;
+  const Vec3<S> lin = Rt * (B.dv - A.dv - A.dw.cross(d) - A.w.cross(dd) - A.w.cross(rel_lin));
+  const Vec3<S> ang = Rt * (B.dw - A.dw - A.w.cross(rel_ang));
+  const Mat3<double> basis = closure_axis_basis(c.axis);
+  const Mat3<S> R = Rt * B.R;
+  const Vec3<S> n_u = universal_row_direction<S>(c, basis, R);
+  select_closure_rows<S>(c, basis, n_u, lin, ang, out, 1);
+  if (c.type == ClosureType::Universal) {
+    // The row direction n = a x (R b) turns with the relative rotation: n' = a x (w_rel x R b).
+    const Vec3<S> w_rel = Rt * rel_ang;
+    const Vec3<S> n_dot = basis.col(2).cast<S>().cross(w_rel.cross(R * c.axis_b.cast<S>()));
+    out[3] += n_dot.dot(w_rel);
+  }
+}
+
+}  // namespace detail
+
+/// Stacked residual Phi(q) of all closures (model.num_constraint_rows()) in data.Phi, also
+/// returned. Runs forward kinematics for q (size nq).
+template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
+  forward_kinematics<S>(model, data, q);
+  for (const LoopClosure& c : model.closures) detail::closure_residual_rows<S>(model, data, c, data.Phi.data() + c.row_offset);
+  return data.Phi;
+}
+
+/// Constraint Jacobian Phi_q (m x nv, velocity coordinates: Phi_q v is the stacked relative
+/// velocity of the closures) in data.Phi_q, also returned. Runs compute_joint_jacobians for q.
+template <typename S> const MatX<S>& closure_jacobian(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
+  compute_joint_jacobians<S>(model, data, q);
+  for (const LoopClosure& c : model.closures)
+    detail::closure_jacobian_rows<S>(model, data, c, data.Phi_q.middleRows(c.row_offset, c.rows()));
+  return data.Phi_q;
+}
+
+/// Bias gamma (m) with Phi_q qdd = gamma on a motion that keeps the loops closed:
+/// gamma = -(d/dt Phi_q) v, from the frame accelerations at qdd = 0. In data.gamma, also
+/// returned. Runs forward kinematics for (q, v, 0).
+template <typename S>
+const VecX<S>& closure_bias(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
+  detail::kinematics_pass<S>(model, data, q.data(), v.data(), data.zero_v.data());
+  for (const LoopClosure& c : model.closures) {
+    S* out = data.gamma.data() + c.row_offset;
+    detail::closure_velocity_product_rows<S>(data, c, out);
+    for (int i = 0; i < c.rows(); ++i) out[i] = -out[i];
+  }
+  return data.gamma;
+}
+
+}  // namespace mbgen

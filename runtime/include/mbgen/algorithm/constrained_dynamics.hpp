@@ -1,0 +1,118 @@
+#pragma once
+// Reference forward dynamics of a closed-loop system, O(n^3), two independent ways (DESIGN.md:
+// what the O(n) sub-system recursion must match to round-off on consistent states):
+//   full coordinates with Lagrange multipliers (KKT):
+//     [M  Phi_k^T] [qdd]   [tau - C - g                    ]
+//     [Phi_k   0 ] [ mu] = [gamma_k - 2 alpha Phidot_k - beta^2 Phi_k],   lambda = -mu
+//   independent coordinates: G^T M G ydd = G^T (tau - C - g - M g_acc), qdd = G ydd + g_acc.
+// Phi_k are the kept rows of the sub-systems (redundant rows dropped, so the KKT matrix is
+// regular); lambda are the closure forces along them (M qdd = tau - C - g + Phi_k^T lambda).
+// Baumgarte stabilisation (alpha, beta > 0) pulls a drifting state back to Phi = 0; with
+// alpha = beta = 0 the constraint holds at the acceleration level only and Phi drifts.
+// Fixed base or floating base alike; allocation-free after the workspace is made.
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <Eigen/LU>
+
+#include "mbgen/algorithm/crba.hpp"
+#include "mbgen/algorithm/loop_maps.hpp"
+#include "mbgen/algorithm/rnea.hpp"
+
+namespace mbgen {
+
+struct BaumgarteGains {
+  double alpha = 0;  ///< velocity gain, 1/s
+  double beta = 0;   ///< position gain, 1/s
+};
+
+/// Work memory of the reference forward dynamics.
+template <typename S> struct ConstrainedDynamicsWorkspace {
+  explicit ConstrainedDynamicsWorkspace(const Model& model);
+  std::vector<int> rows;   ///< kept constraint rows of all sub-systems, ascending (r = size)
+  MatX<S> K;               ///< KKT matrix (nv + r)^2
+  VecX<S> rhs, solution;   ///< nv + r
+  Eigen::PartialPivLU<MatX<S>> kkt_lu;
+  VecX<S> qdd;             ///< nv: the result
+  VecX<S> lambda;          ///< r: closure forces along the kept rows (KKT only)
+  VecX<S> bias;            ///< nv: C v + g
+  // Independent coordinates.
+  MatX<S> MG, Mr;          ///< M G (nv x ny), G^T M G (ny x ny)
+  VecX<S> force, rhs_y, ydd;
+  Eigen::LLT<MatX<S>> Mr_llt;
+  LoopWorkspace<S> loops;
+};
+
+template <typename S>
+ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model) : loops(model) {
+  for (const SubSystem& s : model.subsystems) rows.insert(rows.end(), s.rows.begin(), s.rows.end());
+  std::sort(rows.begin(), rows.end());
+  const int n = model.nv(), r = static_cast<int>(rows.size()), ny = static_cast<int>(loops.independent.size());
+  K = MatX<S>::Zero(n + r, n + r);
+  rhs = VecX<S>::Zero(n + r);
+  solution = VecX<S>::Zero(n + r);
+  kkt_lu = Eigen::PartialPivLU<MatX<S>>(n + r);
+  qdd = VecX<S>::Zero(n);
+  lambda = VecX<S>::Zero(r);
+  bias = VecX<S>::Zero(n);
+  MG = MatX<S>::Zero(n, ny);
+  Mr = MatX<S>::Zero(ny, ny);
+  force = VecX<S>::Zero(n);
+  rhs_y = VecX<S>::Zero(ny);
+  ydd = VecX<S>::Zero(ny);
+  Mr_llt = Eigen::LLT<MatX<S>>(ny);
+}
+
+/// Full-coordinate forward dynamics with Lagrange multipliers at (q, v) with joint forces tau:
+/// ws.qdd (nv), also returned, and ws.lambda. Optional Baumgarte gains.
+template <typename S>
+const VecX<S>& forward_dynamics_kkt(const Model& model, Data<S>& data, ConstrainedDynamicsWorkspace<S>& ws,
+                                    const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau,
+                                    const BaumgarteGains& gains = {}) {
+  const int n = model.nv(), r = static_cast<int>(ws.rows.size());
+  ws.K.topLeftCorner(n, n) = crba<S>(model, data, q);
+  ws.bias = nonlinear_effects<S>(model, data, q, v);
+  ws.rhs.head(n) = tau - ws.bias;
+  closure_jacobian<S>(model, data, q);
+  for (int i = 0; i < r; ++i)
+    for (int c = 0; c < n; ++c) ws.K(n + i, c) = ws.K(c, n + i) = data.Phi_q(ws.rows[i], c);
+  closure_bias<S>(model, data, q, v);
+  for (int i = 0; i < r; ++i) ws.rhs[n + i] = data.gamma[ws.rows[i]];
+  if (gains.alpha != 0 || gains.beta != 0) {
+    closure_residual<S>(model, data, q);
+    for (int i = 0; i < r; ++i) {
+      const S phi_dot = data.Phi_q.row(ws.rows[i]).dot(v);
+      ws.rhs[n + i] -= S(2 * gains.alpha) * phi_dot + S(gains.beta * gains.beta) * data.Phi[ws.rows[i]];
+    }
+  }
+  ws.kkt_lu.compute(ws.K);
+  ws.solution = ws.kkt_lu.solve(ws.rhs);
+  ws.qdd = ws.solution.head(n);
+  ws.lambda = -ws.solution.tail(r);
+  return ws.qdd;
+}
+
+/// Forward dynamics in independent coordinates at a consistent state (q closed, v = G vy):
+/// ws.qdd = G ydd + g_acc (nv), also returned. Meaningful only where Phi_z is regular:
+/// loop_velocity_map's status comes back through `status` (Singular at a dead point).
+template <typename S>
+const VecX<S>& forward_dynamics_independent(const Model& model, Data<S>& data, ConstrainedDynamicsWorkspace<S>& ws,
+                                            const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau,
+                                            LoopSolveStatus* status = nullptr) {
+  const LoopSolveStatus s = loop_velocity_map<S>(model, data, ws.loops, q);
+  if (status) *status = s;
+  loop_acceleration_bias<S>(model, data, ws.loops, q, v);
+  const MatX<S>& M = crba<S>(model, data, q);
+  ws.bias = nonlinear_effects<S>(model, data, q, v);
+  ws.force = tau - ws.bias;
+  ws.force.noalias() -= M * ws.loops.g;
+  ws.MG.noalias() = M * ws.loops.G;
+  ws.Mr.noalias() = ws.loops.G.transpose() * ws.MG;
+  ws.rhs_y.noalias() = ws.loops.G.transpose() * ws.force;
+  ws.Mr_llt.compute(ws.Mr);
+  ws.ydd = ws.Mr_llt.solve(ws.rhs_y);
+  ws.qdd = ws.loops.g;
+  ws.qdd.noalias() += ws.loops.G * ws.ydd;
+  return ws.qdd;
+}
+
+}  // namespace mbgen

@@ -1,0 +1,100 @@
+// Closure constraints (runtime/include/mbgen/algorithm/closure.hpp): residual, Jacobian and bias
+// against finite differences, on every closed-loop description (test_support.hpp, loop_cases).
+//
+// Tolerances. Central differences with step h have truncation error O(h^2) and round-off
+// O(eps / h); with h = 1e-6 on unit-sized quantities both stay below 1e-9, so 1e-7 relative.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "test_support.hpp"
+
+namespace mbgen::test {
+namespace {
+
+class ClosureTest : public ::testing::TestWithParam<LoopCase> {
+ protected:
+  ClosureTest() : d(load_loop_case(GetParam())), model(d.model), data(model) {}
+  gen::Description d;
+  const Model& model;
+  Data<double> data;
+};
+
+TEST_P(ClosureTest, AssembledPoseIsClosed) {
+  EXPECT_LT(closure_residual<double>(model, data, d.assembly.q).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST_P(ClosureTest, JacobianMatchesFiniteDifferencesAtClosedPoses) {
+  // Phi_q is the exact derivative of Phi on the closed set (closure.hpp): test there, at the
+  // assembled pose and at random consistent states.
+  std::mt19937_64 rng(11);
+  const double h = 1e-6;
+  for (int trial = 0; trial < 4; ++trial) {
+    VecX<double> q = d.assembly.q, v;
+    if (trial > 0) ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
+    for (int dir = 0; dir < 3; ++dir) {
+      const VecX<double> dq = random_vector<double>(model.nv(), rng);
+      const CentralPair p = central_pair(model, q, dq, h);
+      const VecX<double> plus = closure_residual<double>(model, data, p.plus);
+      const VecX<double> minus = closure_residual<double>(model, data, p.minus);
+      const VecX<double> fd = (plus - minus) / (2 * h);
+      EXPECT_LT(relative_error(Phi_q * dq, fd), 1e-7) << "trial " << trial;
+    }
+  }
+}
+
+TEST_P(ClosureTest, LinearRowsAreExactDerivativesAnywhere) {
+  // Away from the closed set only the position rows of weld / point / revolute / universal
+  // closures are exact derivatives; the zero pose of parallel_legs is far from closed.
+  std::mt19937_64 rng(12);
+  const double h = 1e-6;
+  const VecX<double> q = neutral_configuration<double>(model);
+  const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
+  const VecX<double> dq = random_vector<double>(model.nv(), rng);
+  const CentralPair p = central_pair(model, q, dq, h);
+  const VecX<double> plus = closure_residual<double>(model, data, p.plus);  // copies: data.Phi is reused
+  const VecX<double> minus = closure_residual<double>(model, data, p.minus);
+  const VecX<double> fd = (plus - minus) / (2 * h);
+  const VecX<double> analytic = Phi_q * dq;
+  for (const LoopClosure& c : model.closures) {
+    if (c.type == ClosureType::Prismatic) continue;
+    EXPECT_LT(relative_error(analytic.segment<3>(c.row_offset), fd.segment<3>(c.row_offset)), 1e-7) << c.name;
+  }
+}
+
+TEST_P(ClosureTest, BiasIsMinusTheRateOfTheConstraintVelocity) {
+  // gamma = -(d/dt Phi_q) v along q(t) = q (+) t v (qdd = 0): central differences in t, at any
+  // state (closed or not), since gamma differentiates the velocity rows as defined.
+  std::mt19937_64 rng(13);
+  const double h = 1e-6;
+  for (int trial = 0; trial < 3; ++trial) {
+    VecX<double> q = d.assembly.q, v = random_vector<double>(model.nv(), rng);
+    if (trial == 1) ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    if (trial == 2) q = random_configuration<double>(model, rng);
+    const VecX<double> gamma = closure_bias<double>(model, data, q, v);
+    const CentralPair p = central_pair(model, q, v, h);
+    const VecX<double> plus = closure_jacobian<double>(model, data, p.plus) * v;
+    const VecX<double> minus = closure_jacobian<double>(model, data, p.minus) * v;
+    const VecX<double> fd = -(plus - minus) / (2 * h);
+    EXPECT_LT(relative_error(gamma, fd), 1e-6) << "trial " << trial;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ClosedLoops, ClosureTest, ::testing::ValuesIn(loop_cases()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(ClosureFrames, MechanismsCloseAtTheirNominalPose) {
+  // robots/mechanisms/README.md: each mechanism closes at q = 0 to round-off (<= 3e-17 m).
+  for (const LoopCase& c : loop_cases()) {
+    if (c.name != "four_bar" && c.name != "slider_crank" && c.name != "ankle_2dof") continue;
+    const gen::Description d = load_loop_case(c);
+    Data<double> data(d.model);
+    EXPECT_LT(closure_residual<double>(d.model, data, neutral_configuration<double>(d.model)).cwiseAbs().maxCoeff(), 1e-15)
+        << c.name;
+    EXPECT_EQ(d.assembly.max_joint_change, 0.0) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace mbgen::test

@@ -1,0 +1,195 @@
+// Position, velocity and acceleration maps of closed loops (runtime/include/mbgen/algorithm/
+// loop_maps.hpp): Phi_q G = 0 and Phi_q g = gamma on every closed-loop description, Newton
+// against the closed forms of robots/mechanisms/README.md (four-bar: Freudenstein; slider-crank),
+// the dead point of a slider-driven slider-crank, and no allocation per call.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "malloc_guard.hpp"
+#include "test_support.hpp"
+
+namespace mbgen::test {
+namespace {
+
+const std::string kMechanisms = MBGEN_SOURCE_DIR "/robots/mechanisms/";
+
+gen::Description load(const std::string& urdf, const std::string& extras) {
+  gen::LoadOptions options;
+  options.extras_file = extras;
+  return gen::load_description(urdf, options);
+}
+
+int q_index(const Model& model, const std::string& joint) { return model.joint(*model.find_joint(joint)).idx_q; }
+
+class LoopMapsTest : public ::testing::TestWithParam<LoopCase> {
+ protected:
+  LoopMapsTest() : d(load_loop_case(GetParam())), model(d.model), data(model), ws(model) {}
+  gen::Description d;
+  const Model& model;
+  Data<double> data;
+  LoopWorkspace<double> ws;
+};
+
+TEST_P(LoopMapsTest, IndependentCoordinatesCountTheClosedDof) {
+  EXPECT_EQ(static_cast<int>(ws.independent.size()), d.closed_dof);
+  EXPECT_EQ(static_cast<int>(ws.independent.size() + ws.dependent.size()), model.nv());
+}
+
+TEST_P(LoopMapsTest, VelocityMapIsInTheNullSpaceOfTheConstraints) {
+  // Phi_q G = 0 on all rows (redundant ones too: they are consistent on the closed set);
+  // 1e-10 relative to |Phi_q| |G|, round-off of solving with Phi_z (condition up to ~1e3 here).
+  std::mt19937_64 rng(21);
+  for (int trial = 0; trial < 3; ++trial) {
+    VecX<double> q, v;
+    ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+    const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
+    EXPECT_LT((Phi_q * ws.G).norm(), 1e-10 * Phi_q.norm() * ws.G.norm());
+    // G is the identity on the independent coordinates.
+    for (std::size_t i = 0; i < ws.independent.size(); ++i) EXPECT_EQ(ws.G(ws.independent[i], i), 1.0);
+  }
+}
+
+TEST_P(LoopMapsTest, AccelerationBiasSatisfiesTheAccelerationConstraint) {
+  // qdd = G ydd + g keeps Phi_q qdd = gamma for any ydd: on all rows, to 1e-9 relative.
+  std::mt19937_64 rng(22);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+  const VecX<double> g = loop_acceleration_bias<double>(model, data, ws, q, v);
+  const VecX<double> gamma = closure_bias<double>(model, data, q, v);
+  const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
+  const VecX<double> ydd = random_vector<double>(static_cast<int>(ws.independent.size()), rng);
+  EXPECT_LT(relative_error(Phi_q * (ws.G * ydd + g), gamma), 1e-9);
+}
+
+TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
+  // Move z off a closed pose; Newton from there returns to it (same branch) to 1e-10.
+  std::mt19937_64 rng(23);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  VecX<double> moved = q;
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int z : ws.dependent) moved[ws.q_index_of_v[z]] += 1e-3 * unit(rng);
+  ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, moved), LoopSolveStatus::Converged);
+  EXPECT_LT((moved - q).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LE(ws.iterations, 6);
+}
+
+TEST_P(LoopMapsTest, MapsDoNotAllocate) {
+  std::mt19937_64 rng(24);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  LoopSolveStatus status;
+  {
+    MallocGuard guard;
+    status = solve_dependent_coordinates<double>(model, data, ws, q);
+    loop_velocity_map<double>(model, data, ws, q);
+    loop_acceleration_bias<double>(model, data, ws, q, v);
+    closure_residual<double>(model, data, q);
+    EXPECT_EQ(guard.count(), 0u);
+  }
+  EXPECT_EQ(status, LoopSolveStatus::Converged);
+}
+
+INSTANTIATE_TEST_SUITE_P(ClosedLoops, LoopMapsTest, ::testing::ValuesIn(loop_cases()),
+                         [](const auto& info) { return info.param.name; });
+
+// ---- closed forms (robots/mechanisms/README.md) -------------------------------------------
+
+/// Four-bar (Freudenstein): rocker angle theta4 for crank angle theta2, the nominal branch.
+double freudenstein_theta4(double theta2) {
+  const double a = 0.05, b = 0.182, c = 0.122, d = 0.19;
+  const double K1 = d / a, K2 = d / c, K3 = (a * a - b * b + c * c + d * d) / (2 * a * c);
+  const double A = std::cos(theta2) - K1 - K2 * std::cos(theta2) + K3, B = -2 * std::sin(theta2);
+  const double C = K1 - (K2 + 1) * std::cos(theta2) + K3;
+  return 2 * std::atan2(-B - std::sqrt(B * B - 4 * A * C), 2 * A);
+}
+
+TEST(LoopMapsClosedForm, FourBarFollowsFreudenstein) {
+  // The crank turns a full revolution in 0.05 rad steps, Newton warm-started from the last pose;
+  // the rocker matches the closed form to 1e-10 rad, and the rocker rate from G matches the
+  // closed form's derivative (central differences, h = 1e-6: 1e-8).
+  const gen::Description d = load(kMechanisms + "four_bar.urdf", kMechanisms + "four_bar.yaml");
+  const Model& model = d.model;
+  Data<double> data(model);
+  LoopWorkspace<double> ws(model);
+  ASSERT_EQ(ws.independent, std::vector<int>{model.joint(*model.find_joint("crank_joint")).idx_v});
+  const int crank = q_index(model, "crank_joint"), rocker = q_index(model, "rocker_joint");
+  const int coupler = q_index(model, "coupler_joint");
+  const double theta20 = M_PI / 2, theta40 = std::atan2(0.12, -0.022), theta30 = std::atan2(0.07, 0.168);
+  VecX<double> q = VecX<double>::Zero(model.nq());
+  double worst_angle = 0, worst_rate = 0;
+  for (int step = 1; step <= 126; ++step) {
+    q[crank] = 0.05 * step;
+    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << step;
+    const double theta2 = theta20 + q[crank];
+    const double rocker_expected = std::remainder(freudenstein_theta4(theta2) - theta40, 2 * M_PI);
+    worst_angle = std::max(worst_angle, std::abs(std::remainder(q[rocker] - rocker_expected, 2 * M_PI)));
+    // Coupler: b (cos t3, sin t3) = d (1, 0) + c (cos t4, sin t4) - a (cos t2, sin t2).
+    const double t4 = theta40 + q[rocker];
+    const double t3 = std::atan2(0.122 * std::sin(t4) - 0.05 * std::sin(theta2), 0.19 + 0.122 * std::cos(t4) - 0.05 * std::cos(theta2));
+    worst_angle = std::max(worst_angle, std::abs(std::remainder(q[coupler] - (t3 - theta30 - q[crank]), 2 * M_PI)));
+    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+    const double h = 1e-6;
+    const double rate = std::remainder(freudenstein_theta4(theta2 + h) - freudenstein_theta4(theta2 - h), 2 * M_PI) / (2 * h);
+    worst_rate = std::max(worst_rate, std::abs(ws.G(model.joint(*model.find_joint("rocker_joint")).idx_v, 0) - rate));
+  }
+  EXPECT_LT(worst_angle, 1e-10);
+  EXPECT_LT(worst_rate, 1e-8);
+}
+
+TEST(LoopMapsClosedForm, SliderCrankFollowsItsClosedForm) {
+  // x(theta) = r cos theta + sqrt(l^2 - r^2 sin^2 theta), slider_joint = x - 0.12, and
+  // xdot = -r thetadot [sin theta + r sin theta cos theta / sqrt(l^2 - r^2 sin^2 theta)].
+  const gen::Description d = load(kMechanisms + "slider_crank.urdf", kMechanisms + "slider_crank.yaml");
+  const Model& model = d.model;
+  Data<double> data(model);
+  LoopWorkspace<double> ws(model);
+  const int crank = q_index(model, "crank_joint"), slider = q_index(model, "slider_joint");
+  const int slider_v = model.joint(*model.find_joint("slider_joint")).idx_v;
+  const double r = 0.05, l = 0.13;
+  VecX<double> q = VecX<double>::Zero(model.nq());
+  for (int step = 1; step <= 126; ++step) {
+    q[crank] = 0.05 * step;
+    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << step;
+    const double theta = M_PI / 2 + q[crank], root = std::sqrt(l * l - r * r * std::sin(theta) * std::sin(theta));
+    EXPECT_NEAR(q[slider], r * std::cos(theta) + root - 0.12, 1e-12) << step;
+    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+    EXPECT_NEAR(ws.G(slider_v, 0), -r * (std::sin(theta) + r * std::sin(theta) * std::cos(theta) / root), 1e-12) << step;
+  }
+}
+
+TEST(LoopMapsDeadPoint, SliderDrivenToTheStrokeEndIsSingularNotNaN) {
+  // tests/data/mechanisms/slider_crank_slider_driven.yaml: the slider is independent. At the
+  // stroke end x = l + r (slider_joint = 0.06) crank and rod are in line and Phi_z is singular;
+  // beyond it there is no closed pose. Either way: a status, and a finite q.
+  const gen::Description d = load(kMechanisms + "slider_crank.urdf", MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
+  const Model& model = d.model;
+  Data<double> data(model);
+  LoopWorkspace<double> ws(model);
+  const int slider = q_index(model, "slider_joint");
+  ASSERT_EQ(ws.independent, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
+  VecX<double> q = VecX<double>::Zero(model.nq());
+  // Warm-started approach: regular until close to the stroke end.
+  for (double x : {0.01, 0.02, 0.03, 0.04, 0.05}) {
+    q[slider] = x;
+    EXPECT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << x;
+  }
+  q[slider] = 0.06;
+  const LoopSolveStatus at_dead_point = solve_dependent_coordinates<double>(model, data, ws, q);
+  EXPECT_EQ(at_dead_point, LoopSolveStatus::Singular) << to_string(at_dead_point) << ", residual " << ws.residual;
+  EXPECT_TRUE(q.allFinite());
+  EXPECT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Singular);
+  q[slider] = 0.07;  // beyond the stroke
+  const LoopSolveStatus beyond = solve_dependent_coordinates<double>(model, data, ws, q);
+  EXPECT_NE(beyond, LoopSolveStatus::Converged);
+  EXPECT_TRUE(q.allFinite());
+  std::cout << "[ dead pt  ] at the stroke end: " << to_string(at_dead_point) << "; beyond: " << to_string(beyond)
+            << " (residual " << ws.residual << ")\n";
+}
+
+}  // namespace
+}  // namespace mbgen::test
