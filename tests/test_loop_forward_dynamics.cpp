@@ -1,0 +1,66 @@
+// O(n) forward dynamics with sub-systems (runtime/include/mbgen/algorithm/loop_forward_dynamics.hpp)
+// against the O(n^3) reference with Lagrange multipliers (forward_dynamics_kkt), on every
+// closed-loop description: the parallel_legs models, the mechanisms and the Lola biped.
+// Seeded random consistent states (loops closed by Newton, v = G vy) and joint forces; the two
+// agree to 1e-10 relative (||a - b|| / max(1, ||b||)), as DESIGN.md asks: both are exact
+// methods in double, so only round-off amplified by the conditioning of the closed system
+// separates them.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "malloc_guard.hpp"
+#include "test_support.hpp"
+
+namespace mbgen::test {
+namespace {
+
+class LoopForwardDynamicsTest : public ::testing::TestWithParam<LoopCase> {
+ protected:
+  LoopForwardDynamicsTest() : d(load_loop_case(GetParam())), model(d.model), data(model), reference_data(model), ws(model), reference(model) {}
+  gen::Description d;
+  const Model& model;
+  Data<double> data, reference_data;
+  LoopWorkspace<double> ws;
+  ConstrainedDynamicsWorkspace<double> reference;
+};
+
+TEST_P(LoopForwardDynamicsTest, EqualsTheKktReference) {
+  ASSERT_FALSE(model.subsystems.empty());
+  std::mt19937_64 rng(53);
+  double worst = 0;
+  int states = 0;
+  for (int trial = 0; trial < 60 && states < 20; ++trial) {
+    VecX<double> q, v;
+    if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;  // Newton may fail far out (wl16_like)
+    const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
+    ASSERT_EQ(forward_dynamics_loops<double>(model, data, ws, q, v, tau), LoopSolveStatus::Converged);
+    const VecX<double> expected = forward_dynamics_kkt<double>(model, reference_data, reference, q, v, tau);
+    worst = std::max(worst, relative_error(data.ddq, expected));
+    ++states;
+  }
+  std::printf("  %s: O(n) vs KKT worst relative error %.2e over %d states\n", GetParam().name.c_str(), worst, states);
+  EXPECT_GE(states, 15);
+  EXPECT_LT(worst, 1e-10);
+}
+
+TEST_P(LoopForwardDynamicsTest, DoesNotAllocate) {
+  std::mt19937_64 rng(59);
+  VecX<double> q, v;
+  bool found = false;
+  for (int attempt = 0; attempt < 20 && !found; ++attempt) found = consistent_state(model, d.assembly.q, rng, 0.05, q, v);
+  ASSERT_TRUE(found);
+  const VecX<double> tau = random_vector<double>(model.nv(), rng);
+  {
+    MallocGuard guard;
+    forward_dynamics_loops<double>(model, data, ws, q, v, tau);
+    EXPECT_EQ(guard.count(), 0u);
+  }
+  EXPECT_TRUE(data.ddq.allFinite());
+}
+
+INSTANTIATE_TEST_SUITE_P(ClosedLoops, LoopForwardDynamicsTest, ::testing::ValuesIn(loop_cases()),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace mbgen::test
