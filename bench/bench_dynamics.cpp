@@ -25,6 +25,7 @@
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 
 #include "bench_generated.hpp"
+#include "bench_loops.hpp"
 #include "bench_rotor.hpp"
 #include "bench_self_distance.hpp"
 #include "bench_support.hpp"
@@ -210,6 +211,7 @@ int main(int argc, char** argv) {
     for (const Robot& robot : robots) add_generated(robot);
     add_rotor_benchmarks();
     add_self_distance_benchmarks();
+    add_loop_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
     add_kdl_floating_rnea(robots[1]);
     add_kdl_floating_rnea(robots[2]);

@@ -1,0 +1,93 @@
+// Forward dynamics of closed-loop robots (bench/README.md):
+//   fd/<robot>/generic     O(n): loop maps (G, g) + the articulated-body algorithm with
+//                          sub-systems as aggregate bodies (forward_dynamics_loops)
+//   fd/<robot>/reference   O(n^3): full coordinates with Lagrange multipliers (forward_dynamics_kkt)
+// on Lola, cassie_like and digit_like_2legs, and the scaling series
+//   fd_chain/<k>/{generic,reference}   a chain of k four-bar modules (loop_chain.hpp), k = 1 .. 64.
+// Inputs: 64 seeded consistent states per robot (loops closed by Newton, v = G vy) with random
+// joint forces, the same for both implementations.
+#include "bench_loops.hpp"
+
+#include <filesystem>
+#include <memory>
+
+#include "loop_chain.hpp"
+#include "mbgen/gen/description.hpp"
+
+namespace mbgen::bench {
+
+namespace {
+
+/// Seeded consistent states: the assembled pose with the independent coordinates moved by up to
+/// 0.05 rad, loops closed by Newton (states where it fails are drawn again), v = G vy.
+std::shared_ptr<const std::vector<Sample>> consistent_pool(const Model& model, const VecX<double>& q_closed) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Data<double> data(model);
+  LoopWorkspace<double> ws(model);
+  auto pool = std::make_shared<std::vector<Sample>>();
+  for (int attempt = 0; pool->size() < kPoolSize; ++attempt) {
+    if (attempt > 100 * static_cast<int>(kPoolSize)) throw std::runtime_error("bench: cannot close the loops of " + model.name);
+    Sample s;
+    s.q = q_closed;
+    for (int y : ws.independent)
+      if (ws.q_index_of_v[static_cast<std::size_t>(y)] >= 0) s.q[ws.q_index_of_v[static_cast<std::size_t>(y)]] += 0.05 * unit(rng);
+    if (solve_dependent_coordinates<double>(model, data, ws, s.q) != LoopSolveStatus::Converged) continue;
+    if (loop_velocity_map<double>(model, data, ws, s.q) != LoopSolveStatus::Converged) continue;
+    s.v = ws.G * random_vector<double>(static_cast<int>(ws.independent.size()), rng);
+    s.a = VecX<double>::Zero(model.nv());
+    s.tau = random_vector<double>(model.nv(), rng, 5.0);
+    pool->push_back(std::move(s));
+  }
+  return pool;
+}
+
+void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras) {
+  static std::vector<std::unique_ptr<Robot>> robots;  // live as long as the benchmarks
+  gen::LoadOptions options;
+  if (!extras.empty()) options.extras_file = extras;
+  const gen::Description d = gen::load_description(urdf, options);
+  auto robot = std::make_unique<Robot>();
+  robot->name = name;
+  robot->urdf = urdf;
+  robot->model = d.model;
+  robot->pool = consistent_pool(robot->model, d.assembly.q);
+  const Model* model = &robot->model;
+  struct Generic {
+    explicit Generic(const Model& m) : data(m), ws(m) {}
+    Data<double> data;
+    LoopWorkspace<double> ws;
+  };
+  struct Reference {
+    explicit Reference(const Model& m) : data(m), ws(m) {}
+    Data<double> data;
+    ConstrainedDynamicsWorkspace<double> ws;
+  };
+  const std::string algorithm = name.rfind("chain_", 0) == 0 ? "fd_chain" : "fd";
+  const std::string label = algorithm == "fd_chain" ? name.substr(6) : name;
+  add_benchmark<Sample>(algorithm, label, "generic", robot->pool, [model, w = std::make_shared<Generic>(*model)](const Sample& s) {
+    forward_dynamics_loops<double>(*model, w->data, w->ws, s.q, s.v, s.tau);
+    return w->data.ddq.data();
+  });
+  add_benchmark<Sample>(algorithm, label, "reference", robot->pool, [model, w = std::make_shared<Reference>(*model)](const Sample& s) {
+    return forward_dynamics_kkt<double>(*model, w->data, w->ws, s.q, s.v, s.tau).data();
+  });
+  robots.push_back(std::move(robot));
+}
+
+}  // namespace
+
+void add_loop_benchmarks() {
+  const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
+  add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml");
+  add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "");
+  add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "");
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
+  std::filesystem::create_directories(dir);
+  for (int k : {1, 2, 4, 8, 16, 32, 64}) {
+    const std::string urdf = write_loop_chain(dir.string(), k);
+    add_closed_loop_robot("chain_" + std::to_string(k), urdf, urdf.substr(0, urdf.size() - 5) + ".yaml");
+  }
+}
+
+}  // namespace mbgen::bench
