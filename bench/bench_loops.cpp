@@ -66,7 +66,7 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
   const std::string algorithm = name.rfind("chain_", 0) == 0 ? "fd_chain" : "fd";
   const std::string label = algorithm == "fd_chain" ? name.substr(6) : name;
   add_benchmark<Sample>(algorithm, label, "generic", robot->pool, [model, w = std::make_shared<Generic>(*model)](const Sample& s) {
-    forward_dynamics_loops<double>(*model, w->data, w->ws, s.q, s.v, s.tau);
+    forward_dynamics_loops<double>(*model, w->data, s.q, s.v, s.tau);
     return w->data.ddq.data();
   });
   add_benchmark<Sample>(algorithm, label, "reference", robot->pool, [model, w = std::make_shared<Reference>(*model)](const Sample& s) {

@@ -43,7 +43,7 @@ TEST(LoopChain, LoadsAsKNestedSubsystemsAndAgreesWithTheReference) {
       VecX<double> q, v;
       ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.3, q, v));
       const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
-      ASSERT_EQ(forward_dynamics_loops<double>(model, data, ws, q, v, tau), LoopSolveStatus::Converged);
+      ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged);
       EXPECT_LT(relative_error(data.ddq, forward_dynamics_kkt<double>(model, reference_data, reference, q, v, tau)), 1e-10)
           << "k = " << k;
     }

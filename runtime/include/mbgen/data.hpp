@@ -32,6 +32,7 @@ template <typename S> struct Data {
         Phi_q(MatX<S>::Zero(model.num_constraint_rows(), model.nv())),
         gamma(VecX<S>::Zero(model.num_constraint_rows())),
         zero_v(VecX<S>::Zero(model.nv())),
+        v_full(VecX<S>::Zero(model.nv())),
         subsystem_of_body(model.num_bodies(), -1) {
     for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k)
@@ -70,6 +71,7 @@ template <typename S> struct Data {
   MatX<S> Phi_q;   ///< constraint Jacobian (m x nv), velocity coordinates
   VecX<S> gamma;   ///< bias with Phi_q qdd = gamma (m)
   VecX<S> zero_v;  ///< nv zeros: the joint accelerations of the velocity-product pass
+  VecX<S> v_full;  ///< nv: every tree joint's velocity, built from independent ones (loop_forward_dynamics.hpp)
 
   std::vector<SubSystemWork<S>> subsystem;          ///< one per Model::subsystems entry (aba with loops)
   IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body

@@ -27,7 +27,11 @@ template <typename S> struct SubSystemWork {
         D_factor(D),
         u(VecX<S>::Zero(p(s))),
         ydd(u),
-        scratch(u) {
+        scratch(u),
+        R(MatX<S>::Zero(s.rank(), s.rank())),
+        rhs(MatX<S>::Zero(s.rank(), p(s) + 1)),
+        rotation_c(VecX<S>::Zero(s.rank() * (s.rank() - 1) / 2 + 1)),
+        rotation_s(rotation_c) {
     auto fail = [&](const std::string& what) {
       throw std::invalid_argument("sub-system of closure(s) rooted at body '" + model.body(s.root).name + "': " + what);
     };
@@ -45,7 +49,18 @@ template <typename S> struct SubSystemWork {
       if (parent < 0 && body.parent != s.root)
         fail("body '" + body.name + "' hangs from '" + model.body(body.parent).name + "', which is neither in the sub-system nor its root");
       parent_local.push_back(parent);
+      bool found = false;
+      int role = 0;
+      for (std::size_t c = 0; c < s.independent.size(); ++c)
+        if (s.independent[c] == s.coordinates[j]) role = static_cast<int>(c), found = true;
+      for (std::size_t d = 0; d < s.dependent.size(); ++d)
+        if (s.dependent[d] == s.coordinates[j]) role = -1 - static_cast<int>(d), found = true;
+      if (!found) fail("coordinate " + std::to_string(s.coordinates[j]) + " is neither independent nor dependent");
+      coordinate_role.push_back(role);
     }
+    if (static_cast<int>(s.dependent.size()) != s.rank())
+      fail("has " + std::to_string(s.dependent.size()) + " dependent coordinates for " + std::to_string(s.rank()) +
+           " independent constraint rows: Phi_z must be square");
   }
 
   /// Inputs of a step, set by the closure maps for the current state: the coordinates' rates are
@@ -64,7 +79,17 @@ template <typename S> struct SubSystemWork {
   VecX<S> u;         ///< p: independent forces G^T tau_s minus the bias forces' share
   VecX<S> ydd;       ///< p: accelerations of the independent coordinates (result)
   VecX<S> scratch;   ///< p
-  std::vector<int> parent_local;  ///< per body: its parent's position in bodies, or -1 (the root)
+
+  // The maps G, g from the closures (subsystem_maps.hpp): Phi_z = Q R by Givens rotations.
+  MatX<S> R;           ///< rank x rank: Phi_z, then its R factor
+  MatX<S> rhs;         ///< rank x (p + 1): [Phi_y | gamma], then Phi_z^-1 [Phi_y | gamma]
+  VecX<S> rotation_c;  ///< the Givens rotations of Phi_z's factorisation (cosines, sines)
+  VecX<S> rotation_s;
+
+  std::vector<int> parent_local;    ///< per body: its parent's position in bodies, or -1 (the root)
+  /// Per coordinate: its column among the independent coordinates (>= 0), or -1 - its row among
+  /// the dependent ones.
+  std::vector<int> coordinate_role;
 
  private:
   static int k(const SubSystem& s) { return static_cast<int>(s.coordinates.size()); }

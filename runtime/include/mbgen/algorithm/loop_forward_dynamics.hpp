@@ -1,41 +1,52 @@
 #pragma once
-// O(n) forward dynamics of a closed-loop system: the loop maps (loop_maps.hpp) give each
-// sub-system its G and g at the state, then the articulated-body algorithm treats every
-// sub-system as one aggregate body (subsystem_aba.hpp). The result matches the O(n^3) reference
+// O(n) forward dynamics of a closed-loop system: each sub-system's maps G and g at the state
+// (subsystem_maps.hpp), then the articulated-body algorithm with every sub-system as one
+// aggregate body (subsystem_aba.hpp). The result matches the O(n^3) reference
 // (constrained_dynamics.hpp) to round-off on consistent states.
+#include <type_traits>
+
 #include "mbgen/algorithm/aba.hpp"
-#include "mbgen/algorithm/loop_maps.hpp"
+#include "mbgen/algorithm/subsystem_maps.hpp"
 
 namespace mbgen {
 
-/// Copies the loop maps' G and g (global, nv x ny and nv) into each sub-system's work memory
-/// (its coordinates x its independent coordinates).
-template <typename S> void load_subsystem_maps(const Model& model, Data<S>& data, const LoopWorkspace<S>& ws) {
-  for (std::size_t s = 0; s < model.subsystems.size(); ++s) {
-    const SubSystem& sub = model.subsystems[s];
-    SubSystemWork<S>& w = data.subsystem[s];
-    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      const int row = sub.coordinates[j];
-      for (std::size_t c = 0; c < sub.independent.size(); ++c)
-        w.G(static_cast<int>(j), static_cast<int>(c)) = ws.G(row, ws.column_of[static_cast<std::size_t>(sub.independent[c])]);
-      w.g[static_cast<int>(j)] = ws.g[row];
-    }
-  }
+/// Joint accelerations of every tree joint (data.ddq, nv) at a consistent state (q closed,
+/// v = G vy) under joint forces tau (nv; forces on dependent joints act through G^T). The
+/// independent coordinates' accelerations are data.ddq's entries at them (and
+/// data.subsystem[s].ydd per sub-system). Status: Singular where a linkage is at (or within
+/// options.singular_tolerance of) a dead point, where the accelerations are not defined and must
+/// not be used.
+template <typename S>
+LoopSolveStatus forward_dynamics_loops(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                                       const ConstVecRef<S>& tau, const LoopSolveOptions& options = {}) {
+  subsystem_velocity_maps<S>(model, data, q);
+  subsystem_acceleration_biases<S>(model, data, q, v);
+  aba<S>(model, data, q, v, tau);
+  const S ratio = subsystem_pivot_ratio<S>(model, data);
+  return ratio > S(options.singular_tolerance) ? LoopSolveStatus::Converged : LoopSolveStatus::Singular;
 }
 
-/// Joint accelerations of every tree joint (data.ddq, nv; also returned through it) at a
-/// consistent state (q closed, v = G vy) under joint forces tau (nv; forces on dependent joints
-/// act through G^T). The independent coordinates' accelerations are the entries of data.ddq at
-/// ws.independent. Returns the velocity map's status: Singular at a dead point of a linkage,
-/// where the accelerations are not defined (and not to be used).
+/// The same with the velocity given in independent coordinates: vy (ny) for the coordinates
+/// `independent` (every v index not dependent in a sub-system, ascending: LoopWorkspace's
+/// order); the full velocity G vy is built in data.v_full. The form the generator traces.
 template <typename S>
-LoopSolveStatus forward_dynamics_loops(const Model& model, Data<S>& data, LoopWorkspace<S>& ws, const ConstVecRef<S>& q,
-                                       const ConstVecRef<S>& v, const ConstVecRef<S>& tau, const LoopSolveOptions& options = {}) {
-  const LoopSolveStatus status = loop_velocity_map<S>(model, data, ws, q, options);
-  loop_acceleration_bias<S>(model, data, ws, q, v);
-  load_subsystem_maps<S>(model, data, ws);
-  aba<S>(model, data, q, v, tau);
-  return status;
+void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const std::vector<int>& independent,
+                                        const ConstVecRef<S>& q, const ConstVecRef<S>& vy, const ConstVecRef<S>& tau) {
+  subsystem_velocity_maps<S>(model, data, q);
+  for (std::size_t i = 0; i < independent.size(); ++i) data.v_full[independent[i]] = vy[static_cast<int>(i)];
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    const SubSystemWork<S>& w = data.subsystem[k];
+    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
+      if (w.coordinate_role[j] >= 0) continue;  // independent: already set
+      S rate = S(0);
+      for (std::size_t c = 0; c < sub.independent.size(); ++c)
+        rate += w.G(static_cast<int>(j), static_cast<int>(c)) * data.v_full[sub.independent[c]];
+      data.v_full[sub.coordinates[j]] = rate;
+    }
+  }
+  subsystem_acceleration_biases<S>(model, data, q, data.v_full);
+  aba<S>(model, data, q, data.v_full, tau);
 }
 
 }  // namespace mbgen

@@ -1,0 +1,61 @@
+#pragma once
+// QR by Givens rotations of a small square matrix, without pivoting: no branch depends on the
+// values (a rotation is skipped only where the entry to zero is a structural, exact zero), so a
+// symbolic scalar can record it, and orthogonal transformations keep it stable where LU without
+// pivoting is not. Used for each sub-system's dependent block Phi_z (a rank x rank matrix).
+#include <cmath>
+
+#include "mbgen/spatial/types.hpp"
+
+namespace mbgen {
+
+/// Reduces the leading n x n block of A to R (upper triangular) by rotations of adjacent rows,
+/// recording each rotation's cosine and sine in c, s (n (n - 1) / 2 entries each, in order).
+/// A singular A shows as a zero (or, from 0 / 0, NaN) diagonal entry of R.
+template <typename S> void givens_qr_factor(MatX<S>& A, int n, VecX<S>& c, VecX<S>& s) {
+  using std::sqrt;
+  int k = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = n - 1; i > j; --i, ++k) {
+      const S a = A(i - 1, j), b = A(i, j);
+      if (b == S(0)) {  // already zero (structurally, for a symbolic scalar): the identity rotation
+        c[k] = S(1);
+        s[k] = S(0);
+        continue;
+      }
+      const S r = sqrt(a * a + b * b);
+      c[k] = a / r;
+      s[k] = b / r;
+      for (int col = j; col < n; ++col) {
+        const S x = A(i - 1, col), y = A(i, col);
+        A(i - 1, col) = c[k] * x + s[k] * y;
+        A(i, col) = c[k] * y - s[k] * x;
+      }
+    }
+}
+
+/// Applies the recorded rotations to the first m columns of B (n rows): B <- Q^T B.
+template <typename S, typename Block> void givens_qr_apply(const VecX<S>& c, const VecX<S>& s, int n, Block&& B, int m) {
+  int k = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = n - 1; i > j; --i, ++k) {
+      if (s[k] == S(0) && c[k] == S(1)) continue;
+      for (int col = 0; col < m; ++col) {
+        const S x = B(i - 1, col), y = B(i, col);
+        B(i - 1, col) = c[k] * x + s[k] * y;
+        B(i, col) = c[k] * y - s[k] * x;
+      }
+    }
+}
+
+/// Solves R X = B in place for the first m columns of B (R upper triangular, n x n).
+template <typename S, typename Block> void upper_triangular_solve(const MatX<S>& R, int n, Block&& B, int m) {
+  for (int col = 0; col < m; ++col)
+    for (int i = n - 1; i >= 0; --i) {
+      S x = B(i, col);
+      for (int k = i + 1; k < n; ++k) x -= R(i, k) * B(k, col);
+      B(i, col) = x / R(i, i);
+    }
+}
+
+}  // namespace mbgen
