@@ -229,6 +229,27 @@ TEST_P(PeerMujoco, BodyPosesAgree) {
   EXPECT_LT(worst, 1e-12);
 }
 
+/// MuJoCo's compiler also places a connect's body2 point at qpos0 (eq_data[3..6]): the same
+/// rule the loader follows, computed by another implementation (cassie's four rods).
+TEST_P(PeerMujoco, ConnectAnchorsAgree) {
+  gen::LoadOptions options;
+  options.pick_up_robot_yaml = false;
+  const gen::Description d = gen::load_description(shared_robot(GetParam().file), options);
+  ASSERT_EQ(static_cast<int>(d.closures.size()), m_->neq);
+  double worst = 0;
+  for (int i = 0; i < m_->neq; ++i) {
+    const gen::ClosureSpec& c = d.closures[i];
+    ASSERT_EQ(m_->eq_type[i], mjEQ_CONNECT);
+    EXPECT_EQ(c.frame_a, mj_id2name(m_, mjOBJ_BODY, m_->eq_obj1id[i]));
+    EXPECT_EQ(c.frame_b, mj_id2name(m_, mjOBJ_BODY, m_->eq_obj2id[i]));
+    const mjtNum* data = m_->eq_data + i * mjNEQDATA;
+    worst = std::max({worst, (c.X_AC.translation - Vec3<double>(data[0], data[1], data[2])).norm(),
+                      (c.X_BC.translation - Vec3<double>(data[3], data[4], data[5])).norm()});
+  }
+  std::printf("  %s connect anchors: %d, worst difference %.2e m\n", GetParam().name.c_str(), m_->neq, worst);
+  EXPECT_LT(worst, 1e-12);
+}
+
 /// What mj_loadXML did to the inertias: MuJoCo keeps each body's inertia as principal moments in
 /// a principal frame; a fullinertia is diagonalised by its compiler (DESIGN.md). Compared with the
 /// inertia mbgen read, per body not merged into another (same mass on both sides).
