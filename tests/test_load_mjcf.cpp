@@ -239,7 +239,37 @@ TEST(LoadMjcf, ConnectIsAPointClosureWithTheBody2PointAtQpos0) {
   EXPECT_NEAR((A.translation - B.translation).norm(), 0, 1e-15);
 }
 
+TEST(LoadMjcf, SiteConnectAndWeldToTheWorld) {
+  const gen::Description d = load("sites_and_weld.xml");
+  ASSERT_EQ(d.closures.size(), 2u);
+  const gen::ClosureSpec& pin = d.closures[0];
+  EXPECT_EQ(pin.name, "connect_1");
+  EXPECT_EQ(pin.type, "spherical");
+  EXPECT_EQ(d.model.frame(pin.resolved_a).name, "arm_end");
+  EXPECT_EQ(d.model.frame(pin.resolved_b).name, "ground_pin");
+  EXPECT_EQ(d.model.frame(pin.resolved_b).body, kWorldBody);
+  EXPECT_TRUE(pin.X_AC.translation.isZero(0.0));  // the site origins themselves
+  EXPECT_TRUE(pin.X_BC.translation.isZero(0.0));
+  // The weld holds hand to the world (body2 omitted) at the pose of qpos0: X_BC = X_W,hand(qpos0).
+  const gen::ClosureSpec& weld = d.closures[1];
+  EXPECT_EQ(weld.name, "weld_2");
+  EXPECT_EQ(weld.type, "weld");
+  EXPECT_EQ(weld.frame_b, "world");
+  const SE3<double> X_W_hand = frame_pose(d.model, "hand", VecX<double>::Zero(2));
+  EXPECT_NEAR((weld.X_BC.translation - X_W_hand.translation).norm(), 0, 1e-15);
+  EXPECT_NEAR((weld.X_BC.rotation - X_W_hand.rotation).norm(), 0, 1e-15);
+  EXPECT_NEAR((weld.X_BC.rotation - rot(Vec3<double>::UnitX(), 0.2)).norm(), 0, 1e-15);
+}
+
 // ---- Errors, by their text -------------------------------------------------------------------
+
+TEST(LoadMjcf, FrameElementIsNotSupported) {
+  const gen::LoadError e = load_error("bad/frame.xml");
+  EXPECT_EQ(e.line(), 6);
+  EXPECT_EQ(e.element(), "<frame>");
+  EXPECT_EQ(e.problem(), "not supported: <frame> inside a body");
+  EXPECT_TRUE(contains(e.fix(), "write its children's poses in the enclosing body")) << e.what();
+}
 
 TEST(LoadMjcf, MissingInertialIsAnErrorWithAFix) {
   const gen::LoadError e = load_error("bad/no_inertial.xml");
@@ -339,6 +369,13 @@ TEST(LoadMjcf, H1Loads) {
   EXPECT_EQ(d.model.joint(*d.model.find_joint("left_knee")).armature, 0.1);  // class h1 via childclass
   EXPECT_EQ(d.collision_geometry_not_modelled.at("box"), 1);
   EXPECT_TRUE(d.closures.empty());
+  // The feet: three capsules whose size and fromto come from the classes foot1..3 under foot.
+  const std::vector<gen::SsvPrimitive>& foot = d.ssv.at("left_ankle_link");
+  ASSERT_EQ(foot.size(), 3u);
+  for (const gen::SsvPrimitive& p : foot) EXPECT_EQ(p.radius, 0.014);
+  EXPECT_NEAR((foot[2].points[0] - Vec3<double>(0.14, -0.03, -0.056)).norm(), 0, 1e-15);
+  // Visual meshes (class visual: contype = conaffinity = 0) are no collision geometry.
+  EXPECT_EQ(d.collision_geometry_not_modelled.count("mesh"), 0u);
 }
 
 TEST(LoadMjcf, ToddlerbotTendonIsReported) {

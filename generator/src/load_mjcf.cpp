@@ -154,10 +154,17 @@ struct Builder {
     return inertia;
   }
 
+  /// The joint's name (unnamed ones, which MuJoCo allows, get "<body>_joint<n>"); unique.
   std::string joint_name(const Element& x, int b, const char* fallback_kind) {
-    if (const char* name = x.xml()->Attribute("name")) return name;
-    ++unnamed;
-    return fmt::format("{}_{}{}", tree.bodies[b].name, fallback_kind, unnamed);
+    std::string name;
+    if (const char* given = x.xml()->Attribute("name")) {
+      name = given;
+    } else {
+      ++unnamed;
+      name = fmt::format("{}_{}{}", tree.bodies[b].name, fallback_kind, unnamed);
+    }
+    if (tree.joints.count(name)) x.fail("the joint name is used twice", "give every joint a unique name");
+    return name;
   }
 
   /// The joints of body b in document order, expanded to mbgen's 1-DoF joints; `free` is set
@@ -172,7 +179,7 @@ struct Builder {
       const std::string type = kind == "freejoint" ? "free" : x.string("type", "hinge");
       if (type == "free") {
         if (kind == "freejoint") check_attributes(x, {"name", "group", "align"});
-        const std::string name = e->Attribute("name") ? e->Attribute("name") : "root_joint";
+        const std::string name = e->Attribute("name") ? joint_name(x, b, "free") : "root_joint";
         if (tree.bodies[b].parent != 0)
           x.fail(fmt::format("a free joint in body '{}', which is not a child of <worldbody>", tree.bodies[b].name),
                  "give free joints only to bodies directly under <worldbody> (a floating base)");
@@ -276,6 +283,9 @@ struct Builder {
       free.reset();
     }
     if (!free && joints.empty() && parent == kWorldBody && tb.parent == 0 && base_override == BaseType::Floating) {
+      if (d.model.find_joint("root_joint"))
+        x.fail("a floating base was asked for, and a second body welded to the world would float too",
+               "give the free joint in the file, or load it with a fixed base");
       free = "root_joint";
       d.warnings.push_back(fmt::format("floating base: body '{}', welded to the world, gets a free joint 'root_joint'", tb.name));
     }
