@@ -1,11 +1,12 @@
 #pragma once
 // Shared by the MJCF reader's files (load_mjcf.cpp, mjcf_defaults.cpp, mjcf_orientation.cpp,
-// mjcf_geoms.cpp, mjcf_equality.cpp): the compiler settings, attribute parsing with errors that
-// name the file and line, and the class-resolved view of an element's attributes.
+// mjcf_settings.cpp, mjcf_geoms.cpp, mjcf_equality.cpp): the compiler settings, attribute parsing
+// with errors that name the file and line, and the class-resolved view of an element's attributes.
 #include <tinyxml2.h>
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,21 @@ class Element {
   const Defaults& defaults_;
   std::string cls_;
 };
+
+// ---- mjcf_settings.cpp ----
+/// <compiler> settings (errors for those that would change the inertias).
+Compiler read_compiler(const std::string& path, const tinyxml2::XMLElement* root, const Defaults& defaults);
+/// <option gravity> and <flag gravity="disable">; (0, 0, -9.81) by default.
+Vec3<double> read_gravity(const std::string& path, const tinyxml2::XMLElement* root, const Defaults& defaults);
+/// Fails on a top-level element that is neither read nor safely ignored (<tendon>, <include>, ...).
+void check_top_level(const std::string& path, const tinyxml2::XMLElement* root);
+/// LoadError "<element>: not supported: what" with a fix.
+[[noreturn]] void not_supported(const std::string& path, const tinyxml2::XMLElement* e, const std::string& what,
+                                const std::string& fix);
+/// Fails on an attribute outside `known`: whatever mbgen does not read might change the dynamics.
+void check_attributes(const Element& e, const std::set<std::string>& known);
+/// tinyxml2's error name as words ("mismatched element").
+std::string readable_xml_error(const tinyxml2::XMLDocument& doc);
 
 /// Rotation given by whichever of quat, axisangle, euler, xyaxes, zaxis the element has (identity
 /// if none; two of them is an error, as in MuJoCo). See mjcf_orientation.cpp.
