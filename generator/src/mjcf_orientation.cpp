@@ -74,7 +74,21 @@ Mat3<double> from_zaxis(const Element& e, const std::vector<double>& v) {
 
 }  // namespace
 
+/// Rotation entries within 1e-14 of 0 or +-1 are made exact, as load_urdf.cpp does: euler="0 0 90"
+/// leaves 6e-17 where a 0 is meant, and exact zeros let generated code drop structural terms.
+static double snap_unit(double x) {
+  for (double target : {0.0, 1.0, -1.0})
+    if (std::abs(x - target) < 1e-14) return target;
+  return x;
+}
+
+static Mat3<double> orientation_as_given(const Element& e, const Compiler& compiler);
+
 Mat3<double> orientation(const Element& e, const Compiler& compiler) {
+  return orientation_as_given(e, compiler).unaryExpr(&snap_unit);
+}
+
+static Mat3<double> orientation_as_given(const Element& e, const Compiler& compiler) {
   struct Given {
     const char* name;
     int count;
