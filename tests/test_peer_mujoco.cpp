@@ -1,6 +1,8 @@
 // mbgen's MJCF loader and generic runtime against MuJoCo 2.2 (Debian libmujoco), a peer that
 // reads the same XML with its own compiler: body poses, mass matrix and bias forces at seeded
-// random states, on unitree_h1 (19 hinges + free) and cassie (20 hinges + 2 balls + free).
+// random states, on unitree_h1 (19 hinges + free), cassie (20 hinges + 2 balls + free) and
+// tests/data/mjcf/peer_mix.xml (anchors off the body origin, refs, a slide, two joints in a body,
+// a ball at an anchor, every orientation attribute, degrees, a tilted gravity).
 //
 // Coordinates. MuJoCo's free joint: qpos = [x y z, qw qx qy qz], qvel = [linear velocity of the
 // body origin in the WORLD frame, angular velocity in the BODY frame]; mbgen: q = [x y z, qx qy qz
@@ -57,7 +59,7 @@ std::string strip_assets(const std::string& path, const std::string& name) {
 }
 
 struct MujocoCase {
-  std::string name, file;
+  std::string name, path;
   double tol_inertia, tol_dynamics;  ///< relative, see the cases below
 };
 void PrintTo(const MujocoCase& c, std::ostream* os) { *os << c.name; }
@@ -65,7 +67,7 @@ void PrintTo(const MujocoCase& c, std::ostream* os) { *os << c.name; }
 class PeerMujoco : public ::testing::TestWithParam<MujocoCase> {
  protected:
   void SetUp() override {
-    const std::string path = shared_robot(GetParam().file);
+    const std::string& path = GetParam().path;
     gen::LoadOptions options;
     options.pick_up_robot_yaml = false;
     model_ = gen::load_description(path, options).model;
@@ -234,7 +236,7 @@ TEST_P(PeerMujoco, BodyPosesAgree) {
 TEST_P(PeerMujoco, ConnectAnchorsAgree) {
   gen::LoadOptions options;
   options.pick_up_robot_yaml = false;
-  const gen::Description d = gen::load_description(shared_robot(GetParam().file), options);
+  const gen::Description d = gen::load_description(GetParam().path, options);
   ASSERT_EQ(static_cast<int>(d.closures.size()), m_->neq);
   double worst = 0;
   for (int i = 0; i < m_->neq; ++i) {
@@ -300,10 +302,12 @@ TEST_P(PeerMujoco, MassMatrixAndBiasWithMujocosInertias) {
 //    stops early: InertiasAsCompiled sees up to ~2e-7 relative on single (small) body inertias,
 //    and M and the bias then differ by ~3e-10 relative. 1e-8 says so, and
 //    MassMatrixAndBiasWithMujocosInertias shows that with MuJoCo's own inertias the two agree to
-//    round-off (1e-12) on cassie too. A modelling mistake (anchor, ref, ball axes) shows as >= 1e-3.
+//    round-off (1e-12) on cassie too. A modelling mistake (anchor, ref, ball axes) shows as >= 1e-3;
+//  - peer_mix: diagonal inertias as h1, 1e-12.
 INSTANTIATE_TEST_SUITE_P(Robots, PeerMujoco,
-                         ::testing::Values(MujocoCase{"h1", "unitree_h1/h1.xml", 1e-12, 1e-12},
-                                           MujocoCase{"cassie", "cassie_mjcf/cassie.xml", 1e-6, 1e-8}),
+                         ::testing::Values(MujocoCase{"h1", shared_robot("unitree_h1/h1.xml"), 1e-12, 1e-12},
+                                           MujocoCase{"cassie", shared_robot("cassie_mjcf/cassie.xml"), 1e-6, 1e-8},
+                                           MujocoCase{"peer_mix", MBGEN_TEST_DATA "/mjcf/peer_mix.xml", 1e-12, 1e-12}),
                          [](const auto& info) { return info.param.name; });
 
 }  // namespace
