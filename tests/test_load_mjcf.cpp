@@ -311,6 +311,13 @@ TEST(LoadMjcf, BadJointTypeIsNamed) {
   EXPECT_TRUE(contains(e.fix(), "type=\"hinge\"")) << e.what();
 }
 
+TEST(LoadMjcf, FluidMediumIsNotSupported) {
+  const gen::LoadError e = load_error("bad/fluid.xml");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.element(), "<option>");
+  EXPECT_EQ(e.problem(), "not supported: density (fluid forces)");
+}
+
 TEST(LoadMjcf, UnknownAttributeIsAnError) {
   const gen::LoadError e = load_error("bad/unknown_attribute.xml");
   EXPECT_EQ(e.line(), 4);

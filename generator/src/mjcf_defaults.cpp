@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 
 #include "mbgen/gen/load_error.hpp"
@@ -63,7 +64,11 @@ std::optional<std::string> Defaults::lookup(const std::string& cls, const std::s
 
 std::string Element::describe() const {
   const char* name = e_->Attribute("name");
-  return name ? fmt::format("{} '{}'", e_->Name(), name) : fmt::format("<{}> (unnamed)", e_->Name());
+  if (name) return fmt::format("{} '{}'", e_->Name(), name);
+  // Say "unnamed" only where a name is usual; <option> or <compiler> never have one.
+  static const std::set<std::string> named = {"body", "joint", "freejoint", "geom", "site", "connect", "weld",
+                                              "motor", "position", "velocity", "general"};
+  return named.count(e_->Name()) ? fmt::format("<{}> (unnamed)", e_->Name()) : fmt::format("<{}>", e_->Name());
 }
 
 std::optional<std::string> Element::attribute(const std::string& name) const {

@@ -60,6 +60,12 @@ Vec3<double> read_gravity(const std::string& path, const tinyxml2::XMLElement* r
   for (const tinyxml2::XMLElement* e = root->FirstChildElement("option"); e; e = e->NextSiblingElement("option")) {
     const Element x(path, e, defaults, "main");
     g = x.vec3("gravity", g);
+    // A medium (density, viscosity, wind) adds passive fluid forces that mbgen does not model.
+    for (const char* medium : {"density", "viscosity"})
+      if (x.number(medium, 0) != 0)
+        x.fail(fmt::format("not supported: {} (fluid forces)", medium), fmt::format("remove {} (vacuum is the default)", medium));
+    if (!x.vec3("wind", Vec3<double>::Zero()).isZero(0.0))
+      x.fail("not supported: wind (fluid forces)", "remove wind");
     for (const tinyxml2::XMLElement* f = e->FirstChildElement("flag"); f; f = f->NextSiblingElement("flag"))
       if (const char* gravity = f->Attribute("gravity"); gravity && std::string(gravity) == "disable") g.setZero();
   }
