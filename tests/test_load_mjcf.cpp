@@ -163,6 +163,12 @@ TEST(LoadMjcf, SeveralJointsInABodyComposeAboutTheirAnchors) {
   const SE3<double> X = frame_pose(model, "b", q);
   EXPECT_NEAR((X.translation - X_WB.translation).norm(), 0, 1e-15);
   EXPECT_NEAR((X.rotation - X_WB.rotation).norm(), 0, 1e-15);
+  // Each joint's frame sits at its anchor, fixed in the body it moves.
+  SE3<double> first = X_PB * translation(p1) * R1;
+  EXPECT_NEAR((frame_pose(model, "first", q).translation - first.translation).norm(), 0, 1e-15);
+  EXPECT_EQ(model.frame(model.frame_index("first")).body, BodyIndex(1));
+  EXPECT_NEAR((frame_pose(model, "second", q).translation - X_WB.act(p2)).norm(), 0, 1e-15);
+  EXPECT_EQ(model.body(BodyIndex(1)).name, "b/first");
   const SE3<double> site = frame_pose(model, "s", q);
   EXPECT_NEAR((site.translation - X_WB.act(Vec3<double>(0.2, 0.1, 0))).norm(), 0, 1e-15);
   // The inertia stays with the MJCF body: its CoM lands where MuJoCo puts it.

@@ -234,6 +234,7 @@ struct Builder {
     }
     BodyIndex me = parent;
     SE3<double> X_FB = X_FP * X_PB;
+    std::vector<BodyIndex> joint_bodies;  // the mbgen body each joint moves; its frame is at the anchor
     if (free) {
       Joint j;
       j.name = *free;
@@ -266,6 +267,7 @@ struct Builder {
         j.friction = e.friction;
         const bool last = k + 1 == joints.size();
         me = d.model.add_body(me, j, last ? tb.name : fmt::format("{}/{}", tb.name, e.name), Inertia<double>{});
+        joint_bodies.push_back(me);
         X = SE3<double>::Identity();
         previous = e.anchor;
       }
@@ -280,11 +282,9 @@ struct Builder {
     tb.X_FB = X_FB;
     const bool moving = free || !joints.empty();
     tb.frame = d.model.add_frame(Frame{tb.name, moving ? FrameKind::Body : FrameKind::Link, me, X_FB});
-    for (const Elementary& e : joints) {
-      SE3<double> X_BJ;
-      X_BJ.translation = e.anchor;
-      add_frame(e.name, FrameKind::Joint, me, X_FB * X_BJ);
-    }
+    // A joint's frame is fixed in the body it moves (at its anchor, so the identity there), as a
+    // URDF joint frame is fixed in its child link.
+    for (std::size_t k = 0; k < joints.size(); ++k) add_frame(joints[k].name, FrameKind::Joint, joint_bodies[k], SE3<double>::Identity());
     add_sites(b);
     for (const tinyxml2::XMLElement* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body"))
       attach(add_tree_body(c, b), me, X_FB);

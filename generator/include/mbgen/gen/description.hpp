@@ -58,7 +58,9 @@ struct SceneSpec {
   std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
 };
 
-/// Where each URDF element starts (1-based lines), so that later checks can point at it.
+/// Where each URDF element starts (1-based lines), so that later checks can point at it. For an
+/// MJCF file, `link` holds the <body> lines and `joint` the <joint> lines (a ball's three hinges
+/// share their ball's line).
 struct SourceLines {
   std::map<std::string, int> link, joint;
   int line_of_link(const std::string& name) const {
