@@ -168,6 +168,21 @@ TEST(Inspect, BadExtrasExitsTwo) {
   EXPECT_NE(run.err.find("malformed.yaml:4: error: malformed YAML"), std::string::npos) << run.err;
 }
 
+// An .xml description is read as MJCF (docs/mjcf.md), with no option needed.
+TEST(Inspect, MjcfRobotsAreReadByTheirExtension) {
+  const Outcome h1 = run_mbgen("inspect " + quote(test::shared_robot("unitree_h1/h1.xml")) + " --json");
+  expect_json_report(h1, "h1.xml");
+  EXPECT_EQ(nlohmann::json::parse(h1.out)["nv"], 25);
+  const Outcome cassie = run_mbgen("inspect " + quote(test::shared_robot("cassie_mjcf/cassie.xml")) + " --json");
+  expect_json_report(cassie, "cassie.xml");
+  const nlohmann::json j = nlohmann::json::parse(cassie.out);
+  EXPECT_EQ(j["nv"], 32);
+  EXPECT_EQ(j["closures"].size(), 4u);
+  const Outcome toddlerbot = run_mbgen("inspect " + quote(test::shared_robot("toddlerbot_2xc/toddlerbot_2xc.xml")));
+  EXPECT_EQ(toddlerbot.status, 2);
+  EXPECT_NE(toddlerbot.err.find("<tendon>: not supported: tendons"), std::string::npos) << toddlerbot.err;
+}
+
 TEST(Inspect, UsageErrorsExitTwo) {
   EXPECT_EQ(run_mbgen("inspect").status, 2);
   EXPECT_EQ(run_mbgen("inspect /no/such/file.urdf").status, 2);

@@ -92,7 +92,7 @@ inline CentralPair central_pair(const Model& model, const VecX<double>& q, const
 }
 
 /// The closed-loop descriptions the loop tests run on: the parallel_legs models (disney_robot
-/// with its 9 valid overrides, tests/data/parallel_legs), the mechanisms and Lola.
+/// with its 9 valid overrides, tests/data/parallel_legs), the mechanisms, Lola and Cassie (MJCF).
 struct LoopCase {
   std::string name, urdf, extras;  ///< extras empty: the robot.yaml beside the URDF
 };
@@ -106,6 +106,8 @@ inline std::vector<LoopCase> loop_cases() {
     cases.push_back({m, MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".urdf",
                      MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".yaml"});
   cases.push_back({"lola", MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml"});
+  // MJCF: four <connect> equalities, ball joints as hinge chains, a floating base.
+  cases.push_back({"cassie_mjcf", shared_robot("cassie_mjcf/cassie.xml"), ""});
   return cases;
 }
 inline void PrintTo(const LoopCase& c, std::ostream* os) { *os << c.name; }

@@ -52,7 +52,8 @@ std::string yaml_error(const std::string& name, int line, const std::string& ele
 
 TEST(Validate, MalformedXml) { urdf_error("malformed.urdf", 4, "", "malformed XML: mismatched element"); }
 
-TEST(Validate, NotAUrdf) { urdf_error("not_urdf.xml", 1, "", "not a URDF: the root element is <mujoco>"); }
+// An MJCF body under the .urdf extension: the extension decides the reader (.xml is MJCF).
+TEST(Validate, NotAUrdf) { urdf_error("not_urdf.urdf", 1, "", "not a URDF: the root element is <mujoco>"); }
 
 TEST(Validate, MalformedYaml) { yaml_error("malformed.yaml", 4, "", "malformed YAML"); }
 

@@ -71,7 +71,7 @@ int run_generate(const GenerateOptions& o) {
 void add_generate_command(CLI::App& app, int& status) {
   auto options = std::make_shared<GenerateOptions>();
   CLI::App* cmd = app.add_subcommand("generate", "Emit unrolled, allocation-free C++ for a robot");
-  cmd->add_option("description", options->description, "URDF file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("description", options->description, "URDF, or MJCF (.xml) file")->required()->check(CLI::ExistingFile);
   cmd->add_option("--extras", options->extras, "YAML extras (default: robot.yaml beside the URDF, if any)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "output directory (created if missing)")->required();

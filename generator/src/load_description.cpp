@@ -1,6 +1,7 @@
-// load_description: URDF plus extras into one Description, then validation.
+// load_description: URDF (or MJCF, by the .xml extension) plus extras into one Description, then validation.
 // Order matters: the extras' `base` decides how the tree is built, and the extras' names are
 // resolved against the built tree.
+#include <cctype>
 #include <filesystem>
 
 #include "extras_support.hpp"
@@ -22,6 +23,12 @@ std::optional<std::string> find_extras(const std::string& path, const LoadOption
 }
 }  // namespace
 
+bool is_mjcf_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".xml";
+}
+
 Description load_description(const std::string& path, const LoadOptions& options) {
   Description d;
   d.description_file = path;
@@ -30,10 +37,17 @@ Description load_description(const std::string& path, const LoadOptions& options
     extras = read_extras(*file);
     d.extras_file = *file;
   }
-  d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
-  d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
-  d.robot_name = d.model.name;
-  add_collision_ssvs(path, d);
+  if (is_mjcf_path(path)) {
+    // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
+    std::optional<BaseType> base = options.base;
+    if (!base && extras) base = extras_base(*extras);
+    load_mjcf(path, base, d);
+  } else {
+    d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
+    d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
+    d.robot_name = d.model.name;
+    add_collision_ssvs(path, d);
+  }
   if (extras) {
     if (extras->schema == ExtrasFile::Schema::ParallelLegs)
       apply_parallel_legs(*extras, d);

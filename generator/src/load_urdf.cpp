@@ -102,7 +102,7 @@ XmlIndex index_xml(const std::string& path, const std::string& text) {
     const tinyxml2::XMLElement* root = doc.RootElement();
     std::string what = root ? fmt::format("the root element is <{}>, not <robot>", root->Name()) : "no <robot> root element";
     throw LoadError(path, root ? root->GetLineNum() : 1, "", fmt::format("not a URDF: {}", what),
-                    "give a URDF file (one <robot name=...> element); SDF and MJCF are not read yet");
+                    "give a URDF file (one <robot name=...> element), or an MJCF file with the .xml extension; SDF is not read yet");
   }
   for (tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const char* name = e->Attribute("name");

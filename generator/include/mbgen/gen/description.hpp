@@ -58,7 +58,9 @@ struct SceneSpec {
   std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
 };
 
-/// Where each URDF element starts (1-based lines), so that later checks can point at it.
+/// Where each URDF element starts (1-based lines), so that later checks can point at it. For an
+/// MJCF file, `link` holds the <body> lines and `joint` the <joint> lines (a ball's three hinges
+/// share their ball's line).
 struct SourceLines {
   std::map<std::string, int> link, joint;
   int line_of_link(const std::string& name) const {
@@ -117,8 +119,18 @@ struct LoadOptions {
   bool pick_up_robot_yaml = true;
 };
 
-/// Loads a URDF (and extras). Throws LoadError with file, line, element and fix on bad input.
+/// Loads a URDF or, for a .xml file, an MJCF (and extras). Throws LoadError with file, line, element and fix on bad input.
 Description load_description(const std::string& path, const LoadOptions& options = {});
+
+/// Reads an MJCF (MuJoCo XML) file into `d` (load_mjcf.cpp, docs/mjcf.md): the tree model, base,
+/// closures from <equality>, actuated joints from <actuator>, SSVs from collision geoms, and the
+/// lines of <body> (as urdf_lines.link) and <joint> elements. The file's free joint decides the
+/// base unless `base` overrides it (fixed: the free body is welded where the file puts it;
+/// floating: a body welded to the world gets a free joint 'root_joint').
+void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d);
+
+/// True for a path that load_description reads as MJCF (extension .xml, any case).
+bool is_mjcf_path(const std::string& path);
 
 /// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
 void add_collision_ssvs(const std::string& path, Description& d);
