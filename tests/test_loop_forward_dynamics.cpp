@@ -51,6 +51,36 @@ TEST_P(LoopForwardDynamicsTest, EqualsTheKktReference) {
   EXPECT_LT(worst_independent, 1e-12);
 }
 
+TEST_P(LoopForwardDynamicsTest, InverseDynamicsAndMassMatrixInIndependentCoordinates) {
+  // Three methods in y: forward dynamics (O(n)) gives ydd for tau; inverse dynamics must give back
+  // T^T tau (the forces tau exert on y), and M_y ydd + tau_y(ydd = 0) = T^T tau. Normwise
+  // backward error below 1e-12: |residual| / (|M_y| |ydd| + |bias| + |T^T tau|) (ydd can be large
+  // near a singular pose, 5bar_linkage's, and the terms then cancel).
+  std::mt19937_64 rng(67);
+  double worst_id = 0, worst_m = 0;
+  for (int trial = 0, states = 0; trial < 40 && states < 10; ++trial) {
+    VecX<double> q, v;
+    if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;
+    ++states;
+    const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
+    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged);
+    const int ny = static_cast<int>(data.independent_v.size());
+    VecX<double> ydd(ny), tau_projected(ny);
+    for (int i = 0; i < ny; ++i) ydd[i] = data.ddq[data.independent_v[static_cast<std::size_t>(i)]];
+    detail::project_independent<double>(model, data, tau, tau_projected);
+    const VecX<double> tau_y = inverse_dynamics_loops<double>(model, data, q, v, ydd);
+    const VecX<double> bias = inverse_dynamics_loops<double>(model, data, q, v, VecX<double>::Zero(ny));
+    const MatX<double> M_y = mass_matrix_loops<double>(model, data, q);
+    const double scale = M_y.norm() * ydd.norm() + bias.norm() + tau_projected.norm();
+    worst_id = std::max(worst_id, (tau_y - tau_projected).norm() / scale);
+    worst_m = std::max(worst_m, (M_y * ydd + bias - tau_projected).norm() / scale);
+    EXPECT_LT((M_y - M_y.transpose()).norm(), 1e-12 * M_y.norm());
+  }
+  std::printf("  %s: inverse dynamics %.2e, mass matrix %.2e\n", GetParam().name.c_str(), worst_id, worst_m);
+  EXPECT_LT(worst_id, 1e-12);
+  EXPECT_LT(worst_m, 1e-12);
+}
+
 TEST_P(LoopForwardDynamicsTest, DoesNotAllocate) {
   std::mt19937_64 rng(59);
   VecX<double> q, v;
@@ -61,6 +91,8 @@ TEST_P(LoopForwardDynamicsTest, DoesNotAllocate) {
   {
     MallocGuard guard;
     forward_dynamics_loops<double>(model, data, q, v, tau);
+    inverse_dynamics_loops<double>(model, data, q, v, data.scratch_y);
+    mass_matrix_loops<double>(model, data, q);
     EXPECT_EQ(guard.count(), 0u);
   }
   EXPECT_TRUE(data.ddq.allFinite());

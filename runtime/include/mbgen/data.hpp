@@ -35,6 +35,20 @@ template <typename S> struct Data {
         v_full(VecX<S>::Zero(model.nv())),
         subsystem_of_body(model.num_bodies(), -1) {
     for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
+    std::vector<bool> dependent(static_cast<std::size_t>(model.nv()), false);
+    for (const SubSystem& s : model.subsystems)
+      for (int z : s.dependent) dependent[static_cast<std::size_t>(z)] = true;
+    column_of_v.assign(static_cast<std::size_t>(model.nv()), -1);
+    for (int i = 0; i < model.nv(); ++i)
+      if (!dependent[static_cast<std::size_t>(i)]) {
+        column_of_v[static_cast<std::size_t>(i)] = static_cast<int>(independent_v.size());
+        independent_v.push_back(i);
+      }
+    const int ny = static_cast<int>(independent_v.size());
+    tau_y = VecX<S>::Zero(ny);
+    scratch_y = VecX<S>::Zero(ny);
+    scratch_nv = VecX<S>::Zero(model.nv());
+    M_y = MatX<S>::Zero(ny, ny);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k)
       for (BodyIndex b : model.subsystems[k].bodies) subsystem_of_body[b] = static_cast<int>(k);
   }
@@ -74,6 +88,13 @@ template <typename S> struct Data {
   VecX<S> v_full;  ///< nv: every tree joint's velocity, built from independent ones (loop_forward_dynamics.hpp)
 
   std::vector<SubSystemWork<S>> subsystem;          ///< one per Model::subsystems entry (aba with loops)
+  /// v indices of the closed system's coordinates y: every coordinate not dependent in a
+  /// sub-system, ascending (all of them for a tree). The order of independent velocities.
+  std::vector<int> independent_v;
+  std::vector<int> column_of_v;  ///< v index -> its place in independent_v, or -1 (dependent)
+  VecX<S> tau_y;                 ///< ny: forces on the independent coordinates (inverse_dynamics_loops)
+  MatX<S> M_y;                   ///< ny x ny: mass matrix in independent coordinates (mass_matrix_loops)
+  VecX<S> scratch_y, scratch_nv;
   IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body
 };
 

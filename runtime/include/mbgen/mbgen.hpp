@@ -12,6 +12,7 @@
 #include "mbgen/algorithm/jacobian.hpp"
 #include "mbgen/algorithm/kinematics.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
+#include "mbgen/algorithm/loop_inverse_dynamics.hpp"
 #include "mbgen/algorithm/loop_maps.hpp"
 #include "mbgen/algorithm/rnea.hpp"
 #include "mbgen/data.hpp"
