@@ -74,6 +74,7 @@ TEST_P(LegsTopology, FiguresMatchLoopsMd) {
   EXPECT_TRUE(groups == f.subsystems_by_joint || groups == f.subsystems_by_body) << groups;
   EXPECT_LT(d.assembly.residual, 1e-12);
   EXPECT_LT(max_abs_phi(m, d.assembly.q), 1e-12);
+  for (const std::string& w : d.warnings) EXPECT_EQ(w.find("assembly: the best closed pose"), std::string::npos) << w;
   std::cout << "[ figures  ] " << f.model << ": tree " << m.nv() << ", rows " << m.num_constraint_rows() << ", rank "
             << total_rank(m) << ", mobility " << d.closed_dof << ", sub-systems " << groups
             << ", assembly: max joint change " << d.assembly.max_joint_change << " (" << d.assembly.max_change_joint
@@ -122,7 +123,8 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
     for (int r = 0; r < s.rank(); ++r)
       for (int c = 0; c < s.rank(); ++c) Phi_z(r, c) = Phi_q(s.rows[r], s.dependent[c]);
     const VecX<double> sv = Eigen::JacobiSVD<MatX<double>>(Phi_z).singularValues();
-    // The assembly prefers poses where this condition number stays below 1e3.
+    // The assembly prefers condition <= 100 and warns above 1000; robot_delta (839) and
+    // wl16_like (597) reach no better in 24 seeds with all their motors independent.
     EXPECT_GT(sv[sv.size() - 1], 1e-3 * sv[0]) << f.model;
     std::cout << "[ Phi_z    ] " << f.model << ": " << s.rank() << " x " << s.rank() << ", condition " << sv[0] / sv[sv.size() - 1] << "\n";
   }
