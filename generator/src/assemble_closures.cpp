@@ -167,9 +167,14 @@ void finish(const Model& model, const VectorXd& q0, Attempt& a) {
 
 void measure_conditioning(const Description& d, const Model& model, Data<double>& data, const AssemblyOptions& options,
                           Attempt& a) {
-  const SubSystemChoice choice = choose_subsystems(d, a.q, options);
-  a.dependent_conditioning = choice.worst_conditioning;
-  a.dependent_actuated = choice.dependent_actuated;
+  try {
+    const SubSystemChoice choice = choose_subsystems(d, a.q, options);
+    a.dependent_conditioning = choice.worst_conditioning;
+    a.dependent_actuated = choice.dependent_actuated;
+  } catch (const LoadError&) {  // a pose so near a singularity that no dependent block is found
+    a.dependent_conditioning = 0;
+    a.dependent_actuated = model.nv();
+  }
   const MatrixXd Phi_q = closure_jacobian<double>(model, data, a.q);
   const VectorXd sv = Eigen::JacobiSVD<MatrixXd>(Phi_q).singularValues();
   a.sigma_max = sv.size() ? sv[0] : 0;
