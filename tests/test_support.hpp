@@ -92,7 +92,8 @@ inline CentralPair central_pair(const Model& model, const VecX<double>& q, const
 }
 
 /// The closed-loop descriptions the loop tests run on: the parallel_legs models (disney_robot
-/// with its 9 valid overrides, tests/data/parallel_legs), the mechanisms and Lola.
+/// with its 9 valid overrides, tests/data/parallel_legs), the mechanisms, Lola, and
+/// tests/data/closure_types (one chain per closure type).
 struct LoopCase {
   std::string name, urdf, extras;  ///< extras empty: the robot.yaml beside the URDF
 };
@@ -106,6 +107,8 @@ inline std::vector<LoopCase> loop_cases() {
     cases.push_back({m, MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".urdf",
                      MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".yaml"});
   cases.push_back({"lola", MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml"});
+  // Every closure type (weld, point, revolute, prismatic, universal) on its own 6-DoF chain.
+  cases.push_back({"closure_types", MBGEN_TEST_DATA "/closure_types.urdf", MBGEN_TEST_DATA "/closure_types.yaml"});
   return cases;
 }
 inline void PrintTo(const LoopCase& c, std::ostream* os) { *os << c.name; }
