@@ -3,7 +3,9 @@
 // LOOPS.md), the mechanisms and Lola.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <random>
 #include <set>
 
 #include "mbgen/gen/load_error.hpp"
@@ -132,6 +134,30 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
 
 INSTANTIATE_TEST_SUITE_P(SharedRobots, LegsTopology, ::testing::ValuesIn(kLegs),
                          [](const auto& info) { return info.param.model; });
+
+TEST(JointTypeOverrides, MassMatrixAndAbaStayRegularWithTheMasslessChainLinks) {
+  // The chains' intermediate links are massless; the chain carries the child's mass further out,
+  // so M stays positive definite and the ABA's D = S^T IA S > 0 (away from a ball's gimbal pose):
+  // ABA equals M^-1 (tau - C v - g) to 1e-9 relative at random states of both override models.
+  for (const std::string& urdf : {test::shared_robot("parallel_legs/digit_like_2legs/robot.urdf"),
+                                  test::shared_robot("parallel_legs/disney_robot/robot.urdf")}) {
+    const std::string extras = urdf.find("disney") != std::string::npos ? kData + "/parallel_legs/disney_robot_corrected.yaml" : "";
+    const Description d = load(urdf, extras);
+    const Model& m = d.model;
+    Data<double> data(m);
+    std::mt19937_64 rng(51);
+    for (int trial = 0; trial < 5; ++trial) {
+      const VecX<double> q = random_configuration<double>(m, rng), v = random_vector<double>(m.nv(), rng);
+      const VecX<double> tau = random_vector<double>(m.nv(), rng);
+      const MatX<double> M = crba<double>(m, data, q);
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<MatX<double>>(M).eigenvalues()[0], 0.0);
+      const VecX<double> bias = nonlinear_effects<double>(m, data, q, v);
+      const VecX<double> expected = M.ldlt().solve(tau - bias);
+      const VecX<double> qdd = aba<double>(m, data, q, v, tau);
+      EXPECT_LT(test::relative_error(qdd, expected), 1e-9) << urdf << " trial " << trial;
+    }
+  }
+}
 
 // ---- mechanisms and Lola (their README files give the figures) ----------------------------
 
