@@ -149,14 +149,21 @@ int levenberg_marquardt(const Model& model, AssemblyResidual& res, Data<double>&
   return it;
 }
 
-/// Wraps unbounded revolute coordinates to (-pi, pi] and measures the change from q0.
+/// Wraps revolute coordinates to (-pi, pi] (or into their limits, a turn away) and measures the
+/// change from q0.
 void finish(const Model& model, const VectorXd& q0, Attempt& a) {
   a.displacement = 0;
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
     if (joint.nq != 1) continue;
     double& x = a.q[joint.idx_q];
-    if (joint.type == JointType::Revolute && !joint.bounded) x = std::remainder(x, 2 * M_PI);
+    if (joint.type == JointType::Revolute) {
+      // The same pose with the angle in (-pi, pi], or a turn away where that enters the limits.
+      x = std::remainder(x, 2 * M_PI);
+      for (double turn : {2 * M_PI, -2 * M_PI})
+        if (joint.bounded && (x < joint.lower || x > joint.upper) && x + turn >= joint.lower && x + turn <= joint.upper)
+          x += turn;
+    }
     const double change = std::abs(x - q0[joint.idx_q]);
     if (change > a.displacement) {
       a.displacement = change;

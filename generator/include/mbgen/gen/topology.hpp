@@ -48,9 +48,9 @@ struct AssemblyOptions {
 /// Closes every loop of d.model from the zero pose (neutral configuration) by damped least
 /// squares over all tree joints; restarts from perturbed seeds when it stalls; among closed
 /// poses prefers full rank, then the fewest actuated joints forced dependent, then a
-/// well-conditioned one (`conditioning`), then the nearest. Fills d.assembly. Unbounded revolute
-/// coordinates are wrapped to (-pi, pi]. Throws a LoadError naming each closure that stays
-/// open and by how much.
+/// well-conditioned one (`conditioning`), then the nearest. Fills d.assembly. Revolute
+/// coordinates are wrapped to (-pi, pi] (or a turn away, into their limits). Throws a
+/// LoadError naming each closure that stays open and by how much.
 void assemble_closures(Description& d, const AssemblyOptions& options = {});
 
 /// Sub-systems at a pose q, without touching d (find_subsystems and the assembly's choice of
