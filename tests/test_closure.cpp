@@ -81,6 +81,26 @@ TEST_P(ClosureTest, BiasIsMinusTheRateOfTheConstraintVelocity) {
   }
 }
 
+TEST_P(ClosureTest, FloatTwinMatchesDouble) {
+  // The runtime is templated on the scalar: float gives the same rows to single-precision
+  // round-off (unit round-off 6e-8, recursions of depth < 40: 1e-4 relative to the terms' size).
+  std::mt19937_64 rng(14);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  Data<float> data_f(model);
+  const VecX<float> qf = q.cast<float>(), vf = v.cast<float>();
+  const VecX<double> Phi_q_v = closure_jacobian<double>(model, data, q) * v;
+  const VecX<double> gamma = closure_bias<double>(model, data, q, v);
+  const VecX<float> Phi_q_v_f = closure_jacobian<float>(model, data_f, qf) * vf;
+  const VecX<float> gamma_f = closure_bias<float>(model, data_f, qf, vf);
+  EXPECT_LT((closure_jacobian<float>(model, data_f, qf).cast<double>() - closure_jacobian<double>(model, data, q)).norm(),
+            1e-4 * std::max(1.0, data.Phi_q.norm()));
+  EXPECT_LT((gamma_f.cast<double>() - gamma).norm(), 1e-4 * std::max(1.0, gamma.norm()));
+  EXPECT_LT(closure_residual<float>(model, data_f, qf).cast<double>().cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT(Phi_q_v_f.cast<double>().norm(), 1e-4 * std::max(1.0, v.norm()));
+  (void)Phi_q_v;
+}
+
 INSTANTIATE_TEST_SUITE_P(ClosedLoops, ClosureTest, ::testing::ValuesIn(loop_cases()),
                          [](const auto& info) { return info.param.name; });
 

@@ -4,6 +4,8 @@
 // energy conservation, and Baumgarte stabilisation against drift.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <random>
 
 #include "malloc_guard.hpp"
@@ -72,6 +74,88 @@ TEST_P(ConstrainedDynamicsTest, ReferenceDynamicsDoNotAllocate) {
 
 INSTANTIATE_TEST_SUITE_P(ClosedLoops, ConstrainedDynamicsTest, ::testing::ValuesIn(loop_cases()),
                          [](const auto& info) { return info.param.name; });
+
+// ---- four-bar against its closed-form Lagrangian --------------------------------------------
+
+/// The four-bar of robots/mechanisms/README.md in closed form: crank angle t2 -> rocker t4
+/// (Freudenstein, nominal branch) and coupler t3; each link's frame origin and turn angle in the
+/// x-z plane (link frames turn about -y, +x towards +z, and are parallel to the world at q = 0).
+struct FourBarPose {
+  double crank, coupler, rocker;     ///< joint values
+  Vec3<double> origin[3];            ///< frame origins of crank, coupler, rocker (world)
+  double angle[3];                   ///< absolute turn of each link frame from the nominal pose
+};
+FourBarPose four_bar_pose(double q_crank) {
+  const double a = 0.05, b = 0.182, c = 0.122, d = 0.19;
+  const double t20 = M_PI / 2, t30 = std::atan2(0.07, 0.168), t40 = std::atan2(0.12, -0.022);
+  const double t2 = t20 + q_crank;
+  const double K1 = d / a, K2 = d / c, K3 = (a * a - b * b + c * c + d * d) / (2 * a * c);
+  const double A = std::cos(t2) - K1 - K2 * std::cos(t2) + K3, B = -2 * std::sin(t2), C = K1 - (K2 + 1) * std::cos(t2) + K3;
+  const double t4 = 2 * std::atan2(-B - std::sqrt(B * B - 4 * A * C), 2 * A);
+  const double t3 = std::atan2(c * std::sin(t4) - a * std::sin(t2), d + c * std::cos(t4) - a * std::cos(t2));
+  FourBarPose p;
+  p.crank = q_crank;
+  p.rocker = std::remainder(t4 - t40, 2 * M_PI);
+  p.coupler = std::remainder(t3 - t30 - q_crank, 2 * M_PI);
+  p.origin[0] = Vec3<double>::Zero();
+  p.origin[1] = Vec3<double>(a * std::cos(t2), 0, a * std::sin(t2));
+  p.origin[2] = Vec3<double>(d, 0, 0);
+  p.angle[0] = q_crank;
+  p.angle[1] = q_crank + p.coupler;
+  p.angle[2] = p.rocker;
+  return p;
+}
+
+TEST(FourBarClosedForm, IndependentDynamicsMatchTheLagrangianInTheCrankAngle) {
+  // m(t) tdd + 1/2 m'(t) td^2 + V'(t) = tau, with m(t) = sum m_i |dc_i/dt|^2 + (dphi_i/dt)^2 I_i
+  // and V(t) = sum m_i 9.81 c_i,z from the closed-form positions (inertias from the model, the
+  // rest from robots/mechanisms/README.md). Derivatives in t by central differences (h = 1e-4:
+  // ~1e-8 relative), hence 1e-6 relative on the crank acceleration.
+  const std::string dir = MBGEN_SOURCE_DIR "/robots/mechanisms/";
+  const gen::Description d = load_loop_case({"four_bar", dir + "four_bar.urdf", dir + "four_bar.yaml"});
+  const Model& model = d.model;
+  Data<double> data(model);
+  ConstrainedDynamicsWorkspace<double> ws(model);
+  const char* joints[3] = {"crank_joint", "coupler_joint", "rocker_joint"};
+  const Vec3<double> axis(0, -1, 0);
+  auto com = [&](const FourBarPose& p, int k) {  // centre of mass of link k, world
+    const Inertia<double>& I = model.body(model.joint(*model.find_joint(joints[k])).child).inertia;
+    return Vec3<double>(p.origin[k] + Eigen::AngleAxisd(p.angle[k], axis).toRotationMatrix() * I.com);
+  };
+  auto mass_and_potential = [&](double t, double& m, double& V) {
+    const double h = 1e-5;
+    const FourBarPose p = four_bar_pose(t), pp = four_bar_pose(t + h), pm = four_bar_pose(t - h);
+    m = V = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Inertia<double>& I = model.body(model.joint(*model.find_joint(joints[k])).child).inertia;
+      const Vec3<double> dc = (com(pp, k) - com(pm, k)) / (2 * h);
+      const double dphi = std::remainder(pp.angle[k] - pm.angle[k], 2 * M_PI) / (2 * h);
+      m += I.mass * dc.squaredNorm() + dphi * dphi * axis.dot(I.inertia_com * axis);
+      V += I.mass * 9.81 * com(p, k).z();
+    }
+  };
+  std::mt19937_64 rng(61);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    const double t = M_PI * unit(rng), td = 3 * unit(rng), tau_crank = 0.2 * unit(rng);
+    const FourBarPose p = four_bar_pose(t);
+    VecX<double> q = VecX<double>::Zero(model.nq());
+    for (int k = 0; k < 3; ++k) q[model.joint(*model.find_joint(joints[k])).idx_q] = k == 0 ? p.crank : k == 1 ? p.coupler : p.rocker;
+    ASSERT_LT(closure_residual<double>(model, data, q).cwiseAbs().maxCoeff(), 1e-12);
+    ASSERT_EQ(loop_velocity_map<double>(model, data, ws.loops, q), LoopSolveStatus::Converged);
+    const VecX<double> v = ws.loops.G * (VecX<double>(1) << td).finished();
+    VecX<double> tau = VecX<double>::Zero(model.nv());
+    tau[model.joint(*model.find_joint("crank_joint")).idx_v] = tau_crank;
+    const double tdd = forward_dynamics_independent<double>(model, data, ws, q, v, tau)[model.joint(*model.find_joint("crank_joint")).idx_v];
+    const double h = 1e-4;
+    double m0, V0, mp, Vp, mm, Vm;
+    mass_and_potential(t, m0, V0);
+    mass_and_potential(t + h, mp, Vp);
+    mass_and_potential(t - h, mm, Vm);
+    const double expected = (tau_crank - 0.5 * (mp - mm) / (2 * h) * td * td - (Vp - Vm) / (2 * h)) / m0;
+    EXPECT_NEAR(tdd, expected, 1e-6 * std::max(1.0, std::abs(expected))) << "t " << t << ", td " << td;
+  }
+}
 
 // ---- integration: energy and drift --------------------------------------------------------
 

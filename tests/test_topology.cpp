@@ -3,7 +3,9 @@
 // LOOPS.md), the mechanisms and Lola.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <random>
 #include <set>
 
 #include "mbgen/gen/load_error.hpp"
@@ -74,6 +76,7 @@ TEST_P(LegsTopology, FiguresMatchLoopsMd) {
   EXPECT_TRUE(groups == f.subsystems_by_joint || groups == f.subsystems_by_body) << groups;
   EXPECT_LT(d.assembly.residual, 1e-12);
   EXPECT_LT(max_abs_phi(m, d.assembly.q), 1e-12);
+  for (const std::string& w : d.warnings) EXPECT_EQ(w.find("assembly: the best closed pose"), std::string::npos) << w;
   std::cout << "[ figures  ] " << f.model << ": tree " << m.nv() << ", rows " << m.num_constraint_rows() << ", rank "
             << total_rank(m) << ", mobility " << d.closed_dof << ", sub-systems " << groups
             << ", assembly: max joint change " << d.assembly.max_joint_change << " (" << d.assembly.max_change_joint
@@ -122,7 +125,8 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
     for (int r = 0; r < s.rank(); ++r)
       for (int c = 0; c < s.rank(); ++c) Phi_z(r, c) = Phi_q(s.rows[r], s.dependent[c]);
     const VecX<double> sv = Eigen::JacobiSVD<MatX<double>>(Phi_z).singularValues();
-    // The assembly prefers poses where this condition number stays below 1e3.
+    // The assembly prefers condition <= 100 and warns above 1000; robot_delta (839) and
+    // wl16_like (597) reach no better in 24 seeds with all their motors independent.
     EXPECT_GT(sv[sv.size() - 1], 1e-3 * sv[0]) << f.model;
     std::cout << "[ Phi_z    ] " << f.model << ": " << s.rank() << " x " << s.rank() << ", condition " << sv[0] / sv[sv.size() - 1] << "\n";
   }
@@ -130,6 +134,30 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
 
 INSTANTIATE_TEST_SUITE_P(SharedRobots, LegsTopology, ::testing::ValuesIn(kLegs),
                          [](const auto& info) { return info.param.model; });
+
+TEST(JointTypeOverrides, MassMatrixAndAbaStayRegularWithTheMasslessChainLinks) {
+  // The chains' intermediate links are massless; the chain carries the child's mass further out,
+  // so M stays positive definite and the ABA's D = S^T IA S > 0 (away from a ball's gimbal pose):
+  // ABA equals M^-1 (tau - C v - g) to 1e-9 relative at random states of both override models.
+  for (const std::string& urdf : {test::shared_robot("parallel_legs/digit_like_2legs/robot.urdf"),
+                                  test::shared_robot("parallel_legs/disney_robot/robot.urdf")}) {
+    const std::string extras = urdf.find("disney") != std::string::npos ? kData + "/parallel_legs/disney_robot_corrected.yaml" : "";
+    const Description d = load(urdf, extras);
+    const Model& m = d.model;
+    Data<double> data(m);
+    std::mt19937_64 rng(51);
+    for (int trial = 0; trial < 5; ++trial) {
+      const VecX<double> q = random_configuration<double>(m, rng), v = random_vector<double>(m.nv(), rng);
+      const VecX<double> tau = random_vector<double>(m.nv(), rng);
+      const MatX<double> M = crba<double>(m, data, q);
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<MatX<double>>(M).eigenvalues()[0], 0.0);
+      const VecX<double> bias = nonlinear_effects<double>(m, data, q, v);
+      const VecX<double> expected = M.ldlt().solve(tau - bias);
+      const VecX<double> qdd = aba<double>(m, data, q, v, tau);
+      EXPECT_LT(test::relative_error(qdd, expected), 1e-9) << urdf << " trial " << trial;
+    }
+  }
+}
 
 // ---- mechanisms and Lola (their README files give the figures) ----------------------------
 

@@ -107,6 +107,7 @@ struct Attempt {
   std::string moved_most;
   double sigma_min = 0, sigma_max = 0;
   double dependent_conditioning = 0;  ///< worst sigma_min / sigma_max of the sub-systems' Phi_z
+  int dependent_actuated = 0;         ///< actuated joints that are dependent coordinates there
   int rank = 0;
   int iterations = 0;
 };
@@ -148,14 +149,21 @@ int levenberg_marquardt(const Model& model, AssemblyResidual& res, Data<double>&
   return it;
 }
 
-/// Wraps unbounded revolute coordinates to (-pi, pi] and measures the change from q0.
+/// Wraps revolute coordinates to (-pi, pi] (or into their limits, a turn away) and measures the
+/// change from q0.
 void finish(const Model& model, const VectorXd& q0, Attempt& a) {
   a.displacement = 0;
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
     if (joint.nq != 1) continue;
     double& x = a.q[joint.idx_q];
-    if (joint.type == JointType::Revolute && !joint.bounded) x = std::remainder(x, 2 * M_PI);
+    if (joint.type == JointType::Revolute) {
+      // The same pose with the angle in (-pi, pi], or a turn away where that enters the limits.
+      x = std::remainder(x, 2 * M_PI);
+      for (double turn : {2 * M_PI, -2 * M_PI})
+        if (joint.bounded && (x < joint.lower || x > joint.upper) && x + turn >= joint.lower && x + turn <= joint.upper)
+          x += turn;
+    }
     const double change = std::abs(x - q0[joint.idx_q]);
     if (change > a.displacement) {
       a.displacement = change;
@@ -166,7 +174,14 @@ void finish(const Model& model, const VectorXd& q0, Attempt& a) {
 
 void measure_conditioning(const Description& d, const Model& model, Data<double>& data, const AssemblyOptions& options,
                           Attempt& a) {
-  a.dependent_conditioning = choose_subsystems(d, a.q, options).worst_conditioning;
+  try {
+    const SubSystemChoice choice = choose_subsystems(d, a.q, options);
+    a.dependent_conditioning = choice.worst_conditioning;
+    a.dependent_actuated = choice.dependent_actuated;
+  } catch (const LoadError&) {  // a pose so near a singularity that no dependent block is found
+    a.dependent_conditioning = 0;
+    a.dependent_actuated = model.nv();
+  }
   const MatrixXd Phi_q = closure_jacobian<double>(model, data, a.q);
   const VectorXd sv = Eigen::JacobiSVD<MatrixXd>(Phi_q).singularValues();
   a.sigma_max = sv.size() ? sv[0] : 0;
@@ -176,9 +191,11 @@ void measure_conditioning(const Description& d, const Model& model, Data<double>
   a.sigma_min = a.rank ? sv[a.rank - 1] : 0;
 }
 
-/// Better: higher rank (a lower one is a singular pose), then well conditioned, then nearer.
+/// Better: higher rank (a lower one is a singular pose), then fewer actuators forced dependent
+/// (a pose singular for the actuators), then well conditioned, then nearer.
 bool better(const Attempt& x, const Attempt& y, double conditioning) {
   if (x.rank != y.rank) return x.rank > y.rank;
+  if (x.dependent_actuated != y.dependent_actuated) return x.dependent_actuated < y.dependent_actuated;
   const bool wx = x.dependent_conditioning >= conditioning, wy = y.dependent_conditioning >= conditioning;
   if (wx != wy) return wx;
   if (!wx) return x.dependent_conditioning > y.dependent_conditioning;
@@ -263,7 +280,7 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
                                        joint.name, x, joint.lower, joint.upper));
   }
   d.assembly.dependent_conditioning = best->dependent_conditioning;
-  if (best->dependent_conditioning < options.conditioning)
+  if (best->dependent_conditioning < options.conditioning / 10)
     d.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned: a dependent block Phi_z "
                                      "has condition {:.3g} (smallest kept singular value of Phi_q {:.3g}, largest {:.3g})",
                                      1 / best->dependent_conditioning, best->sigma_min, best->sigma_max));

@@ -152,7 +152,7 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
     for (int c = 0; c < k; ++c) (is_dependent[c] ? s.dependent : s.independent).push_back(s.coordinates[c]);
     std::sort(s.dependent.begin(), s.dependent.end());
     for (int c : z)
-      if (!free_joint[c])
+      if (!free_joint[c] && ++out.dependent_actuated)
         out.warnings.push_back(fmt::format(
             "actuated joint '{}' is a dependent coordinate of the loops of closure '{}': the other joints of its "
             "loops determine it, so it cannot be an independent coordinate there",

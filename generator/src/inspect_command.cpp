@@ -114,7 +114,8 @@ void print_loops(const Description& d, std::ostream& out) {
     out << fmt::format("  {}: closures {}; root '{}'; {} coordinates, {} constraint rows, rank {} ({} redundant)\n", k + 1,
                        fmt::join(closures, ", "), m.body(s.root).name, s.coordinates.size(), rows, s.rank(), rows - s.rank());
     out << fmt::format("     bodies: {}\n", fmt::join(body_names(m, s.bodies), ", "));
-    out << fmt::format("     independent ({}): {}\n", s.independent.size(), fmt::join(coordinate_names(m, s.independent), ", "));
+    out << fmt::format("     independent ({}): {}\n", s.independent.size(),
+                       s.independent.empty() ? "-" : fmt::format("{}", fmt::join(coordinate_names(m, s.independent), ", ")));
     out << fmt::format("     dependent ({}): {}\n", s.dependent.size(), fmt::join(coordinate_names(m, s.dependent), ", "));
   }
   out << fmt::format("closed-system DoF: {} (tree {} - rank {})\n", d.closed_dof, m.nv(), m.nv() - d.closed_dof);

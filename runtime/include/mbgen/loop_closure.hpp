@@ -9,6 +9,7 @@
 //   revolute   3 linear + 2 angular (perpendicular to axis) (5 rows)
 //   prismatic  2 linear (perpendicular to axis) + 3 angular (5 rows)
 //   universal  3 linear + 1 angular (about axis x axis_b)   (4 rows)
+// The residual rows and the exact definitions are in algorithm/closure.hpp.
 // The stacked rows of all closures, in closure order, are the system's constraint rows;
 // `row_offset` is where a closure's rows start. Rows may be redundant (a 6d closure of a planar
 // loop has rank 3): sub-systems keep an independent subset.
@@ -57,8 +58,12 @@ struct LoopClosure {
   int rows() const { return closure_rows(type); }
 };
 
-/// Bodies that must be solved together: the union of the fundamental cycles that share a body.
-/// All coordinates are velocity indices of 1-DoF tree joints (revolute or prismatic).
+/// Bodies that must be solved together: the union of the fundamental cycles (tree path body_a ->
+/// common ancestor -> body_b) that share a moving joint, i.e. a body other than their roots.
+/// Loops that only meet at a body stay apart: their coordinates are disjoint and their rows
+/// decouple (generator/include/mbgen/gen/topology.hpp). Coordinates are velocity indices; the
+/// rows of Phi_q outside `coordinates` are exact zeros, so Phi_z = Phi_q(rows, dependent) and
+/// Phi_y = Phi_q(rows, independent) are all a sub-system needs (algorithm/loop_maps.hpp).
 struct SubSystem {
   std::vector<int> closures;        ///< indices into Model::closures
   std::vector<BodyIndex> bodies;    ///< bodies on its cycles, ascending (parents first); not the root

@@ -58,7 +58,7 @@ template <typename S> struct SubSystemWork {
       if (!found) fail("coordinate " + std::to_string(s.coordinates[j]) + " is neither independent nor dependent");
       coordinate_role.push_back(role);
     }
-    if (static_cast<int>(s.dependent.size()) != s.rank())
+    if (!s.closures.empty() && static_cast<int>(s.dependent.size()) != s.rank())
       fail("has " + std::to_string(s.dependent.size()) + " dependent coordinates for " + std::to_string(s.rank()) +
            " independent constraint rows: Phi_z must be square");
   }

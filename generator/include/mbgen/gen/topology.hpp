@@ -35,9 +35,11 @@ struct AssemblyOptions {
   int max_seeds = 24;               ///< the zero pose, then perturbed seeds
   /// A closed pose is well conditioned when, with the sub-systems' independent coordinates
   /// chosen there (actuated joints first), every dependent block Phi_z has its smallest singular
-  /// value at least this fraction of its largest: the actuators then move the loops without a
-  /// nearby dead point. A worse pose is kept only if no seed gives better.
-  double conditioning = 1e-3;
+  /// value at least this fraction of its largest (condition <= 100): the actuators then move
+  /// the loops with no fold (dead point) close by. wl16_like at condition 724 had one within
+  /// 0.002 rad of its motors. Seeds are tried until one is (or max_seeds); the best is kept, and
+  /// a warning is given below a tenth of it.
+  double conditioning = 1e-2;
   int min_seeds = 4;                ///< closed poses compared before the first well-conditioned one is taken
   /// Rank tolerance (LOOPS.md): singular values below rank_tolerance * max(1, sigma_max) are zero.
   double rank_tolerance = 1e-7;
@@ -45,9 +47,10 @@ struct AssemblyOptions {
 
 /// Closes every loop of d.model from the zero pose (neutral configuration) by damped least
 /// squares over all tree joints; restarts from perturbed seeds when it stalls; among closed
-/// poses prefers the nearest well-conditioned one. Fills d.assembly. Unbounded revolute
-/// coordinates are wrapped to (-pi, pi]. Throws a LoadError naming each closure that stays
-/// open and by how much.
+/// poses prefers full rank, then the fewest actuated joints forced dependent, then a
+/// well-conditioned one (`conditioning`), then the nearest. Fills d.assembly. Revolute
+/// coordinates are wrapped to (-pi, pi] (or a turn away, into their limits). Throws a
+/// LoadError naming each closure that stays open and by how much.
 void assemble_closures(Description& d, const AssemblyOptions& options = {});
 
 /// Sub-systems at a pose q, without touching d (find_subsystems and the assembly's choice of
@@ -56,6 +59,7 @@ void assemble_closures(Description& d, const AssemblyOptions& options = {});
 struct SubSystemChoice {
   std::vector<SubSystem> subsystems;
   int total_rank = 0;
+  int dependent_actuated = 0;  ///< actuated joints the rank forced into z
   double worst_conditioning = 1.0;
   std::vector<std::string> warnings;
 };

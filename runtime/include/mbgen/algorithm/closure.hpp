@@ -82,8 +82,7 @@ FrameState<S> closure_frame_state(const Data<S>& data, BodyIndex b, const SE3<do
 }
 
 /// Residual rows of one closure into out[0 .. rows). Needs data.X_WB.
-template <typename S> void closure_residual_rows(const Model& model, const Data<S>& data, const LoopClosure& c, S* out) {
-  (void)model;
+template <typename S> void closure_residual_rows(const Data<S>& data, const LoopClosure& c, S* out) {
   const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
   const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
   const Mat3<S> R = A.R.transpose() * B.R;
@@ -213,7 +212,7 @@ template <typename S> void closure_velocity_product_rows(const Data<S>& data, co
 /// returned. Runs forward kinematics for q (size nq).
 template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  for (const LoopClosure& c : model.closures) detail::closure_residual_rows<S>(model, data, c, data.Phi.data() + c.row_offset);
+  for (const LoopClosure& c : model.closures) detail::closure_residual_rows<S>(data, c, data.Phi.data() + c.row_offset);
   return data.Phi;
 }
 
