@@ -14,7 +14,7 @@
 
 # The functions every generation emits, one source file each (<NAME>_<function>.cpp).
 set(MBGEN_GENERATED_FUNCTIONS
-    forward_dynamics inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
+    forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
     center_of_mass centroidal_momentum_matrix)
 
 function(mbgen_add_robot)

@@ -9,6 +9,13 @@
 // float: the same quantities in single precision (unit round-off u = 6e-8). For a recursion of
 // depth d over n bodies, backward errors grow like c * d * u with small c; d <= 40 here, so we
 // allow 1e-4 (~ 40 * 40 u) for dynamics and kinematics alike, relative to the size of the terms.
+//
+// Robots with loops: every function but forward_dynamics and full_accelerations is the spanning
+// tree's (compared with the generic runtime on the tree); those two are the closed system's,
+// compared with forward_dynamics_loops_independent at seeded consistent states (loops closed by
+// Newton, independent velocities), by the same normwise backward error on the tree joints'
+// accelerations; float: the loop maps add a QR of Phi_z (condition <= 1e3 at the assembled
+// poses, test_topology) to the recursion, so 1e-2 relative (1e3 * 1e-5 of the tree bound).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -25,13 +32,19 @@ namespace {
 class GeneratedTest : public ::testing::Test {
  protected:
   GeneratedTest()
-      : model(load_tree_with_extras()), data(model), frames(frame_indices(model)) {}
+      : description(load_with_extras()), closed(description.model), model(tree_of(closed)), data(model),
+        closed_data(closed), frames(frame_indices(model)) {}
 
-  static Model load_tree_with_extras() {
+  static gen::Description load_with_extras() {
     gen::LoadOptions options;
     options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
     if (std::string(MBGEN_EXTRAS).size() > 0) options.extras_file = MBGEN_EXTRAS;
-    return gen::load_description(MBGEN_DESCRIPTION, options).model;
+    return gen::load_description(MBGEN_DESCRIPTION, options);
+  }
+  static Model tree_of(Model m) {
+    m.closures.clear();
+    m.subsystems.clear();
+    return m;
   }
   static std::vector<FrameIndex> frame_indices(const Model& model) {
     std::vector<FrameIndex> out;
@@ -97,7 +110,7 @@ class GeneratedTest : public ::testing::Test {
       const VecX<double> a = random_vector<double>(nv, rng, 5.0);
       const Reference r = reference(q, v, tau, a);
       const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(v), taut = narrow<T>(tau), at = narrow<T>(a);
-      gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), qdd.data());
+      if (!gen_ns::has_loops) gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), qdd.data());
       gen_ns::inverse_dynamics(qt.data(), vt.data(), at.data(), tau_out.data());
       gen_ns::mass_matrix(qt.data(), M.data());
       gen_ns::forward_kinematics(qt.data(), X_WB.data());
@@ -107,7 +120,7 @@ class GeneratedTest : public ::testing::Test {
       gen_ns::centroidal_momentum_matrix(qt.data(), Ag.data());
       // Forward dynamics: normwise backward error, as in test_aba.cpp.
       const double scale = r.M_matrix.norm() * r.qdd.norm() + tau.norm() + r.bias.norm();
-      worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
+      if (!gen_ns::has_loops) worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
       // Inverse dynamics: relative to the size of its terms.
       const double id_scale = r.M_matrix.norm() * a.norm() + r.bias.norm() + r.tau.norm();
       worst[1] = std::max(worst[1], (widen(tau_out) - r.tau).norm() / std::max(1.0, id_scale));
@@ -126,8 +139,50 @@ class GeneratedTest : public ::testing::Test {
     }
   }
 
-  Model model;
-  Data<double> data;
+  /// forward_dynamics and full_accelerations: against the generic O(n) recursion, on the tree
+  /// for a robot without loops, on the closed system (consistent states) for one with loops.
+  template <typename T> void compare_closed(double tolerance, int trials) {
+    std::mt19937_64 rng(2025);
+    const int nv = closed.nv(), ny = gen_ns::ny;
+    ASSERT_EQ(ny, static_cast<int>(closed_data.independent_v.size()));
+    std::vector<T> ydd(ny), qdd(nv);
+    double worst_y = 0, worst_full = 0;
+    int states = 0;
+    for (int trial = 0; trial < 4 * trials && states < trials; ++trial) {
+      VecX<double> q, v;
+      if (gen_ns::has_loops) {
+        if (!consistent_state(closed, description.assembly.q, rng, 0.05, q, v)) continue;
+      } else {
+        q = random_configuration<double>(closed, rng);
+        v = random_vector<double>(nv, rng, 2.0);
+      }
+      ++states;
+      VecX<double> vy(ny);
+      for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      const VecX<double> tau = random_vector<double>(nv, rng, 10.0);
+      forward_dynamics_loops_independent<double>(closed, closed_data, closed_data.independent_v, q, vy, tau);
+      const VecX<double> expected = closed_data.ddq;
+      const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(vy), taut = narrow<T>(tau);
+      gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), ydd.data());
+      gen_ns::full_accelerations(qt.data(), vt.data(), taut.data(), qdd.data());
+      // Backward error on the tree joints: M (qdd - expected) against the terms of the equation.
+      const MatX<double> M = crba<double>(model, data, q);
+      const double scale = M.norm() * expected.norm() + tau.norm() + nonlinear_effects<double>(model, data, q, v).norm();
+      worst_full = std::max(worst_full, (M * (widen(qdd) - expected)).norm() / scale);
+      VecX<double> expected_y(ny);
+      for (int i = 0; i < ny; ++i) expected_y[i] = expected[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      worst_y = std::max(worst_y, (widen(ydd) - expected_y).norm() / std::max(1.0, expected.norm()));
+    }
+    EXPECT_GE(states, trials / 2);
+    EXPECT_LT(worst_full, tolerance) << "full_accelerations";
+    EXPECT_LT(worst_y, gen_ns::has_loops ? tolerance : tolerance) << "forward_dynamics (independent accelerations)";
+    RecordProperty("full_accelerations", std::to_string(worst_full));
+  }
+
+  gen::Description description;
+  Model closed;  ///< with the loops (forward_dynamics, full_accelerations)
+  Model model;   ///< the spanning tree (every other function)
+  Data<double> data, closed_data;
   std::vector<FrameIndex> frames;
 };
 
@@ -146,12 +201,17 @@ TEST_F(GeneratedTest, DoubleEqualsGeneric) { compare<double>(1e-12, 100); }
 
 TEST_F(GeneratedTest, FloatWithinDerivedBound) { compare<float>(1e-4, 100); }
 
+TEST_F(GeneratedTest, ClosedSystemDoubleEqualsGeneric) { compare_closed<double>(1e-12, 20); }
+
+TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(gen_ns::has_loops ? 1e-2 : 1e-4, 20); }
+
 TEST_F(GeneratedTest, NoAllocation) {
   std::vector<double> q(gen_ns::nq, 0.1), v(gen_ns::nv, 0.2), out(36 * gen_ns::nv * (gen_ns::num_bodies + gen_ns::num_frames + 1));
   if (gen_ns::floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
   std::vector<float> qf(q.begin(), q.end()), vf(v.begin(), v.end()), outf(out.size());
   MallocGuard guard;
   gen_ns::forward_dynamics(q.data(), v.data(), v.data(), out.data());
+  gen_ns::full_accelerations(q.data(), v.data(), v.data(), out.data());
   gen_ns::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
   gen_ns::mass_matrix(q.data(), out.data());
   gen_ns::forward_kinematics(q.data(), out.data());

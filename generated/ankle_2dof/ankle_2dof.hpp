@@ -13,6 +13,12 @@
 //    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
+//  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
+//    of the closed system: q is every tree joint's position with the loops closed, v the
+//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
+//    forces on dependent joints act through the loops); forward_dynamics returns the independent
+//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces).
 
 namespace ankle_2dof {
 
@@ -22,16 +28,27 @@ constexpr int num_bodies = 8;
 constexpr int num_frames = 1;
 constexpr bool floating_base = false;
 inline constexpr const char* joint_names[] = {"ankle_act_lat_u1", "ankle_act_lat_u2", "ankle_act_lat", "ankle_act_med_u1", "ankle_act_med_u2", "ankle_act_med", "ankle_pitch", "ankle_roll"};
+constexpr int ny = 2;  // independent coordinates (nv for a robot without loops)
+constexpr bool has_loops = true;
+inline constexpr const char* independent_joint_names[] = {"ankle_act_lat", "ankle_act_med"};
 inline constexpr const char* body_names[] = {"ankle_act_lat_cross", "ankle_act_lat_housing", "ankle_act_lat_rod", "ankle_act_med_cross", "ankle_act_med_housing", "ankle_act_med_rod", "ankle_cross", "foot_body"};
 inline constexpr const char* frame_names[] = {"foot"};
 
-/// Joint accelerations qdd = M(q)^-1 (tau - C(q, v) v - g(q)) (articulated-body algorithm).
-/// in  q: [8] joint positions
-/// in  v: [8] joint velocities
-/// in  tau: [8] joint forces
-/// out qdd: [8] joint accelerations
-/// Cost: 400 operations: 150 additions/subtractions, 230 multiplications, 5 divisions, 3 negations, 12 sin/cos, 0 square roots.
+/// Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the closure Jacobian's dependent block). q must close the loops and v be the independent velocities.
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [2] independent velocities, independent_joint_names order
+/// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [2] independent accelerations, independent_joint_names order
+/// Cost: 1751 operations: 644 additions/subtractions, 1007 multiplications, 37 divisions, 42 negations, 12 sin/cos, 9 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
+
+/// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [2] independent velocities, independent_joint_names order
+/// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [8] accelerations of every tree joint, joint_names order
+/// Cost: 1775 operations: 656 additions/subtractions, 1019 multiplications, 37 divisions, 42 negations, 12 sin/cos, 9 square roots.
+void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [8] joint positions

@@ -13,6 +13,12 @@
 //    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
+//  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
+//    of the closed system: q is every tree joint's position with the loops closed, v the
+//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
+//    forces on dependent joints act through the loops); forward_dynamics returns the independent
+//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces).
 
 namespace lola {
 
@@ -22,16 +28,27 @@ constexpr int num_bodies = 41;
 constexpr int num_frames = 3;
 constexpr bool floating_base = true;
 inline constexpr const char* joint_names[] = {"root_joint", "trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "knee_rod_joint_l", "knee_l", "ankle_act_lat_u1_l", "ankle_act_lat_u2_l", "ankle_act_lat_l", "ankle_act_med_u1_l", "ankle_act_med_u2_l", "ankle_act_med_l", "ankle_pitch_l", "ankle_roll_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "knee_rod_joint_r", "knee_r", "ankle_act_lat_u1_r", "ankle_act_lat_u2_r", "ankle_act_lat_r", "ankle_act_med_u1_r", "ankle_act_med_u2_r", "ankle_act_med_r", "ankle_pitch_r", "ankle_roll_r", "toe_r"};
+constexpr int ny = 30;  // independent coordinates (nv for a robot without loops)
+constexpr bool has_loops = true;
+inline constexpr const char* independent_joint_names[] = {"root_joint[0]", "root_joint[1]", "root_joint[2]", "root_joint[3]", "root_joint[4]", "root_joint[5]", "trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "ankle_act_lat_l", "ankle_act_med_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "ankle_act_lat_r", "ankle_act_med_r", "toe_r"};
 inline constexpr const char* body_names[] = {"pelvis", "trunk_link", "torso", "neck", "head", "shoulder_l", "upper_arm_l", "forearm_l", "shoulder_r", "upper_arm_r", "forearm_r", "hip_yaw_link_l", "hip_roll_link_l", "thigh_l", "knee_nut_l", "knee_rod_l", "shank_l", "ankle_act_lat_cross_l", "ankle_act_lat_housing_l", "ankle_act_lat_rod_l", "ankle_act_med_cross_l", "ankle_act_med_housing_l", "ankle_act_med_rod_l", "ankle_cross_l", "foot_body_l", "toe_link_l", "hip_yaw_link_r", "hip_roll_link_r", "thigh_r", "knee_nut_r", "knee_rod_r", "shank_r", "ankle_act_lat_cross_r", "ankle_act_lat_housing_r", "ankle_act_lat_rod_r", "ankle_act_med_cross_r", "ankle_act_med_housing_r", "ankle_act_med_rod_r", "ankle_cross_r", "foot_body_r", "toe_link_r"};
 inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 
-/// Joint accelerations qdd = M(q)^-1 (tau - C(q, v) v - g(q)) (articulated-body algorithm).
-/// in  q: [47] joint positions
-/// in  v: [46] joint velocities
-/// in  tau: [46] joint forces
-/// out qdd: [46] joint accelerations
-/// Cost: 11335 operations: 4753 additions/subtractions, 6429 multiplications, 70 divisions, 15 negations, 68 sin/cos, 0 square roots.
+/// Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the closure Jacobian's dependent block). q must close the loops and v be the independent velocities.
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [30] independent velocities, independent_joint_names order
+/// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [30] independent accelerations, independent_joint_names order
+/// Cost: 16706 operations: 6967 additions/subtractions, 9420 multiplications, 142 divisions, 89 negations, 68 sin/cos, 20 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
+
+/// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [30] independent velocities, independent_joint_names order
+/// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [46] accelerations of every tree joint, joint_names order
+/// Cost: 16750 operations: 6989 additions/subtractions, 9442 multiplications, 142 divisions, 89 negations, 68 sin/cos, 20 square roots.
+void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [47] joint positions

@@ -13,6 +13,12 @@
 //    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
+//  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
+//    of the closed system: q is every tree joint's position with the loops closed, v the
+//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
+//    forces on dependent joints act through the loops); forward_dynamics returns the independent
+//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces).
 
 namespace slider_crank {
 
@@ -22,16 +28,27 @@ constexpr int num_bodies = 3;
 constexpr int num_frames = 2;
 constexpr bool floating_base = false;
 inline constexpr const char* joint_names[] = {"crank_joint", "rod_joint", "slider_joint"};
+constexpr int ny = 1;  // independent coordinates (nv for a robot without loops)
+constexpr bool has_loops = true;
+inline constexpr const char* independent_joint_names[] = {"crank_joint"};
 inline constexpr const char* body_names[] = {"crank", "rod", "slider"};
 inline constexpr const char* frame_names[] = {"rod", "slider"};
 
-/// Joint accelerations qdd = M(q)^-1 (tau - C(q, v) v - g(q)) (articulated-body algorithm).
-/// in  q: [3] joint positions
-/// in  v: [3] joint velocities
-/// in  tau: [3] joint forces
-/// out qdd: [3] joint accelerations
-/// Cost: 109 operations: 40 additions/subtractions, 62 multiplications, 1 divisions, 2 negations, 4 sin/cos, 0 square roots.
+/// Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the closure Jacobian's dependent block). q must close the loops and v be the independent velocities.
+/// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [1] independent velocities, independent_joint_names order
+/// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [1] independent accelerations, independent_joint_names order
+/// Cost: 210 operations: 74 additions/subtractions, 114 multiplications, 7 divisions, 10 negations, 4 sin/cos, 1 square roots.
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
+
+/// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+/// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
+/// in  v: [1] independent velocities, independent_joint_names order
+/// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
+/// out qdd: [3] accelerations of every tree joint, joint_names order
+/// Cost: 214 operations: 76 additions/subtractions, 116 multiplications, 7 divisions, 10 negations, 4 sin/cos, 1 square roots.
+void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [3] joint positions

@@ -8,6 +8,8 @@
 
 #include "mbgen/codegen/trace_dynamics.hpp"
 #include "mbgen/gen/load_error.hpp"
+#include "mbgen/gen/topology.hpp"
+#include "mbgen/mbgen.hpp"
 
 #ifndef MBGEN_VERSION
 #define MBGEN_VERSION "0.0.0"
@@ -43,6 +45,12 @@ const char* kConventions = R"(// Conventions (the same as mbgen's runtime):
 //    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
+//  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
+//    of the closed system: q is every tree joint's position with the loops closed, v the
+//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
+//    forces on dependent joints act through the loops); forward_dynamics returns the independent
+//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces).
 )";
 
 }  // namespace
@@ -86,17 +94,25 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
     frames.push_back(*f);
   }
 
+  // The spanning tree alone for everything but the closed system's dynamics: with loops, the
+  // tree functions are those of the tree (inverse dynamics without closure forces, the tree's
+  // mass matrix), and forward_dynamics / full_accelerations those of the closed system.
+  Model tree = model;
+  tree.closures.clear();
+  tree.subsystems.clear();
+  const bool loops = !model.subsystems.empty();
   std::vector<TracedFunction> functions;
-  functions.push_back(trace_forward_dynamics(model));
-  functions.push_back(trace_inverse_dynamics(model));
-  functions.push_back(trace_mass_matrix(model));
-  functions.push_back(trace_forward_kinematics(model));
+  functions.push_back(loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree));
+  functions.push_back(trace_full_accelerations(model));
+  functions.push_back(trace_inverse_dynamics(tree));
+  functions.push_back(trace_mass_matrix(tree));
+  functions.push_back(trace_forward_kinematics(tree));
   if (!frames.empty()) {
-    functions.push_back(trace_frame_poses(model, frames));
-    functions.push_back(trace_frame_jacobians(model, frames));
+    functions.push_back(trace_frame_poses(tree, frames));
+    functions.push_back(trace_frame_jacobians(tree, frames));
   }
-  functions.push_back(trace_center_of_mass(model));
-  functions.push_back(trace_centroidal_momentum_matrix(model));
+  functions.push_back(trace_center_of_mass(tree));
+  functions.push_back(trace_centroidal_momentum_matrix(tree));
 
   const std::string top = banner(options);
   std::vector<GeneratedFile> files;
@@ -109,6 +125,14 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   h += fmt::format("constexpr int num_frames = {};\nconstexpr bool floating_base = {};\n", frames.size(),
                    model.floating_base() ? "true" : "false");
   h += string_array("joint_names", model.joint_names());
+  // The closed system's coordinates: every tree coordinate not dependent in a loop (all of them
+  // for a tree), in v order. forward_dynamics takes and returns these.
+  const std::vector<int> independent = Data<double>(model).independent_v;
+  std::vector<std::string> independent_names;
+  for (int v : independent) independent_names.push_back(gen::coordinate_name(model, v));
+  h += fmt::format("constexpr int ny = {};  // independent coordinates (nv for a robot without loops)\n", independent.size());
+  h += fmt::format("constexpr bool has_loops = {};\n", loops ? "true" : "false");
+  h += string_array("independent_joint_names", independent_names);
   h += string_array("body_names", body_names);
   if (!frame_names.empty()) h += string_array("frame_names", frame_names);
   for (const TracedFunction& f : functions) h += "\n" + emit_declaration(f, options.scalars);

@@ -53,6 +53,55 @@ TracedFunction trace_forward_dynamics(const Model& model) {
   return f;
 }
 
+namespace {
+ArraySpec closed_q_spec(const Model& m) {
+  return {"q", m.nq(), fmt::format("[{}] joint positions of every tree joint, loops closed (closure_positions)", m.nq())};
+}
+ArraySpec y_spec(const Model& m, const char* name, const char* what) {
+  const int ny = static_cast<int>(Data<double>(m).independent_v.size());
+  return {name, ny, fmt::format("[{}] {}, independent_joint_names order", ny, what)};
+}
+
+/// Symbolic inputs and the O(n) recursion with sub-systems, shared by the two loop functions.
+void trace_loop_recursion(const Model& model, Data<Sym>& data) {
+  const SymVec q = inputs(0, model.nq()), vy = inputs(1, static_cast<int>(data.independent_v.size())), tau = inputs(2, model.nv());
+  forward_dynamics_loops_independent<Sym>(model, data, data.independent_v, q, vy, tau);
+}
+}  // namespace
+
+TracedFunction trace_forward_dynamics_loops(const Model& model) {
+  TracedFunction f;
+  f.name = "forward_dynamics";
+  f.doc = "Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with "
+          "each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the "
+          "closure Jacobian's dependent block). q must close the loops and v be the independent velocities.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)")};
+  f.outputs = {y_spec(model, "qdd", "independent accelerations")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  trace_loop_recursion(model, data);
+  std::vector<int> ids;
+  for (int i : data.independent_v) ids.push_back(data.ddq[i].id());
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_full_accelerations(const Model& model) {
+  TracedFunction f;
+  f.name = "full_accelerations";
+  f.doc = "Accelerations of every tree joint of the closed system (the dependent ones from the loops), as "
+          "forward_dynamics computes them.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)")};
+  f.outputs = {v_spec(model, "qdd", "accelerations of every tree joint, joint_names order")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  trace_loop_recursion(model, data);
+  f.output_ids = {ids_of(data.ddq)};
+  return f;
+}
+
 TracedFunction trace_inverse_dynamics(const Model& model) {
   TracedFunction f;
   f.name = "inverse_dynamics";

@@ -11,6 +11,10 @@ namespace mbgen::codegen {
 
 TracedFunction trace_forward_dynamics(const Model& model);
 TracedFunction trace_inverse_dynamics(const Model& model);
+/// A model with loops: forward dynamics in independent coordinates (O(n), sub-systems as
+/// aggregate bodies) and the accelerations of every tree joint.
+TracedFunction trace_forward_dynamics_loops(const Model& model);
+TracedFunction trace_full_accelerations(const Model& model);
 TracedFunction trace_mass_matrix(const Model& model);
 /// All body poses, 12 numbers each: the 3x4 matrix [R_WB | p_WB], row-major.
 TracedFunction trace_forward_kinematics(const Model& model);
