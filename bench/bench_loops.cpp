@@ -2,7 +2,8 @@
 //   fd/<robot>/generic     O(n): loop maps (G, g) + the articulated-body algorithm with
 //                          sub-systems as aggregate bodies (forward_dynamics_loops)
 //   fd/<robot>/reference   O(n^3): full coordinates with Lagrange multipliers (forward_dynamics_kkt)
-// on Lola, cassie_like and digit_like_2legs, and the scaling series
+//   fd/<robot>/generated   the generated closed-system forward_dynamics (independent velocities)
+// on Lola, Cassie (MJCF), cassie_like and digit_like_2legs, and the scaling series
 //   fd_chain/<k>/{generic,reference}   a chain of k four-bar modules (loop_chain.hpp), k = 1 .. 64.
 // Inputs: 64 seeded consistent states per robot (loops closed by Newton, v = G vy) with random
 // joint forces, the same for both implementations.
@@ -11,8 +12,12 @@
 #include <filesystem>
 #include <memory>
 
+#include "cassie_mjcf.hpp"
+#include "lola.hpp"
 #include "loop_chain.hpp"
 #include "mbgen/gen/description.hpp"
+#include "pl_cassie_like.hpp"
+#include "pl_digit_like_2legs.hpp"
 
 namespace mbgen::bench {
 
@@ -42,7 +47,16 @@ std::shared_ptr<const std::vector<Sample>> consistent_pool(const Model& model, c
   return pool;
 }
 
-void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras) {
+/// The generated closed-system forward dynamics of one robot: q (nq), independent velocities, tau (nv).
+using GeneratedForwardDynamics = void (*)(const double*, const double*, const double*, double*);
+
+/// One state for the generated code: the independent velocities only.
+struct IndependentSample {
+  VecX<double> q, vy, tau;
+};
+
+void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras,
+                           GeneratedForwardDynamics generated = nullptr) {
   static std::vector<std::unique_ptr<Robot>> robots;  // live as long as the benchmarks
   gen::LoadOptions options;
   if (!extras.empty()) options.extras_file = extras;
@@ -72,6 +86,20 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
   add_benchmark<Sample>(algorithm, label, "reference", robot->pool, [model, w = std::make_shared<Reference>(*model)](const Sample& s) {
     return forward_dynamics_kkt<double>(*model, w->data, w->ws, s.q, s.v, s.tau).data();
   });
+  if (generated) {
+    const Data<double> layout(*model);
+    auto pool = std::make_shared<std::vector<IndependentSample>>();
+    for (const Sample& sample : *robot->pool) {
+      IndependentSample x{sample.q, VecX<double>(static_cast<int>(layout.independent_v.size())), sample.tau};
+      for (std::size_t i = 0; i < layout.independent_v.size(); ++i) x.vy[static_cast<int>(i)] = sample.v[layout.independent_v[i]];
+      pool->push_back(std::move(x));
+    }
+    add_benchmark<IndependentSample>(algorithm, label, "generated", pool,
+                                     [generated, out = std::make_shared<std::vector<double>>(model->nv())](const IndependentSample& x) {
+                                       generated(x.q.data(), x.vy.data(), x.tau.data(), out->data());
+                                       return out->data();
+                                     });
+  }
   robots.push_back(std::move(robot));
 }
 
@@ -79,9 +107,11 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
 
 void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
-  add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml");
-  add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "");
-  add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "");
+  add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics);
+  add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics);
+  add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics);
+  add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "",
+                        &pl_digit_like_2legs::forward_dynamics);
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
   std::filesystem::create_directories(dir);
   for (int k : {1, 2, 4, 8, 16, 32, 64}) {
