@@ -77,6 +77,8 @@ template <typename S> struct SsvVec3 {
   friend SsvVec3 operator-(const SsvVec3& a) { return {-a.v[0], -a.v[1], -a.v[2]}; }
   friend SsvVec3 operator*(S s, const SsvVec3& a) { return {s * a.v[0], s * a.v[1], s * a.v[2]}; }
   friend SsvVec3 operator*(const SsvVec3& a, S s) { return {a.v[0] * s, a.v[1] * s, a.v[2] * s}; }
+  friend bool operator==(const SsvVec3& a, const SsvVec3& b) { return a.v[0] == b.v[0] && a.v[1] == b.v[1] && a.v[2] == b.v[2]; }
+  friend bool operator!=(const SsvVec3& a, const SsvVec3& b) { return !(a == b); }
   friend SsvVec3 operator/(const SsvVec3& a, S s) { return {a.v[0] / s, a.v[1] / s, a.v[2] / s}; }
 };
 
