@@ -187,8 +187,9 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
                                     scene.compounds[static_cast<std::size_t>(p.second)].shapes.size());
   const std::string cost = np == 0 ? "nothing (the scene keeps no pair)"
                                    : fmt::format("straight-line placement and Jacobian columns: {}; then at most {} SSV "
-                                                 "distance calls ({} pairs; bounding spheres skip the rest)",
-                                                 describe_operations(count_operations(traced)), shape_pairs, np);
+                                                 "distance calls ({} pair{}; bounding spheres skip the rest)",
+                                                 describe_operations(count_operations(traced)), shape_pairs, np,
+                                                 np == 1 ? "" : "s");
 
   SelfDistanceCode code;
   std::string& h = code.declaration;

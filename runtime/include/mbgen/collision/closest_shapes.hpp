@@ -11,17 +11,32 @@
 
 namespace mbgen::collision {
 
+/// to = from, member by member. Why not `to = from`: a whole-struct copy (68 bytes in float) is
+/// lowered by GCC to a memcpy call on bare-metal targets, which firmware objects must not need
+/// (tests/firmware/check_firmware.sh); 12-byte members are copied inline.
+template <typename S> void assign(SsvDistance<S>& to, const SsvDistance<S>& from) {
+  to.distance = from.distance;
+  to.core_distance = from.core_distance;
+  to.normal = from.normal;
+  to.point1 = from.point1;
+  to.point2 = from.point2;
+  to.core1 = from.core1;
+  to.core2 = from.core2;
+}
+
 /// The result of ssv_distance(y, x) turned into that of x vs y: witnesses and cores swapped,
 /// normal negated. For shape pairs given in the order the primitives do not provide (a line or
 /// triangle against a point, a triangle against a line).
-template <typename S> SsvDistance<S> reversed(SsvDistance<S> r) {
-  const SsvVec3<S> p = r.point1, c = r.core1;
-  r.point1 = r.point2;
-  r.point2 = p;
-  r.core1 = r.core2;
-  r.core2 = c;
-  r.normal = -r.normal;
-  return r;
+template <typename S> SsvDistance<S> reversed(const SsvDistance<S>& r) {
+  SsvDistance<S> out;
+  out.distance = r.distance;
+  out.core_distance = r.core_distance;
+  out.normal = -r.normal;
+  out.point1 = r.point2;
+  out.point2 = r.point1;
+  out.core1 = r.core2;
+  out.core2 = r.core1;
+  return out;
 }
 
 /// Running best over the shape pairs (i, j) of compound a (volume 1) and compound b (volume 2).
@@ -39,7 +54,7 @@ template <typename S> struct ClosestShapes {
   void take(const SsvDistance<S>& d, int i, int j) {
     ++shape_pairs_computed;
     if (shape_first < 0 || d.distance < result.distance) {
-      result = d;
+      assign(result, d);
       shape_first = i;
       shape_second = j;
     }
