@@ -62,7 +62,7 @@ void add_scene_robot(const std::string& name, const std::string& urdf, const std
   });
   const int np = generated.num_pairs, nv = model->nv();
   add_benchmark("self_distance", r->robot, "generated",
-                [generated, out = std::make_shared<std::vector<double>>(static_cast<std::size_t>(np * (10 + nv)))](const Sample& s) {
+                [generated, np, out = std::make_shared<std::vector<double>>(static_cast<std::size_t>(np * (10 + nv)))](const Sample& s) {
                   double* distance = out->data();
                   generated.self_distances(s.q.data(), distance, distance + np, distance + 4 * np, distance + 10 * np);
                   return distance;
