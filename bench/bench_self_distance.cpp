@@ -1,14 +1,20 @@
 // Whole-robot self-distances with their Jacobians: `self_distance/<robot>/generic` runs, per call,
 // forward kinematics with the world joint Jacobians, the distance of every pair the scene keeps
-// (compounds of SSVs, bounding spheres first) and the distance Jacobian rows. Robots: the Lola
-// biped (its extras' SSVs and scene: margin, excludes; pairs pruned with 2000 samples) and
-// panda_collision (URDF spheres and cylinders, every non-adjacent pair kept).
+// (compounds of SSVs, bounding spheres first) and the distance Jacobian rows;
+// `self_distance/<robot>/generated` the generated self_distances, which computes the same.
+// Robots: the Lola biped (its extras' SSVs and scene: margin, excludes, prune_samples) and
+// panda_collision (URDF spheres and cylinders). Both sides use the same pair list: the scene built
+// with gen::collision_scene_options(description), as the generator builds it (checked at startup).
 #include "bench_self_distance.hpp"
 
 #include <memory>
 
+#include <stdexcept>
+
+#include "lola.hpp"
 #include "mbgen/collision/compound_distance.hpp"
 #include "mbgen/gen/collision_scene.hpp"
+#include "panda_collision.hpp"
 
 namespace mbgen::bench {
 
@@ -19,8 +25,14 @@ struct SceneRobot {
   collision::CollisionModel scene;
 };
 
+/// The double entry point of a generated robot's self_distances and its pair count.
+struct GeneratedSelfDistances {
+  void (*self_distances)(const double*, double*, double*, double*, double*);
+  int num_pairs;
+};
+
 void add_scene_robot(const std::string& name, const std::string& urdf, const std::string& extras, gen::BaseType base,
-                     int prune_samples) {
+                     GeneratedSelfDistances generated) {
   static std::vector<std::unique_ptr<SceneRobot>> robots;  // live as long as the benchmarks
   auto r = std::make_unique<SceneRobot>();
   gen::LoadOptions options;
@@ -28,9 +40,9 @@ void add_scene_robot(const std::string& name, const std::string& urdf, const std
   options.pick_up_robot_yaml = false;
   if (!extras.empty()) options.extras_file = extras;
   const gen::Description d = gen::load_description(urdf, options);
-  gen::CollisionSceneOptions scene_options = gen::collision_scene_options(d);
-  scene_options.samples = prune_samples;
-  r->scene = gen::build_collision_scene(d, scene_options).model;
+  r->scene = gen::build_collision_scene(d, gen::collision_scene_options(d)).model;
+  if (static_cast<int>(r->scene.pairs.size()) != generated.num_pairs)
+    throw std::runtime_error(name + ": the generated self_distances has another pair list than the generic scene");
   r->robot.name = name;
   r->robot.urdf = urdf;
   r->robot.model = d.model;
@@ -48,6 +60,13 @@ void add_scene_robot(const std::string& name, const std::string& urdf, const std
     collision::compute_distance_jacobians<double>(*model, w->data, *scene, w->cd);
     return w->cd.jacobian.data();
   });
+  const int np = generated.num_pairs, nv = model->nv();
+  add_benchmark("self_distance", r->robot, "generated",
+                [generated, np, out = std::make_shared<std::vector<double>>(static_cast<std::size_t>(np * (10 + nv)))](const Sample& s) {
+                  double* distance = out->data();
+                  generated.self_distances(s.q.data(), distance, distance + np, distance + 4 * np, distance + 10 * np);
+                  return distance;
+                });
   robots.push_back(std::move(r));
 }
 
@@ -55,8 +74,9 @@ void add_scene_robot(const std::string& name, const std::string& urdf, const std
 
 void add_self_distance_benchmarks() {
   add_scene_robot("lola", std::string(MBGEN_SOURCE_DIR) + "/robots/lola/lola.urdf", std::string(MBGEN_SOURCE_DIR) + "/robots/lola/lola.yaml",
-                  gen::BaseType::Floating, 2000);
-  add_scene_robot("panda_collision", std::string(MBGEN_SHARED_ROBOTS) + "/panda/panda_collision.urdf", "", gen::BaseType::Fixed, 0);
+                  gen::BaseType::Floating, {&lola::self_distances, lola::num_distance_pairs});
+  add_scene_robot("panda_collision", std::string(MBGEN_SHARED_ROBOTS) + "/panda/panda_collision.urdf", "", gen::BaseType::Fixed,
+                  {&panda_collision::self_distances, panda_collision::num_distance_pairs});
 }
 
 }  // namespace mbgen::bench

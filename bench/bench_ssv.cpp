@@ -32,6 +32,7 @@
 
 #include "bench_support.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
+#include "mbgen/spatial/types.hpp"  // Eigen vectors: the benchmarks build SSVs from them (SsvVec3 converts)
 
 namespace mbgen::bench {
 namespace {

@@ -13,9 +13,11 @@
 #   OUTPUT_DIR  default: ${CMAKE_CURRENT_BINARY_DIR}/mbgen/<NAME>
 
 # The functions every generation emits, one source file each (<NAME>_<function>.cpp).
+# self_distances is emitted for every robot (empty, with num_distance_pairs = 0, when the
+# description has no SSV pairs), so the outputs follow from the arguments alone.
 set(MBGEN_GENERATED_FUNCTIONS
     forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
-    center_of_mass centroidal_momentum_matrix)
+    center_of_mass centroidal_momentum_matrix self_distances)
 
 function(mbgen_add_robot)
   cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR" "FRAMES" ${ARGN})
@@ -87,6 +89,12 @@ function(mbgen_add_robot)
     VERBATIM)
   add_library(${MB_TARGET} STATIC ${sources} ${header})
   target_include_directories(${MB_TARGET} PUBLIC $<BUILD_INTERFACE:${MB_OUTPUT_DIR}>)
+  # <NAME>_self_distances.cpp calls the runtime's header-only SSV primitives: the runtime's include
+  # directory only (not its Eigen dependency: generated code needs none).
+  if(NOT TARGET mbgen::runtime)
+    message(FATAL_ERROR "mbgen_add_robot: no mbgen::runtime target: add mbgen's runtime/ or find_package(mbgen)")
+  endif()
+  target_include_directories(${MB_TARGET} PRIVATE $<TARGET_PROPERTY:mbgen::runtime,INTERFACE_INCLUDE_DIRECTORIES>)
   target_compile_features(${MB_TARGET} PUBLIC cxx_std_17)
   set_target_properties(${MB_TARGET} PROPERTIES POSITION_INDEPENDENT_CODE ON)
 endfunction()

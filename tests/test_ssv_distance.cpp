@@ -45,6 +45,7 @@
 
 #include "malloc_guard.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
+#include "mbgen/spatial/types.hpp"  // Eigen vectors: the tests build SSVs from them (SsvVec3 converts)
 
 namespace mbgen::collision {
 namespace {

@@ -34,6 +34,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include "mbgen/collision/ssv_distance.hpp"
+#include "mbgen/spatial/types.hpp"  // Eigen vectors: the tests build SSVs from them (SsvVec3 converts)
 
 namespace mbgen::collision {
 namespace {
@@ -69,13 +70,13 @@ double fcl_distance(const std::shared_ptr<fcl::CollisionGeometryd>& g1, const fc
 
 double fcl_distance(const PointSsv<double>& a, const PointSsv<double>& b) {
   fcl::Transform3d X1 = fcl::Transform3d::Identity(), X2 = fcl::Transform3d::Identity();
-  X1.translation() = a.center;
-  X2.translation() = b.center;
+  X1.translation() = Vec3<double>(a.center.x(), a.center.y(), a.center.z());
+  X2.translation() = Vec3<double>(b.center.x(), b.center.y(), b.center.z());
   return fcl_distance(std::make_shared<fcl::Sphered>(a.radius), X1, std::make_shared<fcl::Sphered>(b.radius), X2);
 }
 double fcl_distance(const PointSsv<double>& a, const LineSsv<double>& b) {
   fcl::Transform3d X1 = fcl::Transform3d::Identity();
-  X1.translation() = a.center;
+  X1.translation() = Vec3<double>(a.center.x(), a.center.y(), a.center.z());
   return fcl_distance(std::make_shared<fcl::Sphered>(a.radius), X1,
                       std::make_shared<fcl::Capsuled>(b.radius, (b.p1 - b.p0).norm()), capsule_pose(b.p0, b.p1));
 }

@@ -94,4 +94,21 @@ void center_of_mass(const double* q, double* com);
 /// Cost: 676 operations: 277 additions/subtractions, 368 multiplications, 3 divisions, 16 negations, 12 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
+/// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
+constexpr int num_distance_pairs = 5;
+/// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.
+inline constexpr const char* distance_pair_names[5][2] = {{"world", "foot_body"}, {"ankle_act_lat_housing", "ankle_act_med_housing"}, {"ankle_act_lat_housing", "ankle_act_med_rod"}, {"ankle_act_lat_rod", "ankle_act_med_housing"}, {"ankle_act_lat_rod", "ankle_act_med_rod"}};
+
+/// Self-distances of the kept pairs between the bodies' swept-sphere volumes, and their Jacobians
+/// (generic twin: collision::compute_distances + compute_distance_jacobians). Per pair k:
+/// in  q: [8] joint positions
+/// out distance: [5] distance[k] = core distance - r1 - r2 (negative when overlapping)
+/// out normal: [5 x 3] unit normal from the pair's first body to its second, world
+/// out witness: [5 x 6] point on the first body's surface, then on the second's, world
+///     (point2 - point1 = distance * normal)
+/// out jacobian: [5 x 8, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
+///     moving with their bodies; non-smooth where the closest features switch
+/// Cost: straight-line placement and Jacobian columns: 237 operations: 106 additions/subtractions, 105 multiplications, 0 divisions, 14 negations, 12 sin/cos, 0 square roots; then at most 38 SSV distance calls (5 pairs; bounding spheres skip the rest).
+void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
+
 }  // namespace ankle_2dof

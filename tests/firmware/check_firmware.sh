@@ -32,6 +32,12 @@ export firmware_flags="-mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -O2 -fno-
 rm -rf "$work_dir"
 mkdir -p "$work_dir/src" "$work_dir/obj"
 "$mbgen" generate "$description" --out "$work_dir/src" --name "$name" --scalar float --quiet "$@"
+# Every generation emits self_distances (empty without SSV pairs); for a robot with pairs it calls
+# the runtime's SSV primitives, whose headers must then compile here too: make sure it is there.
+if [[ ! -f "$work_dir/src/${name}_self_distances.cpp" ]]; then
+  echo "firmware check: $name: ${name}_self_distances.cpp was not generated" >&2
+  exit 1
+fi
 
 # One compiler per core: the larger robots' functions take tens of seconds each.
 export work_dir runtime_include

@@ -26,11 +26,6 @@ std::vector<bool> reachable(const TracedFunction& f) {
   return seen;
 }
 
-std::string literal(double value) {
-  // fmt prints the shortest representation that reads back to the same double.
-  return fmt::format("S({})", value);
-}
-
 std::string signature(const TracedFunction& f, const std::string& scalar) {
   std::string args;
   for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
@@ -46,6 +41,11 @@ std::string call_arguments(const TracedFunction& f) {
 }
 
 }  // namespace
+
+std::string literal(double value) {
+  // fmt prints the shortest representation that reads back to the same double.
+  return fmt::format("S({})", value);
+}
 
 OpCount count_operations(const TracedFunction& f) {
   const std::vector<bool> seen = reachable(f);
@@ -91,8 +91,7 @@ std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars) {
   return out;
 }
 
-std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
-                            ScalarChoice scalars) {
+std::string emit_statements(const TracedFunction& f) {
   const std::vector<bool> seen = reachable(f);
   std::vector<std::string> names(static_cast<std::size_t>(f.graph.size()));
   auto operand = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
@@ -122,7 +121,12 @@ std::string emit_definition(const TracedFunction& f, const std::string& ns, cons
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     for (std::size_t i = 0; i < f.output_ids[o].size(); ++i)
       body += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, operand(f.output_ids[o][i]));
+  return body;
+}
 
+std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
+                            ScalarChoice scalars) {
+  const std::string body = emit_statements(f);
   std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\nnamespace {} {{\n\nnamespace {{\n\n", header, ns);
   out += fmt::format("// {}\n// {}.\ntemplate <typename S>\n", f.doc, describe_operations(count_operations(f)));
   std::string impl_sig = signature(f, "S");

@@ -6,7 +6,9 @@
 #include <cctype>
 #include <set>
 
+#include "mbgen/codegen/emit_self_distances.hpp"
 #include "mbgen/codegen/trace_dynamics.hpp"
+#include "mbgen/gen/collision_scene.hpp"
 #include "mbgen/gen/load_error.hpp"
 #include "mbgen/gen/topology.hpp"
 #include "mbgen/mbgen.hpp"
@@ -114,6 +116,11 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   functions.push_back(trace_center_of_mass(tree));
   functions.push_back(trace_centroidal_momentum_matrix(tree));
 
+  // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
+  // seeded, so the output stays deterministic).
+  const gen::CollisionScene scene = gen::build_collision_scene(description, gen::collision_scene_options(description));
+  const SelfDistanceCode distances = emit_self_distances(model, scene.model, ns, header, options.scalars);
+
   const std::string top = banner(options);
   std::vector<GeneratedFile> files;
 
@@ -136,10 +143,12 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   h += string_array("body_names", body_names);
   if (!frame_names.empty()) h += string_array("frame_names", frame_names);
   for (const TracedFunction& f : functions) h += "\n" + emit_declaration(f, options.scalars);
+  h += distances.declaration;
   h += fmt::format("\n}}  // namespace {}\n", ns);
   files.push_back({header, h});
   for (const TracedFunction& f : functions)
     files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + emit_definition(f, ns, header, options.scalars)});
+  files.push_back({fmt::format("{}_self_distances.cpp", ns), top + "\n" + distances.definition});
   return files;
 }
 

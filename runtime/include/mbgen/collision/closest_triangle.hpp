@@ -11,7 +11,7 @@ namespace mbgen::collision {
 
 /// A triangle's normal n (not normalised) and whether the plane it defines is trustworthy.
 template <typename S> struct TrianglePlane {
-  Vec3<S> n;
+  SsvVec3<S> n;
   S nn;        ///< |n|^2
   bool valid;  ///< false for degenerate triangles (needles, collinear or coincident corners)
 };
@@ -28,11 +28,11 @@ template <typename S> struct TrianglePlane {
 ///    edge length. The component of n along the longest edge, which is exactly zero in exact
 ///    arithmetic, is therefore projected out; the remaining tilt about the longest edge only
 ///    acts on offsets across the triangle, which are at most its height.
-template <typename S> TrianglePlane<S> triangle_plane(const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c) {
-  const Vec3<S> e0 = b - a, e1 = c - a, e2 = c - b;
+template <typename S> TrianglePlane<S> triangle_plane(const SsvVec3<S>& a, const SsvVec3<S>& b, const SsvVec3<S>& c) {
+  const SsvVec3<S> e0 = b - a, e1 = c - a, e2 = c - b;
   const S l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
-  Vec3<S> n = e0.cross(e1);
-  const Vec3<S>& longest = (l0 >= l1 && l0 >= l2) ? e0 : (l1 >= l2 ? e1 : e2);
+  SsvVec3<S> n = e0.cross(e1);
+  const SsvVec3<S>& longest = (l0 >= l1 && l0 >= l2) ? e0 : (l1 >= l2 ? e1 : e2);
   const S ll = l0 >= l1 && l0 >= l2 ? l0 : (l1 >= l2 ? l1 : l2);
   const S eps = std::numeric_limits<S>::epsilon();
   const S nn0 = n.squaredNorm();
@@ -44,7 +44,7 @@ template <typename S> TrianglePlane<S> triangle_plane(const Vec3<S>& a, const Ve
 /// Whether x, taken to lie in the plane of the triangle, is inside it or on its boundary
 /// (signed areas of the three sub-triangles against n; x's offset along n does not matter).
 template <typename S>
-bool inside_triangle(const Vec3<S>& x, const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c, const Vec3<S>& n) {
+bool inside_triangle(const SsvVec3<S>& x, const SsvVec3<S>& a, const SsvVec3<S>& b, const SsvVec3<S>& c, const SsvVec3<S>& n) {
   return (b - a).cross(x - a).dot(n) >= S(0) && (c - b).cross(x - b).dot(n) >= S(0) &&
          (a - c).cross(x - c).dot(n) >= S(0);
 }
@@ -53,7 +53,7 @@ bool inside_triangle(const Vec3<S>& x, const Vec3<S>& a, const Vec3<S>& b, const
 /// `plane` (triangle_plane(a, b, c)). Inside the prism over the triangle: p's projection onto
 /// the plane; elsewhere, or for a degenerate triangle, the closest of the three edges.
 template <typename S>
-ClosestPoints<S> closest_point_triangle(const Vec3<S>& p, const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c,
+ClosestPoints<S> closest_point_triangle(const SsvVec3<S>& p, const SsvVec3<S>& a, const SsvVec3<S>& b, const SsvVec3<S>& c,
                                         const TrianglePlane<S>& plane) {
   if (plane.valid && inside_triangle(p, a, b, c, plane.n))
     return make_closest<S>(p, p - ((p - a).dot(plane.n) / plane.nn) * plane.n);
@@ -63,7 +63,7 @@ ClosestPoints<S> closest_point_triangle(const Vec3<S>& p, const Vec3<S>& a, cons
 }
 
 template <typename S>
-ClosestPoints<S> closest_point_triangle(const Vec3<S>& p, const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c) {
+ClosestPoints<S> closest_point_triangle(const SsvVec3<S>& p, const SsvVec3<S>& a, const SsvVec3<S>& b, const SsvVec3<S>& c) {
   return closest_point_triangle(p, a, b, c, triangle_plane(a, b, c));
 }
 
@@ -71,8 +71,8 @@ ClosestPoints<S> closest_point_triangle(const Vec3<S>& p, const Vec3<S>& a, cons
 /// segment's volume to the triangle's volume defined for this case (core distance 0).
 template <typename S> struct Piercing {
   bool pierced;
-  Vec3<S> x;
-  Vec3<S> normal;
+  SsvVec3<S> x;
+  SsvVec3<S> normal;
 };
 
 /// Piercing test. The segment pierces when its endpoints' signed distances to the plane
@@ -86,20 +86,20 @@ template <typename S> struct Piercing {
 /// s1 on a tie). It is the same direction a volume pushed apart along the triangle normal takes,
 /// so it points from the segment's volume to the triangle's.
 template <typename S>
-Piercing<S> pierce_segment_triangle(const Vec3<S>& p0, const Vec3<S>& p1, const Vec3<S>& a, const Vec3<S>& b,
-                                    const Vec3<S>& c, const TrianglePlane<S>& plane) {
-  Piercing<S> out{false, p0, Vec3<S>::UnitZ()};
+Piercing<S> pierce_segment_triangle(const SsvVec3<S>& p0, const SsvVec3<S>& p1, const SsvVec3<S>& a, const SsvVec3<S>& b,
+                                    const SsvVec3<S>& c, const TrianglePlane<S>& plane) {
+  Piercing<S> out{false, p0, SsvVec3<S>::UnitZ()};
   if (!plane.valid) return out;
   const S s0 = (p0 - a).dot(plane.n), s1 = (p1 - a).dot(plane.n);
   if ((s0 > S(0) && s1 > S(0)) || (s0 < S(0) && s1 < S(0)) || s0 == s1) return out;
-  const Vec3<S> x = p0 + (s0 / (s0 - s1)) * (p1 - p0);
+  const SsvVec3<S> x = p0 + (s0 / (s0 - s1)) * (p1 - p0);
   if (!inside_triangle(x, a, b, c, plane.n)) return out;
   using std::abs;
   using std::sqrt;
   const S deep = abs(s1) >= abs(s0) ? s1 : s0;
-  const Vec3<S> w = plane.n / plane.n.cwiseAbs().maxCoeff();  // rescaled: |n|^2 may be denormal
-  const Vec3<S> unit = w / sqrt(w.squaredNorm());
-  return {true, x, deep > S(0) ? Vec3<S>(-unit) : unit};
+  const SsvVec3<S> w = plane.n / plane.n.cwiseAbs().maxCoeff();  // rescaled: |n|^2 may be denormal
+  const SsvVec3<S> unit = w / sqrt(w.squaredNorm());
+  return {true, x, deep > S(0) ? SsvVec3<S>(-unit) : unit};
 }
 
 /// Closest points of the segment p0-p1 (core 1) and the triangle a, b, c (core 2); `pierce`
@@ -112,8 +112,8 @@ template <typename S> struct SegmentTriangleClosest {
 };
 
 template <typename S>
-SegmentTriangleClosest<S> closest_segment_triangle(const Vec3<S>& p0, const Vec3<S>& p1, const Vec3<S>& a,
-                                                   const Vec3<S>& b, const Vec3<S>& c,
+SegmentTriangleClosest<S> closest_segment_triangle(const SsvVec3<S>& p0, const SsvVec3<S>& p1, const SsvVec3<S>& a,
+                                                   const SsvVec3<S>& b, const SsvVec3<S>& c,
                                                    const TrianglePlane<S>& plane) {
   const Piercing<S> pierce = pierce_segment_triangle(p0, p1, a, b, c, plane);
   if (pierce.pierced) return {ClosestPoints<S>{pierce.x, pierce.x, S(0)}, pierce};
@@ -132,11 +132,11 @@ SegmentTriangleClosest<S> closest_segment_triangle(const Vec3<S>& p0, const Vec3
 /// edges: 3 + 3 point-triangle and 9 segment-segment candidates. Coplanar overlapping triangles
 /// are found by those candidates (an edge crossing or a corner inside, at distance 0).
 template <typename S>
-SegmentTriangleClosest<S> closest_triangle_triangle(const Vec3<S>& a0, const Vec3<S>& b0, const Vec3<S>& c0,
-                                                    const Vec3<S>& a1, const Vec3<S>& b1, const Vec3<S>& c1) {
+SegmentTriangleClosest<S> closest_triangle_triangle(const SsvVec3<S>& a0, const SsvVec3<S>& b0, const SsvVec3<S>& c0,
+                                                    const SsvVec3<S>& a1, const SsvVec3<S>& b1, const SsvVec3<S>& c1) {
   const TrianglePlane<S> plane0 = triangle_plane(a0, b0, c0), plane1 = triangle_plane(a1, b1, c1);
-  const Vec3<S>* t0[3] = {&a0, &b0, &c0};
-  const Vec3<S>* t1[3] = {&a1, &b1, &c1};
+  const SsvVec3<S>* t0[3] = {&a0, &b0, &c0};
+  const SsvVec3<S>* t1[3] = {&a1, &b1, &c1};
   for (int i = 0; i < 3; ++i) {
     const Piercing<S> p = pierce_segment_triangle(*t0[i], *t0[(i + 1) % 3], a1, b1, c1, plane1);
     if (p.pierced) return {ClosestPoints<S>{p.x, p.x, S(0)}, p};
@@ -158,7 +158,7 @@ SegmentTriangleClosest<S> closest_triangle_triangle(const Vec3<S>& a0, const Vec
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       best = take_closer(best, closest_segment_segment(*t0[i], *t0[(i + 1) % 3], *t1[j], *t1[(j + 1) % 3]));
-  return {best, Piercing<S>{false, best.c1, Vec3<S>::UnitZ()}};
+  return {best, Piercing<S>{false, best.c1, SsvVec3<S>::UnitZ()}};
 }
 
 }  // namespace mbgen::collision

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "mbgen/algorithm/jacobian.hpp"
+#include "mbgen/collision/closest_shapes.hpp"
 #include "mbgen/collision/collision_model.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
 
@@ -21,13 +22,6 @@ template <typename S> Vec3<S> place(const SE3<S>& X, const Vec3<double>& p) { re
 template <typename S> SsvDistance<S> shape_distance(const Shape& a, const SE3<S>& X_Wa, const Shape& b, const SE3<S>& X_Wb) {
   const S ra(a.radius), rb(b.radius);
   auto p = [](const Shape& s, const SE3<S>& X, int k) { return place<S>(X, s.points[static_cast<std::size_t>(k)]); };
-  // Volume 2 given as the first argument: swap the result back.
-  auto swapped = [](SsvDistance<S> r) {
-    std::swap(r.point1, r.point2);
-    std::swap(r.core1, r.core2);
-    r.normal = -r.normal;
-    return r;
-  };
   using K = Shape::Kind;
   const PointSsv<S> pa{p(a, X_Wa, 0), ra}, pb{p(b, X_Wb, 0), rb};
   const LineSsv<S> la{p(a, X_Wa, 0), p(a, X_Wa, 1), ra}, lb{p(b, X_Wb, 0), p(b, X_Wb, 1), rb};
@@ -41,7 +35,7 @@ template <typename S> SsvDistance<S> shape_distance(const Shape& a, const SE3<S>
       break;
     case K::Line:
       switch (b.kind) {
-        case K::Point: return swapped(ssv_distance(pb, la));
+        case K::Point: return reversed(ssv_distance(pb, la));
         case K::Line: return ssv_distance(la, lb);
         case K::Triangle: return ssv_distance(la, TriangleSsv<S>{p(b, X_Wb, 0), p(b, X_Wb, 1), p(b, X_Wb, 2), rb});
       }
@@ -49,8 +43,8 @@ template <typename S> SsvDistance<S> shape_distance(const Shape& a, const SE3<S>
     case K::Triangle: {
       const TriangleSsv<S> ta{p(a, X_Wa, 0), p(a, X_Wa, 1), p(a, X_Wa, 2), ra};
       switch (b.kind) {
-        case K::Point: return swapped(ssv_distance(pb, ta));
-        case K::Line: return swapped(ssv_distance(lb, ta));
+        case K::Point: return reversed(ssv_distance(pb, ta));
+        case K::Line: return reversed(ssv_distance(lb, ta));
         case K::Triangle: return ssv_distance(ta, TriangleSsv<S>{p(b, X_Wb, 0), p(b, X_Wb, 1), p(b, X_Wb, 2), rb});
       }
       break;
@@ -60,34 +54,20 @@ template <typename S> SsvDistance<S> shape_distance(const Shape& a, const SE3<S>
 }
 }  // namespace detail
 
-/// The closest shapes of two compounds and their distance.
-template <typename S> struct CompoundDistance {
-  SsvDistance<S> result;
-  int shape_first = -1, shape_second = -1;  ///< the closest shapes
-  int shape_pairs_computed = 0;              ///< shape pairs whose bounding spheres could not rule them out
-};
+/// The closest shapes of two compounds and their distance (closest_shapes.hpp).
+template <typename S> using CompoundDistance = ClosestShapes<S>;
 
 /// Distance from compound a (placed by X_Wa) to compound b (placed by X_Wb); normal from a to b.
-/// Both compounds must have at least one shape.
+/// Both compounds must have at least one shape. The generated self_distances unrolls this loop.
 template <typename S>
 CompoundDistance<S> compound_distance(const Compound& a, const SE3<S>& X_Wa, const Compound& b, const SE3<S>& X_Wb) {
-  using std::sqrt;
   CompoundDistance<S> best;
   for (std::size_t i = 0; i < a.shapes.size(); ++i) {
     const Vec3<S> ca = detail::place<S>(X_Wa, a.shapes[i].bound_center);
     for (std::size_t j = 0; j < b.shapes.size(); ++j) {
-      if (best.shape_first >= 0) {
-        const Vec3<S> cb = detail::place<S>(X_Wb, b.shapes[j].bound_center);
-        const S lower = (cb - ca).norm() - S(a.shapes[i].bound_radius) - S(b.shapes[j].bound_radius);
-        if (lower >= best.result.distance) continue;  // cannot beat the best so far
-      }
-      const SsvDistance<S> d = detail::shape_distance<S>(a.shapes[i], X_Wa, b.shapes[j], X_Wb);
-      ++best.shape_pairs_computed;
-      if (best.shape_first < 0 || d.distance < best.result.distance) {
-        best.result = d;
-        best.shape_first = static_cast<int>(i);
-        best.shape_second = static_cast<int>(j);
-      }
+      const Vec3<S> cb = detail::place<S>(X_Wb, b.shapes[j].bound_center);
+      if (!best.worth(ca, S(a.shapes[i].bound_radius), cb, S(b.shapes[j].bound_radius))) continue;
+      best.take(detail::shape_distance<S>(a.shapes[i], X_Wa, b.shapes[j], X_Wb), static_cast<int>(i), static_cast<int>(j));
     }
   }
   return best;
@@ -123,14 +103,15 @@ void compute_distance_jacobians(const Model& model, const Data<S>& data, const C
     const SsvDistance<S>& d = cd.distances[k].result;
     auto row = cd.jacobian.row(static_cast<int>(k));
     row.setZero();
+    const Vec3<S> n = d.normal;
     auto add = [&](BodyIndex body, const Vec3<S>& p, const S& sign) {
       // n . (v_c + w_c x p) = n . v_c + w_c . (p x n)
-      const Vec3<S> pxn = p.cross(d.normal);
+      const Vec3<S> pxn = p.cross(n);
       for (BodyIndex b = body; b != kWorldBody; b = model.body(b).parent) {
         const Joint& joint = model.joint(model.body(b).joint);
         for (int col = 0; col < joint.nv; ++col) {
           const int c = joint.idx_v + col;
-          row[c] += sign * (d.normal.dot(data.J.col(c).template head<3>()) + pxn.dot(data.J.col(c).template tail<3>()));
+          row[c] += sign * (n.dot(data.J.col(c).template head<3>()) + pxn.dot(data.J.col(c).template tail<3>()));
         }
       }
     };

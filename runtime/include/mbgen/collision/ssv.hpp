@@ -3,20 +3,20 @@
 // Header-only, templated on the scalar S (float, double), no heap, no exceptions, no virtuals:
 // generated code includes these headers and calls the pair distances of ssv_distance.hpp.
 // Conventions (docs/ssv.md): all points in one frame (the caller's, usually the world frame).
-#include "mbgen/spatial/types.hpp"
+#include "mbgen/collision/vec3.hpp"
 
 namespace mbgen::collision {
 
 /// Point-SSV (a sphere): centre and radius.
 template <typename S> struct PointSsv {
-  Vec3<S> center;
+  SsvVec3<S> center;
   S radius;
 };
 
 /// Line-SSV (a capsule): the segment p0-p1 swept by a sphere of radius `radius`. p0 == p1 is
 /// allowed (a sphere).
 template <typename S> struct LineSsv {
-  Vec3<S> p0, p1;
+  SsvVec3<S> p0, p1;
   S radius;
 };
 
@@ -24,7 +24,7 @@ template <typename S> struct LineSsv {
 /// triangles (collinear or coincident corners) are allowed: they behave as their longest edge
 /// or as a point.
 template <typename S> struct TriangleSsv {
-  Vec3<S> a, b, c;
+  SsvVec3<S> a, b, c;
   S radius;
 };
 
@@ -41,9 +41,9 @@ template <typename S> struct TriangleSsv {
 template <typename S> struct SsvDistance {
   S distance;
   S core_distance;
-  Vec3<S> normal;
-  Vec3<S> point1, point2;
-  Vec3<S> core1, core2;
+  SsvVec3<S> normal;
+  SsvVec3<S> point1, point2;
+  SsvVec3<S> core1, core2;
 };
 
 }  // namespace mbgen::collision

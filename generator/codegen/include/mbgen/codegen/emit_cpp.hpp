@@ -19,6 +19,14 @@ std::string describe_operations(const OpCount& count);
 /// The declaration(s) for the header: doc comment with argument sizes and op count.
 std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars);
 
+/// The straight-line statements of f's body: `const S _tN = ...;` in topological order, then one
+/// assignment per output element (`name[i] = ...;`), two-space indented. emit_definition wraps
+/// them in a function; emit_self_distances in a function with local output arrays.
+std::string emit_statements(const TracedFunction& f);
+
+/// `S(value)` in shortest round-trip form.
+std::string literal(double value);
+
 /// A .cpp body (without banner) defining the function in namespace `ns`; includes `header`.
 std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
                             ScalarChoice scalars);
