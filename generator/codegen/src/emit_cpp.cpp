@@ -140,4 +140,26 @@ std::string emit_definition(const TracedFunction& f, const std::string& ns, cons
   return out;
 }
 
+std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
+                                      const std::string& ns, const std::string& header, ScalarChoice scalars) {
+  if (f.inputs.size() != source.inputs.size() || f.outputs.size() != 1 || source.outputs.size() != 1 ||
+      static_cast<int>(selection.size()) != f.outputs[0].size)
+    throw std::logic_error("emit_selection_definition: " + f.name + " is not a selection of " + source.name);
+  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
+  out += fmt::format("// {}\n// {} computes every entry; this keeps {} of its {}.\n", f.doc, source.name, selection.size(),
+                     source.outputs[0].size);
+  for (const std::string& scalar : scalar_types(scalars)) {
+    out += signature(f, scalar) + " {\n";
+    out += fmt::format("  {} all[{}];\n  {}({}, all);\n", scalar, source.outputs[0].size, source.name, [&] {
+      std::string args;
+      for (const ArraySpec& a : f.inputs) args += (args.empty() ? "" : ", ") + a.name;
+      return args;
+    }());
+    for (std::size_t i = 0; i < selection.size(); ++i) out += fmt::format("  {}[{}] = all[{}];\n", f.outputs[0].name, i, selection[i]);
+    out += "}\n\n";
+  }
+  out += fmt::format("}}  // namespace {}\n", ns);
+  return out;
+}
+
 }  // namespace mbgen::codegen

@@ -146,8 +146,14 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   h += distances.declaration;
   h += fmt::format("\n}}  // namespace {}\n", ns);
   files.push_back({header, h});
-  for (const TracedFunction& f : functions)
-    files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + emit_definition(f, ns, header, options.scalars)});
+  for (const TracedFunction& f : functions) {
+    std::string definition;
+    if (loops && f.name == "forward_dynamics")  // full_accelerations (functions[1]) read at the independent coordinates
+      definition = emit_selection_definition(f, functions[1], Data<double>(model).independent_v, ns, header, options.scalars);
+    else
+      definition = emit_definition(f, ns, header, options.scalars);
+    files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + definition});
+  }
   files.push_back({fmt::format("{}_self_distances.cpp", ns), top + "\n" + distances.definition});
   return files;
 }

@@ -75,7 +75,7 @@ template <typename S> struct SubSystemWork {
   MatX<S> U;         ///< 6 x p: sum over bodies of X^T IA H, in the root frame
   MatX<S> UDinv;     ///< 6 x p: U D^-1
   MatX<S> D;         ///< p x p: sum over bodies of H^T IA H (+ drive inertias G^T diag(armature) G)
-  MatX<S> D_factor;  ///< LDL^T factor of D (dense_ldlt.hpp)
+  MatX<S> D_factor;  ///< LDL^T factor of D (small_ldlt.hpp)
   VecX<S> u;         ///< p: independent forces G^T tau_s minus the bias forces' share
   VecX<S> ydd;       ///< p: accelerations of the independent coordinates (result)
   VecX<S> scratch;   ///< p

@@ -1,14 +1,16 @@
 #pragma once
 // LDL^T of a small symmetric positive-definite matrix without pivoting: no branch depends on the
 // values, so a symbolic scalar can record it (Eigen's LDLT pivots). Used for the joint-space
-// inertia D = S^T IA S of multi-DoF joints (a floating base: 6 x 6).
+// inertia D = S^T IA S of multi-DoF joints (a floating base: 6 x 6, in a Mat6) and of a
+// sub-system's independent coordinates (p x p, in a MatX: a parallel leg with six actuators and
+// six idle spins has p = 12). A singular matrix shows as an infinite or NaN 1/d.
 #include "mbgen/spatial/types.hpp"
 
 namespace mbgen {
 
-/// Factors the leading n x n block of A (SPD, n <= 6) as L diag(d) L^T. F receives L strictly
-/// below its diagonal and 1/d on its diagonal (one division per pivot, multiplications after).
-template <typename S> void ldlt_factor(const Mat6<S>& A, int n, Mat6<S>& F) {
+/// Factors the leading n x n block of A (SPD; F at least n x n) as L diag(d) L^T. F receives L
+/// strictly below its diagonal and 1/d on its diagonal (one division per pivot, multiplications after).
+template <typename S, typename MatrixA, typename MatrixF> void ldlt_factor(const MatrixA& A, int n, MatrixF& F) {
   for (int j = 0; j < n; ++j) {
     S dj = A(j, j);
     for (int k = 0; k < j; ++k) dj -= F(j, k) * F(j, k) / F(k, k);
@@ -22,7 +24,7 @@ template <typename S> void ldlt_factor(const Mat6<S>& A, int n, Mat6<S>& F) {
 }
 
 /// Solves A x = b in place (b has n entries) from the factor F of ldlt_factor.
-template <typename S> void ldlt_solve(const Mat6<S>& F, int n, S* b) {
+template <typename S, typename MatrixF> void ldlt_solve(const MatrixF& F, int n, S* b) {
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < i; ++k) b[i] -= F(i, k) * b[k];
   for (int i = 0; i < n; ++i) b[i] *= F(i, i);

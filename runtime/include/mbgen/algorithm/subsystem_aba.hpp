@@ -18,7 +18,7 @@
 // are accumulated leaves to root inside the sub-system, as the tree ABA does, so the work is
 // O(m p^2 + p^3) for m bodies and p independent coordinates: the whole stays O(n).
 // The closure constraints never appear: G carries them, so redundant closure rows cost nothing.
-#include "mbgen/algorithm/dense_ldlt.hpp"
+#include "mbgen/algorithm/small_ldlt.hpp"
 #include "mbgen/algorithm/kinematics.hpp"
 
 namespace mbgen::detail {
@@ -107,13 +107,13 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
     }
   }
 
-  dense_ldlt_factor<S>(w.D, p, w.D_factor);
+  ldlt_factor<S>(w.D, p, w.D_factor);
   if (sub.root == kWorldBody) return;  // the world needs no articulated inertia
   // IA_root += I_S - U D^-1 U^T ; pA_root += p_S + U D^-1 u.
   MatX<S>& UDinv = w.UDinv;  // row r: (D^-1 U.row(r)^T)^T
   for (int r = 0; r < 6; ++r) {
     for (int col = 0; col < p; ++col) w.scratch[col] = w.U(r, col);
-    dense_ldlt_solve<S>(w.D_factor, p, w.scratch.data());
+    ldlt_solve<S>(w.D_factor, p, w.scratch.data());
     for (int col = 0; col < p; ++col) UDinv(r, col) = w.scratch[col];
   }
   Mat6<S> Ia;
@@ -139,7 +139,7 @@ template <typename S> void subsystem_forward(const Model& model, Data<S>& data, 
   const int p = static_cast<int>(sub.independent.size());
   const Vec6<S> a_root = data.a[sub.root].vector();
   for (int col = 0; col < p; ++col) w.ydd[col] = w.u[col] - w.U.col(col).dot(a_root);
-  dense_ldlt_solve<S>(w.D_factor, p, w.ydd.data());
+  ldlt_solve<S>(w.D_factor, p, w.ydd.data());
   for (int j = 0; j < static_cast<int>(sub.coordinates.size()); ++j) {
     S qdd = w.g[j];
     for (int col = 0; col < p; ++col) qdd += w.G(j, col) * w.ydd[col];

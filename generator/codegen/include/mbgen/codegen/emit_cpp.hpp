@@ -31,4 +31,11 @@ std::string literal(double value);
 std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
                             ScalarChoice scalars);
 
+/// A .cpp body defining `f` as a selection of `source`'s single output (same inputs): it calls
+/// `source` into a local array and copies the entries `selection` (one per output element of f).
+/// The closed system's forward_dynamics is full_accelerations read at the independent
+/// coordinates: one copy of the unrolled code, not two.
+std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
+                                      const std::string& ns, const std::string& header, ScalarChoice scalars);
+
 }  // namespace mbgen::codegen
