@@ -148,9 +148,16 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   files.push_back({header, h});
   for (const TracedFunction& f : functions) {
     std::string definition;
-    if (loops && f.name == "forward_dynamics")  // full_accelerations (functions[1]) read at the independent coordinates
+    // One copy of the unrolled dynamics: with loops, forward_dynamics is full_accelerations
+    // (functions[1]) read at the independent coordinates; without, full_accelerations is
+    // forward_dynamics (functions[0]) whole.
+    if (loops && f.name == "forward_dynamics") {
       definition = emit_selection_definition(f, functions[1], Data<double>(model).independent_v, ns, header, options.scalars);
-    else
+    } else if (!loops && f.name == "full_accelerations") {
+      std::vector<int> all(static_cast<std::size_t>(model.nv()));
+      for (int i = 0; i < model.nv(); ++i) all[static_cast<std::size_t>(i)] = i;
+      definition = emit_selection_definition(f, functions[0], all, ns, header, options.scalars);
+    } else
       definition = emit_definition(f, ns, header, options.scalars);
     files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + definition});
   }
