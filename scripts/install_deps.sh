@@ -6,11 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev liburdfdom-dev libyaml-cpp-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libtinyxml2-dev libconsole-bridge-dev libssl-dev
-<<<<<<< HEAD
-  libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev
-=======
-  libgtest-dev libbenchmark-dev liborocos-kdl-dev libmujoco-dev
->>>>>>> mjcf
+  libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev libmujoco-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
   gnuplot-nox python3 valgrind
 )
