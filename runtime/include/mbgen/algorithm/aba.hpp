@@ -4,6 +4,7 @@
 #include "mbgen/algorithm/rotor.hpp"
 #include "mbgen/algorithm/small_ldlt.hpp"
 #include "mbgen/algorithm/subsystem_aba.hpp"
+#include "mbgen/algorithm/subsystem_maps.hpp"
 
 namespace mbgen {
 
@@ -30,18 +31,11 @@ void add_rotor_to_parent(const Model& model, Data<S>& data, BodyIndex i, const S
 }
 }  // namespace detail
 
-/// Joint accelerations ddq (nv) for state (q, v) and joint forces tau (nv), in data.ddq, also
-/// returned. Equal to M(q)^-1 (tau - C(q, v) v - g(q)).
-///
-/// With loops (Model::subsystems not empty), each sub-system is one aggregate body
-/// (subsystem_aba.hpp) and the caller first sets its velocity and acceleration maps G, g in
-/// data.subsystem for this state, with (q, v) consistent with the closures. tau then holds the
-/// forces of every tree joint (those on dependent joints act through G^T); the result is the
-/// accelerations of every tree joint, qdd_s = G ydd + g inside sub-systems, and ydd is in
-/// data.subsystem[s].ydd. Still O(n) overall.
+namespace detail {
+/// The recursion of aba() (below), with each sub-system's maps G, g already in data.subsystem.
 template <typename S>
-const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                   const ConstVecRef<S>& tau) {
+const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                             const ConstVecRef<S>& tau) {
   data.v[kWorldBody] = Motion<S>::Zero();
   // Pass 1, root to leaves: joint transforms, velocities, velocity-product terms, inertias.
   for (int k = 1; k < model.num_bodies(); ++k) {
@@ -142,6 +136,27 @@ const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, c
     data.a[i] = a_prime + joint_velocity<S>(joint, qdd);
   }
   return data.ddq;
+}
+
+}  // namespace detail
+
+/// Joint accelerations ddq (nv) for state (q, v) and joint forces tau (nv), in data.ddq, also
+/// returned. Equal to M(q)^-1 (tau - C(q, v) v - g(q)).
+///
+/// With loops (Model::subsystems not empty), (q, v) must be consistent with the closures; each
+/// sub-system's maps G, g are computed here (subsystem_maps.hpp) and the sub-system is one
+/// aggregate body (subsystem_aba.hpp). tau then holds the forces of every tree joint (those on
+/// dependent joints act through G^T); the result is the accelerations of every tree joint,
+/// qdd_s = G ydd + g inside sub-systems, and ydd is in data.subsystem[s].ydd. Still O(n) overall.
+/// forward_dynamics_loops (loop_forward_dynamics.hpp) adds the dead-point status.
+template <typename S>
+const VecX<S>& aba(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                   const ConstVecRef<S>& tau) {
+  if (!model.subsystems.empty()) {
+    subsystem_velocity_maps<S>(model, data, q);
+    subsystem_acceleration_biases<S>(model, data, q, v);
+  }
+  return detail::aba_recursion<S>(model, data, q, v, tau);
 }
 
 }  // namespace mbgen

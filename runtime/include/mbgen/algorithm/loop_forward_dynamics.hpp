@@ -19,9 +19,7 @@ namespace mbgen {
 template <typename S>
 LoopSolveStatus forward_dynamics_loops(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                                        const ConstVecRef<S>& tau, const LoopSolveOptions& options = {}) {
-  subsystem_velocity_maps<S>(model, data, q);
-  subsystem_acceleration_biases<S>(model, data, q, v);
-  aba<S>(model, data, q, v, tau);
+  aba<S>(model, data, q, v, tau);  // computes the sub-systems' maps first
   const S ratio = subsystem_pivot_ratio<S>(model, data);
   return ratio > S(options.singular_tolerance) ? LoopSolveStatus::Converged : LoopSolveStatus::Singular;
 }
@@ -46,7 +44,7 @@ void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const
     }
   }
   subsystem_acceleration_biases<S>(model, data, q, data.v_full);
-  aba<S>(model, data, q, data.v_full, tau);
+  detail::aba_recursion<S>(model, data, q, data.v_full, tau);
 }
 
 }  // namespace mbgen
