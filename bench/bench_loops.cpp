@@ -67,10 +67,9 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
   robot->model = d.model;
   robot->pool = consistent_pool(robot->model, d.assembly.q);
   const Model* model = &robot->model;
-  struct Generic {
-    explicit Generic(const Model& m) : data(m), ws(m) {}
+  struct Generic {  // forward_dynamics_loops computes the sub-systems' maps in Data itself
+    explicit Generic(const Model& m) : data(m) {}
     Data<double> data;
-    LoopWorkspace<double> ws;
   };
   struct Reference {
     explicit Reference(const Model& m) : data(m), ws(m) {}
