@@ -3,6 +3,9 @@
 //                          sub-systems as aggregate bodies (forward_dynamics_loops)
 //   fd/<robot>/reference   O(n^3): full coordinates with Lagrange multipliers (forward_dynamics_kkt)
 //   fd/<robot>/generated   the generated closed-system forward_dynamics (independent velocities)
+//   closure/<robot>/{generic,generated}   closure_positions: Newton for the dependent coordinates
+//                          from a pose whose dependent coordinates were moved by up to 1e-3
+//                          (a simulation step's warm start), to the 1e-12 tolerance
 // on Lola, Cassie (MJCF), cassie_like and digit_like_2legs, and the scaling series
 //   fd_chain/<k>/{generic,reference}   a chain of k four-bar modules (loop_chain.hpp), k = 1 .. 64.
 // Inputs: 64 seeded consistent states per robot (loops closed by Newton, v = G vy) with random
@@ -11,6 +14,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <random>
 
 #include "cassie_mjcf.hpp"
 #include "lola.hpp"
@@ -29,17 +33,17 @@ std::shared_ptr<const std::vector<Sample>> consistent_pool(const Model& model, c
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
+  const int ny = static_cast<int>(data.independent_v.size());
   auto pool = std::make_shared<std::vector<Sample>>();
   for (int attempt = 0; pool->size() < kPoolSize; ++attempt) {
     if (attempt > 100 * static_cast<int>(kPoolSize)) throw std::runtime_error("bench: cannot close the loops of " + model.name);
     Sample s;
     s.q = q_closed;
-    for (int y : ws.independent)
-      if (ws.q_index_of_v[static_cast<std::size_t>(y)] >= 0) s.q[ws.q_index_of_v[static_cast<std::size_t>(y)]] += 0.05 * unit(rng);
-    if (solve_dependent_coordinates<double>(model, data, ws, s.q) != LoopSolveStatus::Converged) continue;
-    if (loop_velocity_map<double>(model, data, ws, s.q) != LoopSolveStatus::Converged) continue;
-    s.v = ws.G * random_vector<double>(static_cast<int>(ws.independent.size()), rng);
+    for (int y : data.independent_v)
+      if (model.q_index_of_v(y) >= 0) s.q[model.q_index_of_v(y)] += 0.05 * unit(rng);
+    if (closure_positions<double>(model, data, s.q).status != ClosureStatus::Converged) continue;
+    s.v.resize(model.nv());
+    full_velocities<double>(model, data, s.q, random_vector<double>(ny, rng), s.v);
     s.a = VecX<double>::Zero(model.nv());
     s.tau = random_vector<double>(model.nv(), rng, 5.0);
     pool->push_back(std::move(s));
@@ -55,8 +59,19 @@ struct IndependentSample {
   VecX<double> q, vy, tau;
 };
 
+/// A warm start for Newton: the dependent coordinates of a closed q moved by up to 1e-3.
+struct ClosureSample {
+  VecX<double> q;
+};
+
+/// No generated closure_positions (the scaling chain).
+struct NoClosure {
+  void operator()(double*) const {}
+};
+
+template <typename GeneratedClosure = NoClosure>
 void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras,
-                           GeneratedForwardDynamics generated = nullptr) {
+                           GeneratedForwardDynamics generated = nullptr, GeneratedClosure generated_closure = {}) {
   static std::vector<std::unique_ptr<Robot>> robots;  // live as long as the benchmarks
   gen::LoadOptions options;
   if (!extras.empty()) options.extras_file = extras;
@@ -99,6 +114,30 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                        return out->data();
                                      });
   }
+  if (generated) {
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    auto pool = std::make_shared<std::vector<ClosureSample>>();
+    for (const Sample& sample : *robot->pool) {
+      ClosureSample x{sample.q};
+      for (const SubSystem& sub : model->subsystems)
+        for (int z : sub.dependent) x.q[model->q_index_of_v(z)] += 1e-3 * unit(rng);
+      pool->push_back(std::move(x));
+    }
+    // Both copy the warm start first (Newton works in place).
+    add_benchmark<ClosureSample>("closure", label, "generic", pool,
+                                 [model, w = std::make_shared<Generic>(*model), q = std::make_shared<VecX<double>>()](const ClosureSample& x) {
+                                   *q = x.q;
+                                   closure_positions<double>(*model, w->data, *q);
+                                   return q->data();
+                                 });
+    add_benchmark<ClosureSample>("closure", label, "generated", pool,
+                                 [generated_closure, q = std::make_shared<VecX<double>>()](const ClosureSample& x) {
+                                   *q = x.q;
+                                   generated_closure(q->data());
+                                   return q->data();
+                                 });
+  }
   robots.push_back(std::move(robot));
 }
 
@@ -106,11 +145,14 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
 
 void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
-  add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics);
-  add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics);
-  add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics);
+  add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics,
+                        [](double* q) { lola::closure_positions(q); });
+  add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics,
+                        [](double* q) { cassie_mjcf::closure_positions(q); });
+  add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics,
+                        [](double* q) { pl_cassie_like::closure_positions(q); });
   add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "",
-                        &pl_digit_like_2legs::forward_dynamics);
+                        &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); });
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
   std::filesystem::create_directories(dir);
   for (int k : {1, 2, 4, 8, 16, 32, 64}) {

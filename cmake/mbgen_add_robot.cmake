@@ -17,7 +17,8 @@
 # description has no SSV pairs), so the outputs follow from the arguments alone.
 set(MBGEN_GENERATED_FUNCTIONS
     forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
-    center_of_mass centroidal_momentum_matrix self_distances)
+    center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
+    self_distances)
 
 function(mbgen_add_robot)
   cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR" "FRAMES" ${ARGN})

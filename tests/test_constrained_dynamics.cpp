@@ -32,9 +32,9 @@ TEST_P(ConstrainedDynamicsTest, KktAndIndependentCoordinatesAgree) {
     ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
     const VecX<double> tau = random_vector<double>(model.nv(), rng);
     const VecX<double> kkt = forward_dynamics_kkt<double>(model, data, ws, q, v, tau);
-    LoopSolveStatus status;
+    ClosureStatus status;
     const VecX<double> independent = forward_dynamics_independent<double>(model, data, ws, q, v, tau, &status);
-    ASSERT_EQ(status, LoopSolveStatus::Converged);
+    ASSERT_EQ(status, ClosureStatus::Converged);
     EXPECT_LT(relative_error(kkt, independent), 1e-10) << "trial " << trial << ", |qdd| " << independent.norm();
   }
 }
@@ -142,8 +142,9 @@ TEST(FourBarClosedForm, IndependentDynamicsMatchTheLagrangianInTheCrankAngle) {
     VecX<double> q = VecX<double>::Zero(model.nq());
     for (int k = 0; k < 3; ++k) q[model.joint(*model.find_joint(joints[k])).idx_q] = k == 0 ? p.crank : k == 1 ? p.coupler : p.rocker;
     ASSERT_LT(closure_residual<double>(model, data, q).cwiseAbs().maxCoeff(), 1e-12);
-    ASSERT_EQ(loop_velocity_map<double>(model, data, ws.loops, q), LoopSolveStatus::Converged);
-    const VecX<double> v = ws.loops.G * (VecX<double>(1) << td).finished();
+    VecX<double> v(model.nv());
+    full_velocities<double>(model, data, q, (VecX<double>(1) << td).finished(), v);
+    ASSERT_GT(subsystem_pivot_ratio<double>(model, data), 1e-3);
     VecX<double> tau = VecX<double>::Zero(model.nv());
     tau[model.joint(*model.find_joint("crank_joint")).idx_v] = tau_crank;
     const double tdd = forward_dynamics_independent<double>(model, data, ws, q, v, tau)[model.joint(*model.find_joint("crank_joint")).idx_v];

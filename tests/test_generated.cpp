@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <type_traits>
 
 #include MBGEN_GENERATED_HEADER
 #include "malloc_guard.hpp"
@@ -160,7 +161,7 @@ class GeneratedTest : public ::testing::Test {
       VecX<double> vy(ny);
       for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
       const VecX<double> tau = random_vector<double>(nv, rng, 10.0);
-      forward_dynamics_loops_independent<double>(closed, closed_data, closed_data.independent_v, q, vy, tau);
+      forward_dynamics_loops_independent<double>(closed, closed_data, q, vy, tau);
       const VecX<double> expected = closed_data.ddq;
       const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(vy), taut = narrow<T>(tau);
       gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), ydd.data());
@@ -175,8 +176,76 @@ class GeneratedTest : public ::testing::Test {
     }
     EXPECT_GE(states, trials / 2);
     EXPECT_LT(worst_full, tolerance) << "full_accelerations";
+    compare_maps<T>(tolerance, trials);
     EXPECT_LT(worst_y, gen_ns::has_loops ? tolerance : tolerance) << "forward_dynamics (independent accelerations)";
     RecordProperty("full_accelerations", std::to_string(worst_full));
+  }
+
+  /// The maps between the coordinate sets against the generic runtime at consistent states:
+  /// velocity_map, full_velocities, acceleration_bias (relative to their size, at `tolerance`),
+  /// independent_velocities (exact), and closure_positions from a pose whose dependent
+  /// coordinates were moved by up to 1e-3: back to the closed pose, converged, in the generic
+  /// Newton's number of steps (double) and within its tolerance's reach (float: 1e-3 of the move).
+  template <typename T> void compare_maps(double tolerance, int trials) {
+    std::mt19937_64 rng(2026);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const int nv = closed.nv(), ny = gen_ns::ny;
+    std::vector<T> Tmap(static_cast<std::size_t>(nv * ny)), v_out(nv), g_out(nv), vy_back(ny);
+    double worst[4] = {0, 0, 0, 0};
+    int states = 0;
+    for (int trial = 0; trial < 4 * trials && states < trials; ++trial) {
+      VecX<double> q, v;
+      if (gen_ns::has_loops) {
+        if (!consistent_state(closed, description.assembly.q, rng, 0.05, q, v)) continue;
+      } else {
+        q = random_configuration<double>(closed, rng);
+        v = random_vector<double>(nv, rng, 2.0);
+      }
+      ++states;
+      VecX<double> vy(ny), g(nv), v_full(nv);
+      for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      MatX<double> T_expected(nv, ny);
+      velocity_map<double>(closed, closed_data, q, T_expected);
+      full_velocities<double>(closed, closed_data, q, vy, v_full);
+      acceleration_bias<double>(closed, closed_data, q, vy, g);
+      const std::vector<T> qt = narrow<T>(q), vyt = narrow<T>(vy);
+      gen_ns::velocity_map(qt.data(), Tmap.data());
+      gen_ns::full_velocities(qt.data(), vyt.data(), v_out.data());
+      gen_ns::acceleration_bias(qt.data(), vyt.data(), g_out.data());
+      MatX<double> T_generated(nv, ny);
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < ny; ++c) T_generated(r, c) = static_cast<double>(Tmap[static_cast<std::size_t>(r * ny + c)]);
+      worst[0] = std::max(worst[0], relative_error(T_generated, T_expected));
+      worst[1] = std::max(worst[1], relative_error(widen(v_out), v_full));
+      worst[2] = std::max(worst[2], (widen(g_out) - g).norm() / std::max(1.0, g.norm()));
+      gen_ns::independent_velocities(v_out.data(), vy_back.data());
+      for (int i = 0; i < ny; ++i) EXPECT_EQ(vy_back[static_cast<std::size_t>(i)], vyt[static_cast<std::size_t>(i)]);
+
+      // closure_positions: dependent coordinates moved off the closed pose, then closed again.
+      VecX<double> moved = q;
+      for (const SubSystem& s : closed.subsystems)
+        for (int z : s.dependent) moved[closed.q_index_of_v(z)] += 1e-3 * unit(rng);
+      std::vector<T> closing = narrow<T>(moved);
+      const auto result = gen_ns::closure_positions(closing.data());
+      EXPECT_EQ(result.status, gen_ns::ClosureStatus::converged) << "closure_positions, residual " << result.residual << " pivot ratio " << result.pivot_ratio << " iterations " << result.iterations;
+      worst[3] = std::max(worst[3], (widen(closing) - q).cwiseAbs().maxCoeff());
+      if (std::is_same_v<T, double>) {
+        VecX<double> generic = moved;
+        const ClosureResult<double> expected = closure_positions<double>(closed, closed_data, generic);
+        EXPECT_EQ(result.iterations, expected.iterations);
+        EXPECT_LT((widen(closing) - generic).cwiseAbs().maxCoeff(), 1e-12);
+      }
+      if (!gen_ns::has_loops) EXPECT_EQ(result.iterations, 0);
+    }
+    EXPECT_GE(states, trials / 2);
+    EXPECT_LT(worst[0], tolerance) << "velocity_map";
+    EXPECT_LT(worst[1], tolerance) << "full_velocities";
+    EXPECT_LT(worst[2], tolerance) << "acceleration_bias";
+    // Newton's tolerance 1e-12 (double) bounds |q - closed pose| by ~cond(Phi_z) 1e-12 <= 1e-9;
+    // float stops at 2e-6 m of residual: 1e-3 (condition <= 1e3 at these poses, test_topology).
+    EXPECT_LT(worst[3], (std::is_same_v<T, double> ? 1e-9 : 1e-3)) << "closure_positions";
+    RecordProperty("velocity_map", std::to_string(worst[0]));
+    RecordProperty("closure_positions", std::to_string(worst[3]));
   }
 
   gen::Description description;
@@ -195,6 +264,9 @@ TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
   ASSERT_EQ(std::size(gen_ns::joint_names), names.size());
   for (std::size_t j = 0; j < names.size(); ++j) EXPECT_EQ(names[j], gen_ns::joint_names[j]);
   for (int k = 1; k < model.num_bodies(); ++k) EXPECT_EQ(model.body(BodyIndex(k)).name, gen_ns::body_names[k - 1]);
+  ASSERT_EQ(std::size(gen_ns::joint_names_full), names.size());
+  ASSERT_EQ(std::size(gen_ns::independent_v_index), static_cast<std::size_t>(gen_ns::ny));
+  for (int i = 0; i < gen_ns::ny; ++i) EXPECT_EQ(gen_ns::independent_v_index[i], closed_data.independent_v[static_cast<std::size_t>(i)]);
 }
 
 TEST_F(GeneratedTest, DoubleEqualsGeneric) { compare<double>(1e-12, 100); }
@@ -219,6 +291,11 @@ TEST_F(GeneratedTest, NoAllocation) {
   gen_ns::frame_jacobians(q.data(), out.data());
   gen_ns::center_of_mass(q.data(), out.data());
   gen_ns::centroidal_momentum_matrix(q.data(), out.data());
+  gen_ns::velocity_map(q.data(), out.data());
+  gen_ns::full_velocities(q.data(), v.data(), out.data());
+  gen_ns::acceleration_bias(q.data(), v.data(), out.data());
+  gen_ns::closure_positions(q.data());
+  gen_ns::closure_positions(qf.data());
   gen_ns::forward_dynamics(qf.data(), vf.data(), vf.data(), outf.data());
   gen_ns::mass_matrix(qf.data(), outf.data());
   EXPECT_EQ(guard.count(), 0u);

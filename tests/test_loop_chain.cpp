@@ -36,14 +36,13 @@ TEST(LoopChain, LoadsAsKNestedSubsystemsAndAgreesWithTheReference) {
     EXPECT_LT(d.assembly.max_joint_change, 1e-9) << "closed at the zero pose";
 
     Data<double> data(model), reference_data(model);
-    LoopWorkspace<double> ws(model);
     ConstrainedDynamicsWorkspace<double> reference(model);
     std::mt19937_64 rng(61);
     for (int trial = 0; trial < 5; ++trial) {
       VecX<double> q, v;
       ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.3, q, v));
       const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
-      ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged);
+      ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged);
       EXPECT_LT(relative_error(data.ddq, forward_dynamics_kkt<double>(model, reference_data, reference, q, v, tau)), 1e-10)
           << "k = " << k;
     }

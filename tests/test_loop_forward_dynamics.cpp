@@ -17,11 +17,10 @@ namespace {
 
 class LoopForwardDynamicsTest : public ::testing::TestWithParam<LoopCase> {
  protected:
-  LoopForwardDynamicsTest() : d(load_loop_case(GetParam())), model(d.model), data(model), reference_data(model), ws(model), reference(model) {}
+  LoopForwardDynamicsTest() : d(load_loop_case(GetParam())), model(d.model), data(model), reference_data(model), reference(model) {}
   gen::Description d;
   const Model& model;
   Data<double> data, reference_data;
-  LoopWorkspace<double> ws;
   ConstrainedDynamicsWorkspace<double> reference;
 };
 
@@ -34,16 +33,16 @@ TEST_P(LoopForwardDynamicsTest, EqualsTheKktReference) {
     VecX<double> q, v;
     if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;  // Newton may fail far out (wl16_like)
     const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
-    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged);
+    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged);
     const VecX<double> expected = forward_dynamics_kkt<double>(model, reference_data, reference, q, v, tau);
     worst = std::max(worst, relative_error(data.ddq, expected));
     // Plain aba() on a model with loops computes the maps itself: the same, never a silent NaN.
     worst_plain = std::max(worst_plain, relative_error(VecX<double>(aba<double>(model, data, q, v, tau)), expected));
     // The same from the independent velocities alone (the form the generator traces).
     const VecX<double> qdd = data.ddq;
-    VecX<double> vy(static_cast<int>(ws.independent.size()));
-    for (int i = 0; i < vy.size(); ++i) vy[i] = v[ws.independent[static_cast<std::size_t>(i)]];
-    forward_dynamics_loops_independent<double>(model, data, ws.independent, q, vy, tau);
+    VecX<double> vy(static_cast<int>(data.independent_v.size()));
+    for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+    forward_dynamics_loops_independent<double>(model, data, q, vy, tau);
     worst_independent = std::max(worst_independent, relative_error(data.ddq, qdd));
     ++states;
   }
@@ -66,7 +65,7 @@ TEST_P(LoopForwardDynamicsTest, InverseDynamicsAndMassMatrixInIndependentCoordin
     if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;
     ++states;
     const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
-    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged);
+    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged);
     const int ny = static_cast<int>(data.independent_v.size());
     VecX<double> ydd(ny), tau_projected(ny);
     for (int i = 0; i < ny; ++i) ydd[i] = data.ddq[data.independent_v[static_cast<std::size_t>(i)]];
@@ -110,19 +109,18 @@ TEST(LoopForwardDynamicsDeadPoint, SliderDrivenSliderCrankReportsSingular) {
   const gen::Description d = gen::load_description(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf", options);
   const Model& model = d.model;
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
   VecX<double> q = VecX<double>::Zero(model.nq());
   const int slider = model.joint(*model.find_joint("slider_joint")).idx_q;
   const VecX<double> v = VecX<double>::Zero(model.nv()), tau = VecX<double>::Ones(model.nv());
   for (double x : {0.02, 0.04, 0.05}) {  // warm-started approach: regular
     q[slider] = x;
-    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged);
-    EXPECT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Converged) << x;
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged);
+    EXPECT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged) << x;
     EXPECT_TRUE(data.ddq.allFinite());
   }
   q[slider] = 0.06;
-  solve_dependent_coordinates<double>(model, data, ws, q);
-  EXPECT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), LoopSolveStatus::Singular);
+  closure_positions<double>(model, data, q);
+  EXPECT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Singular);
 }
 
 // A passive simulation in independent coordinates with the O(n) forward dynamics: RK4 on (y, yd),
@@ -139,7 +137,6 @@ TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
   const gen::Description d = gen::load_description(MBGEN_SOURCE_DIR "/robots/mechanisms/" + GetParam() + ".urdf", options);
   const Model& model = d.model;
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
   const std::vector<int>& y_index = data.independent_v;  // 1-DoF joints: q index = v index here
   const int ny = static_cast<int>(y_index.size());
   const VecX<double> zero_tau = VecX<double>::Zero(model.nv());
@@ -151,14 +148,13 @@ TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
   // State derivative at (q with the independent positions y, yd): closes the loops first.
   auto derivative = [&](VecX<double>& q_stage, const VecX<double>& y, const VecX<double>& yd_stage, VecX<double>& ydd) {
     for (int i = 0; i < ny; ++i) q_stage[y_index[static_cast<std::size_t>(i)]] = y[i];
-    EXPECT_EQ(solve_dependent_coordinates<double>(model, data, ws, q_stage), LoopSolveStatus::Converged);
-    forward_dynamics_loops_independent<double>(model, data, y_index, q_stage, yd_stage, zero_tau);
+    EXPECT_EQ(closure_positions<double>(model, data, q_stage).status, ClosureStatus::Converged);
+    forward_dynamics_loops_independent<double>(model, data, q_stage, yd_stage, zero_tau);
     for (int i = 0; i < ny; ++i) ydd[i] = data.ddq[y_index[static_cast<std::size_t>(i)]];
   };
   auto energy = [&](const VecX<double>& q_now, const VecX<double>& yd_now) {
-    subsystem_velocity_maps<double>(model, data, q_now);
     VecX<double> v(model.nv());
-    detail::expand_independent<double>(model, data, yd_now, false, v);
+    full_velocities<double>(model, data, q_now, yd_now, v);
     return kinetic_energy<double>(model, data, q_now, v) + potential_energy<double>(model, data, q_now);
   };
   const double dt = 1e-3, e0 = energy(q, yd);
@@ -178,7 +174,7 @@ TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
     y += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
     yd += dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
     for (int i = 0; i < ny; ++i) q[y_index[static_cast<std::size_t>(i)]] = y[i];
-    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << "step " << step;
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged) << "step " << step;
     worst_residual = std::max(worst_residual, closure_residual<double>(model, data, q).cwiseAbs().maxCoeff());
     const double e = energy(q, yd);
     e_min = std::min(e_min, e);

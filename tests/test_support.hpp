@@ -128,37 +128,35 @@ template <typename Rng>
 bool consistent_state_once(const Model& model, const VecX<double>& q_closed, Rng& rng, double spread, VecX<double>& q,
                            VecX<double>& v) {
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
   q = q_closed;
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   // The move is followed in 10 steps, Newton warm-started from the last closed pose (as a
   // simulation would): one jump could leave Newton's basin on the ill-conditioned models.
   std::vector<double> target(model.nq());
   for (int i = 0; i < model.nq(); ++i) target[i] = q[i];
-  for (int y : ws.independent) {
-    if (ws.q_index_of_v[y] < 0) continue;  // inside a floating base: left where it is
-    const Joint* joint = nullptr;
-    for (int j = 1; j < model.num_joints(); ++j)
-      if (model.joint(JointIndex(j)).idx_v == y) joint = &model.joint(JointIndex(j));
-    double& x = target[ws.q_index_of_v[y]];
-    x += spread * (joint->type == JointType::Prismatic ? 0.1 : 1.0) * unit(rng);
+  for (int y : data.independent_v) {
+    const int i = model.q_index_of_v(y);
+    if (i < 0) continue;  // inside a floating base: left where it is
+    const Joint& joint = model.joint(model.joint_of_v(y));
+    double& x = target[i];
+    x += spread * (joint.type == JointType::Prismatic ? 0.1 : 1.0) * unit(rng);
     // Within the limits (Lola's knee nut stops at 5 mm), or no farther out than the closed pose
     // already is (Cassie's assembled knee lies outside its limits: clamping would jump).
-    const double start_x = q_closed[ws.q_index_of_v[y]];
-    if (joint->bounded) x = std::clamp(x, std::min(joint->lower, start_x), std::max(joint->upper, start_x));
+    const double start_x = q_closed[i];
+    if (joint.bounded) x = std::clamp(x, std::min(joint.lower, start_x), std::max(joint.upper, start_x));
   }
   const VecX<double> start = q;
   for (int step = 1; step <= 10; ++step) {
-    for (int y : ws.independent) {
-      const int i = ws.q_index_of_v[y];
+    for (int y : data.independent_v) {
+      const int i = model.q_index_of_v(y);
       if (i >= 0) q[i] = start[i] + (target[i] - start[i]) * step / 10.0;
     }
-    if (solve_dependent_coordinates<double>(model, data, ws, q) != LoopSolveStatus::Converged) return false;
+    if (closure_positions<double>(model, data, q).status != ClosureStatus::Converged) return false;
   }
-  if (loop_velocity_map<double>(model, data, ws, q) != LoopSolveStatus::Converged) return false;
-  VecX<double> vy(static_cast<int>(ws.independent.size()));
+  VecX<double> vy(static_cast<int>(data.independent_v.size()));
   for (int i = 0; i < vy.size(); ++i) vy[i] = unit(rng);
-  v = ws.G * vy;
+  v.resize(model.nv());
+  full_velocities<double>(model, data, q, vy, v);
   return true;
 }
 

@@ -61,6 +61,7 @@ OpCount count_operations(const TracedFunction& f) {
       case Op::Sin:
       case Op::Cos: ++c.trig; break;
       case Op::Sqrt: ++c.sqrt; break;
+      case Op::Max: ++c.max; break;
       default: break;
     }
   }
@@ -78,8 +79,9 @@ std::vector<std::string> scalar_types(ScalarChoice choice) {
 
 std::string describe_operations(const OpCount& c) {
   return fmt::format("{} operations: {} additions/subtractions, {} multiplications, {} divisions, {} negations, "
-                     "{} sin/cos, {} square roots",
-                     c.total(), c.add, c.mul, c.div, c.neg, c.trig, c.sqrt);
+                     "{} sin/cos, {} square roots{}",
+                     c.total(), c.add, c.mul, c.div, c.neg, c.trig, c.sqrt,
+                     c.max > 0 ? fmt::format(", {} max (selects)", c.max) : std::string());
 }
 
 std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars) {
@@ -114,6 +116,8 @@ std::string emit_statements(const TracedFunction& f) {
       case Op::Sin: expr = fmt::format("std::sin({})", operand(n.a)); break;
       case Op::Cos: expr = fmt::format("std::cos({})", operand(n.a)); break;
       case Op::Sqrt: expr = fmt::format("std::sqrt({})", operand(n.a)); break;
+      // A select, not std::fmax: no libm call on a microcontroller.
+      case Op::Max: expr = fmt::format("{0} > {1} ? {0} : {1}", operand(n.a), operand(n.b)); break;
     }
     name = fmt::format("_t{}", temporaries++);
     body += fmt::format("  const S {} = {};\n", name, expr);

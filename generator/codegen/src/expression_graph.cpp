@@ -13,7 +13,7 @@ std::uint64_t bits_of(double x) {
   std::memcpy(&b, &x, sizeof b);
   return b;
 }
-bool commutative(Op op) { return op == Op::Add || op == Op::Mul; }
+bool commutative(Op op) { return op == Op::Add || op == Op::Mul || op == Op::Max; }
 }  // namespace
 
 std::size_t ExpressionGraph::KeyHash::operator()(const Key& k) const {
@@ -74,6 +74,7 @@ int ExpressionGraph::binary(Op op, int a, int b) {
       case Op::Sub: return constant(x - y);
       case Op::Mul: return constant(x * y);
       case Op::Div: return constant(x / y);
+      case Op::Max: return constant(x > y ? x : y);
       default: break;
     }
   }
@@ -85,6 +86,10 @@ int ExpressionGraph::binary(Op op, int a, int b) {
       if (node(a).op == Op::Neg) return binary(Op::Sub, b, node(a).a);
       break;
     case Op::Sub:
+      // x - x: the same node on both sides, 0 for every finite x. The closure Jacobian's entries
+      // of joints above a loop are such differences (a joint moves both closure frames alike), and
+      // a structural zero there keeps the Givens QR of Phi_z from a 0 / 0 rotation.
+      if (a == b) return constant(0);
       if (is_constant(b, 0)) return a;
       if (is_constant(a, 0)) return unary(Op::Neg, b);
       if (node(b).op == Op::Neg) return binary(Op::Add, a, node(b).a);

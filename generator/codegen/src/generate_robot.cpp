@@ -1,13 +1,16 @@
 #include "mbgen/codegen/generate_robot.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
 #include <set>
 
+#include "mbgen/codegen/emit_closure_positions.hpp"
 #include "mbgen/codegen/emit_self_distances.hpp"
 #include "mbgen/codegen/trace_dynamics.hpp"
+#include "mbgen/codegen/trace_loop_maps.hpp"
 #include "mbgen/gen/collision_scene.hpp"
 #include "mbgen/gen/load_error.hpp"
 #include "mbgen/gen/topology.hpp"
@@ -48,11 +51,15 @@ const char* kConventions = R"(// Conventions (the same as mbgen's runtime):
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
 //  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
-//    of the closed system: q is every tree joint's position with the loops closed, v the
-//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
-//    forces on dependent joints act through the loops); forward_dynamics returns the independent
-//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
-//    spanning tree's (its inverse dynamics carries no closure forces).
+//    of the closed system: q is every tree joint's position with the loops closed
+//    (closure_positions), v the independent velocities (ny, independent_joint_names order), tau
+//    every tree joint's force (nv; forces on dependent joints act through the loops);
+//    forward_dynamics returns the independent accelerations (ny), full_accelerations every tree
+//    joint's (nv, joint_names_full order). The maps between the two coordinate sets:
+//    closure_positions (positions), velocity_map / full_velocities / independent_velocities
+//    (v = T vy and back), acceleration_bias (qdd = T ydd + g). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces). Without loops ny = nv,
+//    T is the identity and closure_positions returns at once.
 )";
 
 }  // namespace
@@ -106,6 +113,9 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   std::vector<TracedFunction> functions;
   functions.push_back(loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree));
   functions.push_back(trace_full_accelerations(model));
+  functions.push_back(trace_velocity_map(model));
+  functions.push_back(trace_full_velocities(model));
+  functions.push_back(trace_acceleration_bias(model));
   functions.push_back(trace_inverse_dynamics(tree));
   functions.push_back(trace_mass_matrix(tree));
   functions.push_back(trace_forward_kinematics(tree));
@@ -132,6 +142,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   h += fmt::format("constexpr int num_frames = {};\nconstexpr bool floating_base = {};\n", frames.size(),
                    model.floating_base() ? "true" : "false");
   h += string_array("joint_names", model.joint_names());
+  h += "// Every tree joint, the order of q, v, tau and of full_accelerations (the same as joint_names).\n";
+  h += "inline constexpr const auto& joint_names_full = joint_names;\n";
   // The closed system's coordinates: every tree coordinate not dependent in a loop (all of them
   // for a tree), in v order. forward_dynamics takes and returns these.
   const std::vector<int> independent = Data<double>(model).independent_v;
@@ -140,9 +152,16 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   h += fmt::format("constexpr int ny = {};  // independent coordinates (nv for a robot without loops)\n", independent.size());
   h += fmt::format("constexpr bool has_loops = {};\n", loops ? "true" : "false");
   h += string_array("independent_joint_names", independent_names);
+  h += "// The v index of each independent coordinate (ascending).\n";
+  h += fmt::format("inline constexpr int independent_v_index[] = {{{}}};\n", fmt::join(independent, ", "));
   h += string_array("body_names", body_names);
   if (!frame_names.empty()) h += string_array("frame_names", frame_names);
   for (const TracedFunction& f : functions) h += "\n" + emit_declaration(f, options.scalars);
+  h += "\n/// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on\n"
+       "/// velocities that keep the loops closed.\n"
+       "template <typename S> inline void independent_velocities(const S* v, S* vy) {\n"
+       "  for (int i = 0; i < ny; ++i) vy[i] = v[independent_v_index[i]];\n}\n";
+  h += emit_closure_positions_declaration(options.scalars);
   h += distances.declaration;
   h += fmt::format("\n}}  // namespace {}\n", ns);
   files.push_back({header, h});
@@ -161,6 +180,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       definition = emit_definition(f, ns, header, options.scalars);
     files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + definition});
   }
+  files.push_back({fmt::format("{}_closure_positions.cpp", ns),
+                   top + "\n" + emit_closure_positions_definition(model, ns, header, options.scalars)});
   files.push_back({fmt::format("{}_self_distances.cpp", ns), top + "\n" + distances.definition});
   return files;
 }

@@ -2,40 +2,19 @@
 
 #include <fmt/format.h>
 
-#include "mbgen/codegen/symbolic.hpp"
-#include "mbgen/mbgen.hpp"
+#include "trace_support.hpp"
 
 namespace mbgen::codegen {
 
+using namespace tracing;
+
 namespace {
-
-using SymVec = VecX<Sym>;
-
-/// Symbolic input vector: element i of argument `argument`.
-SymVec inputs(int argument, int size) {
-  SymVec x(size);
-  for (int i = 0; i < size; ++i) x[i] = Sym::input(argument, i);
-  return x;
-}
-
-std::vector<int> ids_of(const Eigen::Ref<const MatX<Sym>>& m) {
-  // Row-major order, as every emitted matrix is.
-  std::vector<int> ids;
-  for (int r = 0; r < m.rows(); ++r)
-    for (int c = 0; c < m.cols(); ++c) ids.push_back(m(r, c).id());
-  return ids;
-}
 
 void append_pose(std::vector<int>& ids, const SE3<Sym>& X) {
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) ids.push_back(X.rotation(r, c).id());
     ids.push_back(X.translation[r].id());
   }
-}
-
-ArraySpec q_spec(const Model& m) { return {"q", m.nq(), fmt::format("[{}] joint positions", m.nq())}; }
-ArraySpec v_spec(const Model& m, const char* name, const char* what) {
-  return {name, m.nv(), fmt::format("[{}] {}", m.nv(), what)};
 }
 
 }  // namespace
@@ -54,18 +33,10 @@ TracedFunction trace_forward_dynamics(const Model& model) {
 }
 
 namespace {
-ArraySpec closed_q_spec(const Model& m) {
-  return {"q", m.nq(), fmt::format("[{}] joint positions of every tree joint, loops closed (closure_positions)", m.nq())};
-}
-ArraySpec y_spec(const Model& m, const char* name, const char* what) {
-  const int ny = static_cast<int>(Data<double>(m).independent_v.size());
-  return {name, ny, fmt::format("[{}] {}, independent_joint_names order", ny, what)};
-}
-
 /// Symbolic inputs and the O(n) recursion with sub-systems, shared by the two loop functions.
 void trace_loop_recursion(const Model& model, Data<Sym>& data) {
   const SymVec q = inputs(0, model.nq()), vy = inputs(1, static_cast<int>(data.independent_v.size())), tau = inputs(2, model.nv());
-  forward_dynamics_loops_independent<Sym>(model, data, data.independent_v, q, vy, tau);
+  forward_dynamics_loops_independent<Sym>(model, data, q, vy, tau);
 }
 }  // namespace
 

@@ -63,7 +63,7 @@ struct LoopClosure {
 /// Loops that only meet at a body stay apart: their coordinates are disjoint and their rows
 /// decouple (generator/include/mbgen/gen/topology.hpp). Coordinates are velocity indices; the
 /// rows of Phi_q outside `coordinates` are exact zeros, so Phi_z = Phi_q(rows, dependent) and
-/// Phi_y = Phi_q(rows, independent) are all a sub-system needs (algorithm/loop_maps.hpp).
+/// Phi_y = Phi_q(rows, independent) are all a sub-system needs (algorithm/closure_positions.hpp, algorithm/subsystem_maps.hpp).
 struct SubSystem {
   std::vector<int> closures;        ///< indices into Model::closures
   std::vector<BodyIndex> bodies;    ///< bodies on its cycles, ascending (parents first); not the root

@@ -111,6 +111,13 @@ class Model {
   /// Like find_frame, but throws std::out_of_range naming the frame if absent.
   FrameIndex frame_index(const std::string& frame_name) const;
 
+  /// The joint whose velocity block holds coordinate v (0 <= v < nv); the world's placeholder
+  /// (index 0) if v is out of range.
+  JointIndex joint_of_v(int v) const;
+  /// q index of velocity coordinate v when its joint has one DoF (position and rate then pair
+  /// up), else -1 (inside a floating joint, or out of range).
+  int q_index_of_v(int v) const;
+
   /// Total mass of the moving bodies.
   double total_mass() const;
   /// Names of the moving joints in q order.
@@ -198,6 +205,19 @@ inline std::optional<FrameIndex> Model::find_frame(const std::string& frame_name
 inline FrameIndex Model::frame_index(const std::string& frame_name) const {
   if (auto f = find_frame(frame_name)) return *f;
   throw std::out_of_range("no frame named '" + frame_name + "' in model '" + name + "'");
+}
+
+inline JointIndex Model::joint_of_v(int v) const {
+  for (int j = 1; j < joints_.size(); ++j) {
+    const Joint& joint = joints_[JointIndex(j)];
+    if (v >= joint.idx_v && v < joint.idx_v + joint.nv) return JointIndex(j);
+  }
+  return JointIndex(0);
+}
+
+inline int Model::q_index_of_v(int v) const {
+  const JointIndex j = joint_of_v(v);
+  return j.value() > 0 && joints_[j].nv == 1 ? joints_[j].idx_q : -1;
 }
 
 inline double Model::total_mass() const {

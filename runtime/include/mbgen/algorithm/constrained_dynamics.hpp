@@ -15,7 +15,7 @@
 #include <Eigen/LU>
 
 #include "mbgen/algorithm/crba.hpp"
-#include "mbgen/algorithm/loop_maps.hpp"
+#include "mbgen/algorithm/closure_positions.hpp"
 #include "mbgen/algorithm/rnea.hpp"
 
 namespace mbgen {
@@ -39,14 +39,15 @@ template <typename S> struct ConstrainedDynamicsWorkspace {
   MatX<S> MG, Mr;          ///< M G (nv x ny), G^T M G (ny x ny)
   VecX<S> force, rhs_y, ydd;
   Eigen::LLT<MatX<S>> Mr_llt;
-  LoopWorkspace<S> loops;
+  MatX<S> G;               ///< nv x ny velocity map T (subsystem_maps.hpp: velocity_map)
+  VecX<S> g;               ///< nv acceleration bias (acceleration_bias)
 };
 
 template <typename S>
-ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model) : loops(model) {
+ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model) {
   for (const SubSystem& s : model.subsystems) rows.insert(rows.end(), s.rows.begin(), s.rows.end());
   std::sort(rows.begin(), rows.end());
-  const int n = model.nv(), r = static_cast<int>(rows.size()), ny = static_cast<int>(loops.independent.size());
+  const int n = model.nv(), r = static_cast<int>(rows.size()), ny = static_cast<int>(Data<S>(model).independent_v.size());
   K = MatX<S>::Zero(n + r, n + r);
   rhs = VecX<S>::Zero(n + r);
   solution = VecX<S>::Zero(n + r);
@@ -60,6 +61,8 @@ ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model
   rhs_y = VecX<S>::Zero(ny);
   ydd = VecX<S>::Zero(ny);
   Mr_llt = Eigen::LLT<MatX<S>>(ny);
+  G = MatX<S>::Zero(n, ny);
+  g = VecX<S>::Zero(n);
 }
 
 /// Full-coordinate forward dynamics with Lagrange multipliers at (q, v) with joint forces tau:
@@ -92,26 +95,28 @@ const VecX<S>& forward_dynamics_kkt(const Model& model, Data<S>& data, Constrain
 }
 
 /// Forward dynamics in independent coordinates at a consistent state (q closed, v = G vy):
-/// ws.qdd = G ydd + g_acc (nv), also returned. Meaningful only where Phi_z is regular:
-/// loop_velocity_map's status comes back through `status` (Singular at a dead point).
+/// ws.qdd = G ydd + g_acc (nv), also returned. Meaningful only where Phi_z is regular: the status
+/// (Singular at a dead point, by options.singular_tolerance) comes back through `status`.
 template <typename S>
 const VecX<S>& forward_dynamics_independent(const Model& model, Data<S>& data, ConstrainedDynamicsWorkspace<S>& ws,
                                             const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau,
-                                            LoopSolveStatus* status = nullptr) {
-  const LoopSolveStatus s = loop_velocity_map<S>(model, data, ws.loops, q);
-  if (status) *status = s;
-  loop_acceleration_bias<S>(model, data, ws.loops, q, v);
+                                            ClosureStatus* status = nullptr, const ClosureOptions& options = {}) {
+  velocity_map<S>(model, data, q, ws.G);
+  if (status)
+    *status = subsystem_pivot_ratio<S>(model, data) >= S(options.singular_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular;
+  for (std::size_t i = 0; i < data.independent_v.size(); ++i) ws.rhs_y[static_cast<int>(i)] = v[data.independent_v[i]];
+  acceleration_bias<S>(model, data, q, ws.rhs_y, ws.g);
   const MatX<S>& M = crba<S>(model, data, q);
   ws.bias = nonlinear_effects<S>(model, data, q, v);
   ws.force = tau - ws.bias;
-  ws.force.noalias() -= M * ws.loops.g;
-  ws.MG.noalias() = M * ws.loops.G;
-  ws.Mr.noalias() = ws.loops.G.transpose() * ws.MG;
-  ws.rhs_y.noalias() = ws.loops.G.transpose() * ws.force;
+  ws.force.noalias() -= M * ws.g;
+  ws.MG.noalias() = M * ws.G;
+  ws.Mr.noalias() = ws.G.transpose() * ws.MG;
+  ws.rhs_y.noalias() = ws.G.transpose() * ws.force;
   ws.Mr_llt.compute(ws.Mr);
   ws.ydd = ws.Mr_llt.solve(ws.rhs_y);
-  ws.qdd = ws.loops.g;
-  ws.qdd.noalias() += ws.loops.G * ws.ydd;
+  ws.qdd = ws.g;
+  ws.qdd.noalias() += ws.G * ws.ydd;
   return ws.qdd;
 }
 

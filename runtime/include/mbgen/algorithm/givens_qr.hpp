@@ -3,7 +3,16 @@
 // values (a rotation is skipped only where the entry to zero is a structural, exact zero), so a
 // symbolic scalar can record it, and orthogonal transformations keep it stable where LU without
 // pivoting is not. Used for each sub-system's dependent block Phi_z (a rank x rank matrix).
+//
+// Two entries can also be zero by value only: Phi_z of loops that merely share a body has
+// blocks of rows that rotations leave exactly zero in each other's columns (wl16_like's, away
+// from the closed pose). A symbolic scalar cannot skip those, so the rotation is guarded:
+// with g = max(r, tiny), c = a / g + (1 - r / g) and s = b / g are a / r and b / r exactly for
+// r >= tiny (r / r = 1 in IEEE arithmetic) and the identity for r = 0. The max is the one
+// value-dependent choice the tracer records (a select in the generated code).
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mbgen/spatial/types.hpp"
 
@@ -13,7 +22,10 @@ namespace mbgen {
 /// recording each rotation's cosine and sine in c, s (n (n - 1) / 2 entries each, in order).
 /// A singular A shows as a zero (or, from 0 / 0, NaN) diagonal entry of R.
 template <typename S> void givens_qr_factor(MatX<S>& A, int n, VecX<S>& c, VecX<S>& s) {
+  using std::max;
   using std::sqrt;
+  // Float's smallest normal: the generated float code uses the same constant.
+  const S tiny = S(std::numeric_limits<float>::min());
   int k = 0;
   for (int j = 0; j < n; ++j)
     for (int i = n - 1; i > j; --i, ++k) {
@@ -24,8 +36,9 @@ template <typename S> void givens_qr_factor(MatX<S>& A, int n, VecX<S>& c, VecX<
         continue;
       }
       const S r = sqrt(a * a + b * b);
-      c[k] = a / r;
-      s[k] = b / r;
+      const S guarded = max(r, tiny);
+      c[k] = a / guarded + (S(1) - r / guarded);
+      s[k] = b / guarded;
       for (int col = j; col < n; ++col) {
         const S x = A(i - 1, col), y = A(i, col);
         A(i - 1, col) = c[k] * x + s[k] * y;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "mbgen/algorithm/aba.hpp"
+#include "mbgen/algorithm/closure_positions.hpp"
 #include "mbgen/algorithm/subsystem_maps.hpp"
 
 namespace mbgen {
@@ -17,32 +18,20 @@ namespace mbgen {
 /// options.singular_tolerance of) a dead point, where the accelerations are not defined and must
 /// not be used.
 template <typename S>
-LoopSolveStatus forward_dynamics_loops(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                                       const ConstVecRef<S>& tau, const LoopSolveOptions& options = {}) {
+ClosureStatus forward_dynamics_loops(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                                       const ConstVecRef<S>& tau, const ClosureOptions& options = {}) {
   aba<S>(model, data, q, v, tau);  // computes the sub-systems' maps first
   const S ratio = subsystem_pivot_ratio<S>(model, data);
-  return ratio > S(options.singular_tolerance) ? LoopSolveStatus::Converged : LoopSolveStatus::Singular;
+  return ratio > S(options.singular_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular;
 }
 
 /// The same with the velocity given in independent coordinates: vy (ny) for the coordinates
-/// `independent` (every v index not dependent in a sub-system, ascending: LoopWorkspace's
-/// order); the full velocity G vy is built in data.v_full. The form the generator traces.
+/// Data::independent_v (every v index not dependent in a sub-system, ascending); the full
+/// velocity T vy is built in data.v_full. The form the generator traces.
 template <typename S>
-void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const std::vector<int>& independent,
-                                        const ConstVecRef<S>& q, const ConstVecRef<S>& vy, const ConstVecRef<S>& tau) {
+void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, const ConstVecRef<S>& tau) {
   subsystem_velocity_maps<S>(model, data, q);
-  for (std::size_t i = 0; i < independent.size(); ++i) data.v_full[independent[i]] = vy[static_cast<int>(i)];
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystem& sub = model.subsystems[k];
-    const SubSystemWork<S>& w = data.subsystem[k];
-    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      if (w.coordinate_role[j] >= 0) continue;  // independent: already set
-      S rate = S(0);
-      for (std::size_t c = 0; c < sub.independent.size(); ++c)
-        rate += w.G(static_cast<int>(j), static_cast<int>(c)) * data.v_full[sub.independent[c]];
-      data.v_full[sub.coordinates[j]] = rate;
-    }
-  }
+  detail::expand_independent<S>(model, data, vy, false, data.v_full);
   subsystem_acceleration_biases<S>(model, data, q, data.v_full);
   detail::aba_recursion<S>(model, data, q, data.v_full, tau);
 }

@@ -13,22 +13,6 @@
 namespace mbgen {
 
 namespace detail {
-/// x_full = T x_y (+ g_full if with_bias), for x_y in Data::independent_v order.
-template <typename S>
-void expand_independent(const Model& model, const Data<S>& data, const ConstVecRef<S>& x_y, bool with_bias, VecX<S>& x_full) {
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) x_full[data.independent_v[i]] = x_y[static_cast<int>(i)];
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystem& sub = model.subsystems[k];
-    const SubSystemWork<S>& w = data.subsystem[k];
-    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      if (w.coordinate_role[j] >= 0) continue;  // independent: set above (its g is 0)
-      S x = with_bias ? w.g[static_cast<int>(j)] : S(0);
-      for (std::size_t c = 0; c < sub.independent.size(); ++c) x += w.G(static_cast<int>(j), static_cast<int>(c)) * x_full[sub.independent[c]];
-      x_full[sub.coordinates[j]] = x;
-    }
-  }
-}
-
 /// out_y = T^T f_full.
 template <typename S> void project_independent(const Model& model, const Data<S>& data, const VecX<S>& f_full, VecX<S>& out_y) {
   for (std::size_t i = 0; i < data.independent_v.size(); ++i) out_y[static_cast<int>(i)] = f_full[data.independent_v[i]];

@@ -6,13 +6,14 @@
 //   qdd_s = G ydd + g,   g = [0; Phi_z^-1 gamma]      (gamma = -(d/dt Phi_q) qd)
 // Phi_z is factored by Givens rotations (givens_qr.hpp): branch-free, so the generator traces
 // this very code, and stable without pivoting. The results go to Data::subsystem, where the
-// articulated-body algorithm with sub-systems reads them (subsystem_aba.hpp).
+// articulated-body algorithm with sub-systems reads them (subsystem_aba.hpp). The maps of the
+// whole system (velocity_map, full_velocities, acceleration_bias) assemble them: T is the
+// identity off the loops and each sub-system's G on its coordinates.
 #include <cmath>
 #include <type_traits>
 
 #include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/givens_qr.hpp"
-#include "mbgen/algorithm/loop_maps.hpp"
 
 namespace mbgen {
 
@@ -79,6 +80,62 @@ void subsystem_acceleration_biases(const Model& model, Data<S>& data, const Cons
       w.g[static_cast<int>(j)] = role >= 0 ? S(0) : w.rhs(-1 - role, p);
     }
   }
+}
+
+namespace detail {
+/// x_full = T x_y (+ g_full if with_bias), x_y in Data::independent_v order. Needs the
+/// sub-systems' G (and g with the bias).
+template <typename S, typename In, typename Out>
+void expand_independent(const Model& model, const Data<S>& data, const In& x_y, bool with_bias, Out&& x_full) {
+  for (std::size_t i = 0; i < data.independent_v.size(); ++i) x_full[data.independent_v[i]] = x_y[static_cast<int>(i)];
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    const SubSystemWork<S>& w = data.subsystem[k];
+    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
+      if (w.coordinate_role[j] >= 0) continue;  // independent: set above (its g is 0)
+      S x = with_bias ? w.g[static_cast<int>(j)] : S(0);
+      for (std::size_t c = 0; c < sub.independent.size(); ++c) x += w.G(static_cast<int>(j), static_cast<int>(c)) * x_full[sub.independent[c]];
+      x_full[sub.coordinates[j]] = x;
+    }
+  }
+}
+}  // namespace detail
+
+/// Velocities of every tree joint, v = T vy (nv), from the independent ones vy (ny,
+/// Data::independent_v order) at a closed configuration q: the velocity that keeps the loops
+/// closed (Phi_q v = 0). Computes the sub-systems' G.
+template <typename S, typename Out>
+void full_velocities(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, Out&& v) {
+  subsystem_velocity_maps<S>(model, data, q);
+  detail::expand_independent<S>(model, data, vy, false, v);
+}
+
+/// The velocity map T (nv x ny) at q: v = T vy for every velocity that keeps the loops closed.
+/// Dense; controllers that only need T vy use full_velocities.
+template <typename S, typename Out> void velocity_map(const Model& model, Data<S>& data, const ConstVecRef<S>& q, Out&& T) {
+  subsystem_velocity_maps<S>(model, data, q);
+  T.setZero();
+  for (std::size_t i = 0; i < data.independent_v.size(); ++i) T(data.independent_v[i], static_cast<int>(i)) = S(1);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    const SubSystemWork<S>& w = data.subsystem[k];
+    for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
+      if (w.coordinate_role[j] >= 0) continue;
+      for (std::size_t c = 0; c < sub.independent.size(); ++c)
+        T(sub.coordinates[j], data.column_of_v[static_cast<std::size_t>(sub.independent[c])]) = w.G(static_cast<int>(j), static_cast<int>(c));
+    }
+  }
+}
+
+/// The acceleration bias g (nv) at (q, vy): qdd = T ydd + g keeps the loops closed; zero at the
+/// independent coordinates. Computes the sub-systems' G and g (the full velocity in data.v_full).
+template <typename S, typename Out>
+void acceleration_bias(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, Out&& g) {
+  full_velocities<S>(model, data, q, vy, data.v_full);
+  subsystem_acceleration_biases<S>(model, data, q, data.v_full);
+  VecX<S>& zero_y = data.scratch_y;
+  zero_y.setZero();
+  detail::expand_independent<S>(model, data, zero_y, true, g);
 }
 
 }  // namespace mbgen

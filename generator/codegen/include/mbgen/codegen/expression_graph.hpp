@@ -1,7 +1,7 @@
 #pragma once
 // The expression graph a symbolic scalar records: hash-consed nodes (so equal subexpressions are
 // one node: common-subexpression elimination by construction) with constant folding of the
-// operations whose result is exact (x*0, x*1, x+0, -(-x), constant (op) constant).
+// operations whose result is exact (x*0, x*1, x+0, x-x, -(-x), constant (op) constant).
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -9,11 +9,13 @@
 
 namespace mbgen::codegen {
 
-enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt };
+/// Max: the larger operand (a > b ? a : b), the one value-dependent choice a traced algorithm may
+/// make (a guard against 0 / 0, e.g. in a Givens rotation of two numerically zero entries).
+enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt, Max };
 
 struct Node {
   Op op;
-  int a = -1, b = -1;  ///< operand node ids (Add..Sqrt)
+  int a = -1, b = -1;  ///< operand node ids (Add..Max)
   double value = 0;    ///< Constant
   int input = -1;      ///< Input: argument number
   int index = -1;      ///< Input: element in that argument
@@ -21,8 +23,8 @@ struct Node {
 
 /// Counts of arithmetic operations, as printed in the generated functions' comments.
 struct OpCount {
-  int add = 0, mul = 0, div = 0, neg = 0, trig = 0, sqrt = 0;
-  int total() const { return add + mul + div + neg + trig + sqrt; }
+  int add = 0, mul = 0, div = 0, neg = 0, trig = 0, sqrt = 0, max = 0;
+  int total() const { return add + mul + div + neg + trig + sqrt + max; }
 };
 
 class ExpressionGraph {

@@ -51,6 +51,9 @@ class Sym {
   friend Sym sin(const Sym& a) { return from_id(Recording::graph().unary(Op::Sin, a.id_)); }
   friend Sym cos(const Sym& a) { return from_id(Recording::graph().unary(Op::Cos, a.id_)); }
   friend Sym sqrt(const Sym& a) { return from_id(Recording::graph().unary(Op::Sqrt, a.id_)); }
+  /// The larger of a and b, decided at run time (found by ADL where the runtime writes
+  /// `using std::max; max(x, y)`).
+  friend Sym max(const Sym& a, const Sym& b) { return from_id(Recording::graph().binary(Op::Max, a.id_, b.id_)); }
 
   /// Comparisons exist only so that Eigen compiles; a traced algorithm must not branch on values.
   /// They are true only for constants that satisfy them (and abort in debug builds otherwise).

@@ -1,7 +1,8 @@
 // Position, velocity and acceleration maps of closed loops (runtime/include/mbgen/algorithm/
-// loop_maps.hpp): Phi_q G = 0 and Phi_q g = gamma on every closed-loop description, Newton
-// against the closed forms of robots/mechanisms/README.md (four-bar: Freudenstein; slider-crank),
-// the dead point of a slider-driven slider-crank, and no allocation per call.
+// closure_positions.hpp, subsystem_maps.hpp): Phi_q T = 0 and Phi_q (T ydd + g) = gamma on every
+// closed-loop description, Newton and the maps against the closed forms of
+// robots/mechanisms/README.md (four-bar: Freudenstein; slider-crank), the dead point of a
+// slider-driven slider-crank, and no allocation per call.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,18 +24,30 @@ gen::Description load(const std::string& urdf, const std::string& extras) {
 
 int q_index(const Model& model, const std::string& joint) { return model.joint(*model.find_joint(joint)).idx_q; }
 
+/// T (nv x ny) at q.
+MatX<double> velocity_map_at(const Model& model, Data<double>& data, const VecX<double>& q) {
+  MatX<double> T(model.nv(), static_cast<int>(data.independent_v.size()));
+  velocity_map<double>(model, data, q, T);
+  return T;
+}
+
+std::vector<int> dependent_coordinates(const Model& model) {
+  std::vector<int> z;
+  for (const SubSystem& s : model.subsystems) z.insert(z.end(), s.dependent.begin(), s.dependent.end());
+  return z;
+}
+
 class LoopMapsTest : public ::testing::TestWithParam<LoopCase> {
  protected:
-  LoopMapsTest() : d(load_loop_case(GetParam())), model(d.model), data(model), ws(model) {}
+  LoopMapsTest() : d(load_loop_case(GetParam())), model(d.model), data(model) {}
   gen::Description d;
   const Model& model;
   Data<double> data;
-  LoopWorkspace<double> ws;
 };
 
 TEST_P(LoopMapsTest, IndependentCoordinatesCountTheClosedDof) {
-  EXPECT_EQ(static_cast<int>(ws.independent.size()), d.closed_dof);
-  EXPECT_EQ(static_cast<int>(ws.independent.size() + ws.dependent.size()), model.nv());
+  EXPECT_EQ(static_cast<int>(data.independent_v.size()), d.closed_dof);
+  EXPECT_EQ(static_cast<int>(data.independent_v.size() + dependent_coordinates(model).size()), model.nv());
 }
 
 TEST_P(LoopMapsTest, VelocityMapIsInTheNullSpaceOfTheConstraints) {
@@ -44,11 +57,16 @@ TEST_P(LoopMapsTest, VelocityMapIsInTheNullSpaceOfTheConstraints) {
   for (int trial = 0; trial < 3; ++trial) {
     VecX<double> q, v;
     ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+    const MatX<double> T = velocity_map_at(model, data, q);
     const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
-    EXPECT_LT((Phi_q * ws.G).norm(), 1e-10 * Phi_q.norm() * ws.G.norm());
-    // G is the identity on the independent coordinates.
-    for (std::size_t i = 0; i < ws.independent.size(); ++i) EXPECT_EQ(ws.G(ws.independent[i], i), 1.0);
+    EXPECT_LT((Phi_q * T).norm(), 1e-10 * Phi_q.norm() * T.norm());
+    // T is the identity on the independent coordinates.
+    for (std::size_t i = 0; i < data.independent_v.size(); ++i) EXPECT_EQ(T(data.independent_v[i], i), 1.0);
+    // full_velocities is T vy without forming T (the same products: 1e-15 relative).
+    const VecX<double> vy = random_vector<double>(static_cast<int>(data.independent_v.size()), rng);
+    VecX<double> v_full(model.nv());
+    full_velocities<double>(model, data, q, vy, v_full);
+    EXPECT_LT(relative_error(v_full, VecX<double>(T * vy)), 1e-15);
   }
 }
 
@@ -57,12 +75,14 @@ TEST_P(LoopMapsTest, AccelerationBiasSatisfiesTheAccelerationConstraint) {
   std::mt19937_64 rng(22);
   VecX<double> q, v;
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
-  const VecX<double> g = loop_acceleration_bias<double>(model, data, ws, q, v);
+  const MatX<double> T = velocity_map_at(model, data, q);
+  VecX<double> vy(static_cast<int>(data.independent_v.size())), g(model.nv());
+  for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+  acceleration_bias<double>(model, data, q, vy, g);
   const VecX<double> gamma = closure_bias<double>(model, data, q, v);
   const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
-  const VecX<double> ydd = random_vector<double>(static_cast<int>(ws.independent.size()), rng);
-  EXPECT_LT(relative_error(Phi_q * (ws.G * ydd + g), gamma), 1e-9);
+  const VecX<double> ydd = random_vector<double>(static_cast<int>(data.independent_v.size()), rng);
+  EXPECT_LT(relative_error(Phi_q * (T * ydd + g), gamma), 1e-9);
 }
 
 TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
@@ -72,26 +92,32 @@ TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
   VecX<double> moved = q;
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  for (int z : ws.dependent) moved[ws.q_index_of_v[z]] += 1e-3 * unit(rng);
-  ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, moved), LoopSolveStatus::Converged);
+  for (int z : dependent_coordinates(model)) moved[model.q_index_of_v(z)] += 1e-3 * unit(rng);
+  const ClosureResult<double> result = closure_positions<double>(model, data, moved);
+  ASSERT_EQ(result.status, ClosureStatus::Converged);
   EXPECT_LT((moved - q).cwiseAbs().maxCoeff(), 1e-10);
-  EXPECT_LE(ws.iterations, 6);
+  EXPECT_LE(result.iterations, 6);
+  EXPECT_LT(result.residual, 1e-12);
+  EXPECT_GT(result.pivot_ratio, 1e-5);
 }
 
 TEST_P(LoopMapsTest, MapsDoNotAllocate) {
   std::mt19937_64 rng(24);
   VecX<double> q, v;
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  LoopSolveStatus status;
+  MatX<double> T(model.nv(), static_cast<int>(data.independent_v.size()));
+  VecX<double> vy = VecX<double>::Ones(T.cols()), v_full(model.nv()), g(model.nv());
+  ClosureStatus status;
   {
     MallocGuard guard;
-    status = solve_dependent_coordinates<double>(model, data, ws, q);
-    loop_velocity_map<double>(model, data, ws, q);
-    loop_acceleration_bias<double>(model, data, ws, q, v);
+    status = closure_positions<double>(model, data, q).status;
+    velocity_map<double>(model, data, q, T);
+    full_velocities<double>(model, data, q, vy, v_full);
+    acceleration_bias<double>(model, data, q, vy, g);
     closure_residual<double>(model, data, q);
     EXPECT_EQ(guard.count(), 0u);
   }
-  EXPECT_EQ(status, LoopSolveStatus::Converged);
+  EXPECT_EQ(status, ClosureStatus::Converged);
 }
 
 INSTANTIATE_TEST_SUITE_P(ClosedLoops, LoopMapsTest, ::testing::ValuesIn(loop_cases()),
@@ -115,8 +141,7 @@ TEST(LoopMapsClosedForm, FourBarFollowsFreudenstein) {
   const gen::Description d = load(kMechanisms + "four_bar.urdf", kMechanisms + "four_bar.yaml");
   const Model& model = d.model;
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
-  ASSERT_EQ(ws.independent, std::vector<int>{model.joint(*model.find_joint("crank_joint")).idx_v});
+  ASSERT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("crank_joint")).idx_v});
   const int crank = q_index(model, "crank_joint"), rocker = q_index(model, "rocker_joint");
   const int coupler = q_index(model, "coupler_joint");
   const double theta20 = M_PI / 2, theta40 = std::atan2(0.12, -0.022), theta30 = std::atan2(0.07, 0.168);
@@ -124,7 +149,7 @@ TEST(LoopMapsClosedForm, FourBarFollowsFreudenstein) {
   double worst_angle = 0, worst_rate = 0;
   for (int step = 1; step <= 126; ++step) {
     q[crank] = 0.05 * step;
-    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << step;
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged) << step;
     const double theta2 = theta20 + q[crank];
     const double rocker_expected = std::remainder(freudenstein_theta4(theta2) - theta40, 2 * M_PI);
     worst_angle = std::max(worst_angle, std::abs(std::remainder(q[rocker] - rocker_expected, 2 * M_PI)));
@@ -132,10 +157,10 @@ TEST(LoopMapsClosedForm, FourBarFollowsFreudenstein) {
     const double t4 = theta40 + q[rocker];
     const double t3 = std::atan2(0.122 * std::sin(t4) - 0.05 * std::sin(theta2), 0.19 + 0.122 * std::cos(t4) - 0.05 * std::cos(theta2));
     worst_angle = std::max(worst_angle, std::abs(std::remainder(q[coupler] - (t3 - theta30 - q[crank]), 2 * M_PI)));
-    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
+    const MatX<double> T = velocity_map_at(model, data, q);
     const double h = 1e-6;
     const double rate = std::remainder(freudenstein_theta4(theta2 + h) - freudenstein_theta4(theta2 - h), 2 * M_PI) / (2 * h);
-    worst_rate = std::max(worst_rate, std::abs(ws.G(model.joint(*model.find_joint("rocker_joint")).idx_v, 0) - rate));
+    worst_rate = std::max(worst_rate, std::abs(T(model.joint(*model.find_joint("rocker_joint")).idx_v, 0) - rate));
   }
   EXPECT_LT(worst_angle, 1e-10);
   EXPECT_LT(worst_rate, 1e-8);
@@ -147,18 +172,16 @@ TEST(LoopMapsClosedForm, SliderCrankFollowsItsClosedForm) {
   const gen::Description d = load(kMechanisms + "slider_crank.urdf", kMechanisms + "slider_crank.yaml");
   const Model& model = d.model;
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
   const int crank = q_index(model, "crank_joint"), slider = q_index(model, "slider_joint");
   const int slider_v = model.joint(*model.find_joint("slider_joint")).idx_v;
   const double r = 0.05, l = 0.13;
   VecX<double> q = VecX<double>::Zero(model.nq());
   for (int step = 1; step <= 126; ++step) {
     q[crank] = 0.05 * step;
-    ASSERT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << step;
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged) << step;
     const double theta = M_PI / 2 + q[crank], root = std::sqrt(l * l - r * r * std::sin(theta) * std::sin(theta));
     EXPECT_NEAR(q[slider], r * std::cos(theta) + root - 0.12, 1e-12) << step;
-    ASSERT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Converged);
-    EXPECT_NEAR(ws.G(slider_v, 0), -r * (std::sin(theta) + r * std::sin(theta) * std::cos(theta) / root), 1e-12) << step;
+    EXPECT_NEAR(velocity_map_at(model, data, q)(slider_v, 0), -r * (std::sin(theta) + r * std::sin(theta) * std::cos(theta) / root), 1e-12) << step;
   }
 }
 
@@ -169,26 +192,25 @@ TEST(LoopMapsDeadPoint, SliderDrivenToTheStrokeEndIsSingularNotNaN) {
   const gen::Description d = load(kMechanisms + "slider_crank.urdf", MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
   const Model& model = d.model;
   Data<double> data(model);
-  LoopWorkspace<double> ws(model);
   const int slider = q_index(model, "slider_joint");
-  ASSERT_EQ(ws.independent, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
+  ASSERT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
   VecX<double> q = VecX<double>::Zero(model.nq());
   // Warm-started approach: regular until close to the stroke end.
   for (double x : {0.01, 0.02, 0.03, 0.04, 0.05}) {
     q[slider] = x;
-    EXPECT_EQ(solve_dependent_coordinates<double>(model, data, ws, q), LoopSolveStatus::Converged) << x;
+    EXPECT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged) << x;
   }
   q[slider] = 0.06;
-  const LoopSolveStatus at_dead_point = solve_dependent_coordinates<double>(model, data, ws, q);
-  EXPECT_EQ(at_dead_point, LoopSolveStatus::Singular) << to_string(at_dead_point) << ", residual " << ws.residual;
+  const ClosureResult<double> at_dead_point = closure_positions<double>(model, data, q);
+  EXPECT_EQ(at_dead_point.status, ClosureStatus::Singular) << to_string(at_dead_point.status) << ", residual " << at_dead_point.residual;
+  EXPECT_LT(at_dead_point.pivot_ratio, 1e-5);
   EXPECT_TRUE(q.allFinite());
-  EXPECT_EQ(loop_velocity_map<double>(model, data, ws, q), LoopSolveStatus::Singular);
   q[slider] = 0.07;  // beyond the stroke
-  const LoopSolveStatus beyond = solve_dependent_coordinates<double>(model, data, ws, q);
-  EXPECT_NE(beyond, LoopSolveStatus::Converged);
+  const ClosureResult<double> beyond = closure_positions<double>(model, data, q);
+  EXPECT_NE(beyond.status, ClosureStatus::Converged);
   EXPECT_TRUE(q.allFinite());
-  std::cout << "[ dead pt  ] at the stroke end: " << to_string(at_dead_point) << "; beyond: " << to_string(beyond)
-            << " (residual " << ws.residual << ")\n";
+  std::cout << "[ dead pt  ] at the stroke end: " << to_string(at_dead_point.status) << " (pivot ratio "
+            << at_dead_point.pivot_ratio << "); beyond: " << to_string(beyond.status) << " (residual " << beyond.residual << ")\n";
 }
 
 }  // namespace

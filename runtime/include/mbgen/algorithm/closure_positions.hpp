@@ -1,0 +1,130 @@
+#pragma once
+// Position level of the closed system (DESIGN.md, "Kinematic loops and sub-systems"): Newton on
+// Phi_s(y, z) = 0 for the dependent coordinates z of every sub-system, y held, warm-started from
+// the z in q. Each step factors the sub-system's own Phi_z by Givens rotations (givens_qr.hpp),
+// the factorisation the velocity and acceleration maps use (subsystem_maps.hpp): one
+// implementation for the three levels, stable without pivoting, and branch-free, so the generator
+// traces the step (detail::closure_newton_step) and emits the loop around it.
+//
+// Status, never a silent NaN: a fixed loop with an iteration cap that reports Converged,
+// NotConverged (cap reached, or a non-finite residual) or Singular (Phi_z's smallest |R_ii| below
+// singular_tolerance times its largest, along the way or at the solution: a linkage at its dead
+// point, where z is not a function of y). q is left at the last finite iterate. No allocation.
+#include <cmath>
+
+#include "mbgen/algorithm/closure.hpp"
+#include "mbgen/algorithm/givens_qr.hpp"
+#include "mbgen/algorithm/subsystem_maps.hpp"
+
+namespace mbgen {
+
+enum class ClosureStatus { Converged, NotConverged, Singular };
+
+inline const char* to_string(ClosureStatus s) {
+  switch (s) {
+    case ClosureStatus::Converged: return "converged";
+    case ClosureStatus::NotConverged: return "not_converged";
+    case ClosureStatus::Singular: return "singular";
+  }
+  return "unknown";
+}
+
+struct ClosureOptions {
+  double tolerance = 1e-12;  ///< max |Phi| over the kept rows (m and rad)
+  int max_iterations = 20;
+  /// Newton steps are scaled down to at most this (rad or m) in their largest entry, per
+  /// sub-system: with an ill-conditioned Phi_z (wl16_like's, condition ~6e3) a full first step
+  /// can overshoot out of the basin; near the solution the steps are far smaller and Newton stays
+  /// quadratic.
+  double max_step = 0.1;
+  /// Smallest / largest |R_ii| of Phi_z below this: singular. At a dead point the closure has a
+  /// double root, which Newton approaches only to ~sqrt(tolerance) = 1e-6 before the residual
+  /// test stops it, and the pivot ratio there is of that order (1.7e-6 for the slider-crank of
+  /// test_closure_positions): one order above it, 1e-5, is the finest distinction the residual
+  /// tolerance supports (z moving 1e5 times faster than y counts as the dead point).
+  double singular_tolerance = 1e-5;
+};
+
+template <typename S> struct ClosureResult {
+  ClosureStatus status = ClosureStatus::Converged;
+  int iterations = 0;      ///< Newton steps taken
+  S residual = S(0);       ///< max |Phi| over the kept rows at the returned q
+  S pivot_ratio = S(1);    ///< subsystem_pivot_ratio at the returned q (1 without loops)
+};
+
+namespace detail {
+
+/// q index of each sub-system coordinate (its joint is 1-DoF: SubSystemWork checks it).
+inline int q_index_of_coordinate(const Model& model, const SubSystem& sub, std::size_t j) {
+  return model.joint(model.body(sub.bodies[j]).joint).idx_q;
+}
+
+/// The ingredients of one Newton step at q: data.Phi (all closure rows), and per sub-system the
+/// R factor of Phi_z in data.subsystem[k].R and the full step Phi_z^-1 Phi_kept (to subtract
+/// from z, in SubSystem::dependent order) in the last column of data.subsystem[k].rhs.
+template <typename S> void closure_newton_step(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
+  closure_jacobian<S>(model, data, q);  // also leaves data.X_WB for the residual rows
+  for (const LoopClosure& c : model.closures) closure_residual_rows<S>(data, c, data.Phi.data() + c.row_offset);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    SubSystemWork<S>& w = data.subsystem[k];
+    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
+    for (int i = 0; i < r; ++i) {
+      const int row = sub.rows[static_cast<std::size_t>(i)];
+      for (int c = 0; c < r; ++c) w.R(i, c) = data.Phi_q(row, sub.dependent[static_cast<std::size_t>(c)]);
+      w.rhs(i, p) = data.Phi[row];
+    }
+    givens_qr_factor<S>(w.R, r, w.rotation_c, w.rotation_s);
+    auto column = w.rhs.middleCols(p, 1);
+    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
+    upper_triangular_solve<S>(w.R, r, column, 1);
+  }
+}
+
+/// max |Phi| over the kept rows of every sub-system; false if one of them is not finite.
+template <typename S> bool kept_residual(const Model& model, const Data<S>& data, S& worst) {
+  using std::abs;
+  using std::isfinite;
+  worst = S(0);
+  bool finite = true;
+  for (const SubSystem& sub : model.subsystems)
+    for (int row : sub.rows) {
+      finite = finite && isfinite(data.Phi[row]);
+      if (abs(data.Phi[row]) > worst) worst = abs(data.Phi[row]);
+    }
+  return finite;
+}
+
+}  // namespace detail
+
+/// Closes the loops: solves Phi(y, z) = 0 for the dependent coordinates z of every sub-system by
+/// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
+/// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
+/// aba() and forward_dynamics_loops do themselves).
+template <typename S>
+ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
+  using std::abs;
+  ClosureResult<S> result;
+  for (;; ++result.iterations) {
+    detail::closure_newton_step<S>(model, data, q);
+    const bool finite = detail::kept_residual<S>(model, data, result.residual);
+    result.pivot_ratio = subsystem_pivot_ratio<S>(model, data);
+    if (!finite) return result.status = ClosureStatus::NotConverged, result;
+    if (!(result.pivot_ratio >= S(options.singular_tolerance))) return result.status = ClosureStatus::Singular, result;
+    if (result.residual < S(options.tolerance)) return result.status = ClosureStatus::Converged, result;
+    if (result.iterations == options.max_iterations) return result.status = ClosureStatus::NotConverged, result;
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+      const SubSystem& sub = model.subsystems[k];
+      const SubSystemWork<S>& w = data.subsystem[k];
+      const int p = static_cast<int>(sub.independent.size());
+      S largest = S(0);
+      for (int d = 0; d < sub.rank(); ++d)
+        if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
+      const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
+      for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
+        if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
+    }
+  }
+}
+
+}  // namespace mbgen
