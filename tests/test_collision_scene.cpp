@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 
+#include "mbgen/collision/compound_distance.hpp"
 #include "mbgen/gen/collision_scene.hpp"
 #include "test_support.hpp"
 
@@ -296,6 +299,47 @@ TEST(CollisionSceneLoops, FourBarClosedSamplingPrunesWhatOpenSamplingKept) {
   EXPECT_EQ(closed.sampling.used(), 2000);  // a crank-rocker closes at every crank angle
   EXPECT_FALSE(open.sampling.loops);
   EXPECT_EQ(closed.model.pairs.size() + 1, open.model.pairs.size());
+}
+
+}  // namespace
+}  // namespace mbgen::test
+
+namespace mbgen::test {
+namespace {
+
+TEST(CollisionSceneLola, NominalPoseHasNoOverlappingKeptPair) {
+  // The pairs the generator keeps for Lola (the scene's own options: margin, prune_samples), at
+  // the assembled nominal pose: none may overlap (the hip drive blocks did, by 4 cm, when their
+  // collision capsules reached past the mid-plane; robots/lola/README.md).
+  const gen::Description d = load_lola();
+  const gen::CollisionScene scene = gen::build_collision_scene(d, gen::collision_scene_options(d));
+  ASSERT_GT(scene.model.pairs.size(), 100u);
+  VecX<double> q = d.assembly.q;
+  q.head<7>() << 0, 0, 0, 0, 0, 0, 1;
+  EXPECT_LT(closure_error(d.model, q), 1e-10);
+  Data<double> data(d.model);
+  forward_kinematics<double>(d.model, data, q);
+  double closest = std::numeric_limits<double>::infinity();
+  std::string closest_pair;
+  for (const auto& [i, j] : scene.model.pairs) {
+    const collision::Compound& a = scene.model.compounds[static_cast<std::size_t>(i)];
+    const collision::Compound& b = scene.model.compounds[static_cast<std::size_t>(j)];
+    const double dist = collision::compound_distance<double>(a, data.X_WB[a.body], b, data.X_WB[b.body]).result.distance;
+    EXPECT_GT(dist, 0.0) << a.name << " - " << b.name;
+    if (dist < closest) {
+      closest = dist;
+      closest_pair = a.name + " - " + b.name;
+    }
+  }
+  std::printf("closest kept pair at the nominal pose: %s at %.4f m\n", closest_pair.c_str(), closest);
+  // The hip drive blocks: 0.18 m apart, spheres of 0.082 m.
+  auto pairs = by_names(scene);
+  const gen::PairDecision& hips = pairs[{"hip_roll_link_l", "hip_roll_link_r"}];
+  EXPECT_EQ(hips.verdict, PairVerdict::Kept);  // they can come close (hip roll and yaw)
+  const collision::Compound& l = scene.model.compounds[static_cast<std::size_t>(hips.first)];
+  const collision::Compound& r = scene.model.compounds[static_cast<std::size_t>(hips.second)];
+  EXPECT_NEAR(collision::compound_distance<double>(l, data.X_WB[l.body], r, data.X_WB[r.body]).result.distance,
+              0.18 - 2 * 0.082, 1e-12);
 }
 
 }  // namespace
