@@ -16,9 +16,9 @@
 // (solve_dependent_coordinates) on a walk from the nominal pose to the drawn values in a few
 // steps, each warm-started at the last (so the linkage stays in the nominal pose's assembly
 // mode). Draws that do not close (the actuators outside the linkage's workspace, a dead point
-// on the way) are discarded and counted (SamplingReport). Closed poses
-// with a passive (dependent) joint beyond its limits are used, and counted: the pruning stays
-// conservative (docs/collision.md says why). A tree robot's sampling is unchanged.
+// on the way) are discarded and counted (SamplingReport). Closed poses with a passive
+// (dependent) joint beyond its limits are used, and counted: the pruning stays conservative
+// (docs/ssv.md, "Which pairs: the pruning", says why). A tree robot's sampling is unchanged.
 #include <memory>
 #include <random>
 #include <string>
@@ -44,7 +44,7 @@ struct PairDecision {
 
 struct CollisionSceneOptions {
   double margin = 0.05;       ///< m; the scene's `collision: margin` when it gives one
-  int samples = 10000;        ///< configurations; the scene's `prune_samples` when it gives one
+  int samples = 10000;        ///< configurations drawn; the scene's `prune_samples` when it gives one
   unsigned seed = 1;          ///< the sampling is seeded: the same description gives the same pairs
   bool progress = false;      ///< draw a progress bar on stderr (only when it is a terminal)
   /// Robots with loops: close every draw (see above). false samples the spanning tree with the
@@ -67,7 +67,8 @@ struct SamplingReport {
 
 /// The configurations the pruning evaluates, drawn one at a time (seeded: the same description
 /// and seed give the same sequence). The floating base, if any, stays at the origin with the
-/// identity orientation: relative distances do not depend on it.
+/// identity orientation: relative distances do not depend on it. Keeps a reference to the
+/// description's model: the description must outlive the sampler.
 class ConfigurationSampler {
  public:
   ConfigurationSampler(const Description& d, unsigned seed, bool close_loops = true);
