@@ -95,20 +95,20 @@ void center_of_mass(const double* q, double* com);
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 /// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
-constexpr int num_distance_pairs = 1;
+constexpr int num_distance_pairs = 0;
 /// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.
-inline constexpr const char* distance_pair_names[1][2] = {{"crank", "rocker"}};
+inline constexpr const char* distance_pair_names[1][2] = {{"", ""}};
 
 /// Self-distances of the kept pairs between the bodies' swept-sphere volumes, and their Jacobians
 /// (generic twin: collision::compute_distances + compute_distance_jacobians). Per pair k:
 /// in  q: [3] joint positions
-/// out distance: [1] distance[k] = core distance - r1 - r2 (negative when overlapping)
-/// out normal: [1 x 3] unit normal from the pair's first body to its second, world
-/// out witness: [1 x 6] point on the first body's surface, then on the second's, world
+/// out distance: [0] distance[k] = core distance - r1 - r2 (negative when overlapping)
+/// out normal: [0 x 3] unit normal from the pair's first body to its second, world
+/// out witness: [0 x 6] point on the first body's surface, then on the second's, world
 ///     (point2 - point1 = distance * normal)
-/// out jacobian: [1 x 3, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
+/// out jacobian: [0 x 3, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
 ///     moving with their bodies; non-smooth where the closest features switch
-/// Cost: straight-line placement and Jacobian columns: 46 operations: 16 additions/subtractions, 21 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots; then at most 9 SSV distance calls (1 pair; bounding spheres skip the rest).
+/// Cost: nothing (the scene keeps no pair).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 
 }  // namespace four_bar

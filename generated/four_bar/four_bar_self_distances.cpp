@@ -33,133 +33,14 @@ template <typename S> void store(const SsvDistance<S>& r, int k, S* distance, S*
 }
 
 // Self-distances and their Jacobians (four_bar).
-// Cost: straight-line placement and Jacobian columns: 46 operations: 16 additions/subtractions, 21 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots; then at most 9 SSV distance calls (1 pair; bounding spheres skip the rest).
+// Cost: nothing (the scene keeps no pair).
 template <typename S>
 void self_distances_impl(const S* q, S* distance, S* normal, S* witness, S* jacobian) {
-  S P[42];  // shapes' points placed in the world
-  S J[12];  // world joint-Jacobian columns {0, 2}, 6 each
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = _t1 * S(0.05);
-  const S _t5 = -_t4;
-  const S _t6 = _t0 * S(0.05);
-  const S _t7 = std::cos(q[2]);
-  const S _t8 = std::sin(q[2]);
-  const S _t9 = S(1) - _t7;
-  const S _t10 = _t7 + _t9;
-  const S _t11 = -_t3;
-  const S _t12 = -_t10;
-  const S _t13 = _t10 * S(0.19);
-  const S _t14 = -_t13;
-  const S _t15 = _t1 * S(0.025);
-  const S _t16 = -_t15;
-  const S _t17 = _t0 * S(0.025);
-  const S _t18 = _t8 * S(-5.3915205633359164e-15);
-  const S _t19 = _t7 * S(-2.941397125866274e-14);
-  const S _t20 = _t19 - _t18;
-  const S _t21 = _t7 * S(-5.3915205633359164e-15);
-  const S _t22 = _t8 * S(-2.941397125866274e-14);
-  const S _t23 = _t21 + _t22;
-  const S _t24 = S(0.19) + _t20;
-  const S _t25 = _t8 * S(0.12000000000000538);
-  const S _t26 = _t7 * S(-0.021999999999970585);
-  const S _t27 = _t26 - _t25;
-  const S _t28 = _t7 * S(0.12000000000000538);
-  const S _t29 = _t8 * S(-0.021999999999970585);
-  const S _t30 = _t28 + _t29;
-  const S _t31 = S(0.19) + _t27;
-  const S _t32 = _t8 * S(0.06);
-  const S _t33 = _t7 * S(-0.011);
-  const S _t34 = _t33 - _t32;
-  const S _t35 = _t7 * S(0.06);
-  const S _t36 = _t8 * S(-0.011);
-  const S _t37 = _t35 + _t36;
-  const S _t38 = S(0.19) + _t34;
-  const S _t39 = _t8 * S(0.12);
-  const S _t40 = _t7 * S(-0.022);
-  const S _t41 = _t40 - _t39;
-  const S _t42 = _t7 * S(0.12);
-  const S _t43 = _t8 * S(-0.022);
-  const S _t44 = _t42 + _t43;
-  const S _t45 = S(0.19) + _t41;
-  P[0] = S(0);
-  P[1] = S(0);
-  P[2] = S(0);
-  P[3] = _t5;
-  P[4] = S(0);
-  P[5] = _t6;
-  P[6] = _t16;
-  P[7] = S(0);
-  P[8] = _t17;
-  P[9] = S(0);
-  P[10] = S(0);
-  P[11] = S(0);
-  P[12] = S(0);
-  P[13] = S(0);
-  P[14] = S(0);
-  P[15] = _t5;
-  P[16] = S(0);
-  P[17] = _t6;
-  P[18] = _t5;
-  P[19] = S(0);
-  P[20] = _t6;
-  P[21] = _t24;
-  P[22] = S(0);
-  P[23] = _t23;
-  P[24] = _t31;
-  P[25] = S(0);
-  P[26] = _t30;
-  P[27] = _t38;
-  P[28] = S(0);
-  P[29] = _t37;
-  P[30] = S(0.19);
-  P[31] = S(0);
-  P[32] = S(0);
-  P[33] = S(0.19);
-  P[34] = S(0);
-  P[35] = S(0);
-  P[36] = _t45;
-  P[37] = S(0);
-  P[38] = _t44;
-  P[39] = _t45;
-  P[40] = S(0);
-  P[41] = _t44;
-  J[0] = S(0);
-  J[1] = S(0);
-  J[2] = S(0);
-  J[3] = S(0);
-  J[4] = _t11;
-  J[5] = S(0);
-  J[6] = S(0);
-  J[7] = S(0);
-  J[8] = _t14;
-  J[9] = S(0);
-  J[10] = _t12;
-  J[11] = S(0);
-  {  // pair 0: crank (3 shapes) - rocker (3 shapes)
-    ClosestShapes<S> best;
-    best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.01)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.01)}), 0, 0);
-    if (best.worth(at(P + 6), S(0.035), at(P + 33), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 30), S(0.01)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.01)})), 0, 1);
-    if (best.worth(at(P + 6), S(0.035), at(P + 39), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 36), S(0.01)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.01)})), 0, 2);
-    if (best.worth(at(P + 12), S(0.01), at(P + 27), S(0.071))) best.take(ssv_distance(PointSsv<S>{at(P + 9), S(0.01)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.01)}), 1, 0);
-    if (best.worth(at(P + 12), S(0.01), at(P + 33), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 9), S(0.01)}, PointSsv<S>{at(P + 30), S(0.01)}), 1, 1);
-    if (best.worth(at(P + 12), S(0.01), at(P + 39), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 9), S(0.01)}, PointSsv<S>{at(P + 36), S(0.01)}), 1, 2);
-    if (best.worth(at(P + 18), S(0.01), at(P + 27), S(0.071))) best.take(ssv_distance(PointSsv<S>{at(P + 15), S(0.01)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.01)}), 2, 0);
-    if (best.worth(at(P + 18), S(0.01), at(P + 33), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 15), S(0.01)}, PointSsv<S>{at(P + 30), S(0.01)}), 2, 1);
-    if (best.worth(at(P + 18), S(0.01), at(P + 39), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 15), S(0.01)}, PointSsv<S>{at(P + 36), S(0.01)}), 2, 2);
-    store(best.result, 0, distance, normal, witness);
-    const SsvVec3<S> n = best.result.normal;
-    const SsvVec3<S> p1n = best.result.point1.cross(n), p2n = best.result.point2.cross(n), dn = p2n - p1n;
-    (void)p1n;
-    (void)p2n;
-    (void)dn;
-    S* row = jacobian + 0;
-    row[0] = -(dot3(n, J + 0) + dot3(p1n, J + 3));
-    row[1] = S(0);
-    row[2] = dot3(n, J + 6) + dot3(p2n, J + 9);
-  }
+  (void)q;
+  (void)distance;
+  (void)normal;
+  (void)witness;
+  (void)jacobian;
 }
 
 }  // namespace

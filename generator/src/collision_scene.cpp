@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -99,6 +100,10 @@ class ProgressBar {
                  done * 100 / total_, done, total_);
     if (done == total_) std::fprintf(stderr, "\n");
   }
+  /// A line after the bar (same terminal rule).
+  void note(const std::string& line) const {
+    if (on_) std::fprintf(stderr, "%s\n", line.c_str());
+  }
 
  private:
   bool on_;
@@ -106,6 +111,132 @@ class ProgressBar {
 };
 
 }  // namespace
+
+// ------------------------------------------------------------------ sampling (closed poses)
+
+/// What closing the loops of a draw needs: the runtime's Newton and its work memory, the nominal
+/// pose, where y and z live in q, and the dependent joints' limits.
+struct ConfigurationSampler::Loops {
+  explicit Loops(const Description& d) : model(&d.model), data(d.model), workspace(d.model) {
+    const Model& m = d.model;
+    nominal = d.assembly.q.size() == m.nq() ? d.assembly.q : neutral_configuration<double>(m);
+    if (m.floating_base()) nominal.head<7>() << 0, 0, 0, 0, 0, 0, 1;
+    for (int j = 1; j < m.num_joints(); ++j) {
+      const Joint& joint = m.joint(JointIndex(j));
+      if (joint.nv != 1) continue;
+      if (workspace.column_of[joint.idx_v] >= 0) {
+        independent_q.push_back(joint.idx_q);
+        // A revolute joint free to turn a full circle walks the short way round.
+        const bool turns = !joint.bounded || !(joint.upper > joint.lower) || joint.upper - joint.lower >= 2 * M_PI;
+        revolute.push_back(joint.type == JointType::Revolute && turns);
+      } else if (joint.bounded && joint.upper > joint.lower) {
+        limited.push_back({joint.idx_q, joint.lower, joint.upper});
+      }
+    }
+  }
+  /// Newton on the loops from q's dependent coordinates, q's independent ones held.
+  bool solve(VecX<double>& q) {
+    return solve_dependent_coordinates<double>(*model, data, workspace, q) == LoopSolveStatus::Converged;
+  }
+  bool within_limits(const VecX<double>& q) const {
+    constexpr double slack = 1e-9;
+    for (const Limited& l : limited)
+      if (!(q[l.q] >= l.lower - slack && q[l.q] <= l.upper + slack)) return false;
+    return true;
+  }
+
+  struct Limited {
+    int q;
+    double lower, upper;
+  };
+  const Model* model;
+  Data<double> data;
+  LoopWorkspace<double> workspace;
+  VecX<double> nominal, trial;
+  std::vector<int> independent_q;  ///< q indices of the 1-DoF independent coordinates
+  std::vector<char> revolute;      ///< per independent_q entry: a revolute joint that turns a full circle
+  std::vector<Limited> limited;    ///< the dependent joints with limits
+};
+
+ConfigurationSampler::ConfigurationSampler(const Description& d, unsigned seed, bool close_loops) : model_(d.model), rng_(seed) {
+  if (close_loops && !d.model.subsystems.empty()) {
+    loops_ = std::make_unique<Loops>(d);
+    report_.loops = true;
+  }
+}
+
+ConfigurationSampler::~ConfigurationSampler() = default;
+
+bool ConfigurationSampler::next(VecX<double>& q) {
+  ++report_.drawn;
+  const VecX<double> drawn = random_configuration<double>(model_, rng_);
+  if (!loops_) {  // a tree (or the loops left open): the draw as it is
+    q = drawn;
+    if (model_.floating_base()) q.head<7>() << 0, 0, 0, 0, 0, 0, 1;
+    return true;
+  }
+  // A walk from the nominal pose to the drawn y, Newton warm-started at each step from the last
+  // (continuation: the linkage stays on the nominal pose's branch, where a direct solve from
+  // the nominal pose can jump to another assembly mode, e.g. the mirrored slider-crank). A step
+  // that does not close is halved, down to 1/kFinestDivision of the way. A revolute joint that
+  // turns a full circle takes the short way round (its pose repeats every turn); the drawn
+  // values are set last.
+  Loops& l = *loops_;
+  constexpr int total = kFinestDivision;  // the path in units of the finest step
+  static_assert(kFinestDivision % kWalkSteps == 0, "the finest step divides the first steps");
+  int at = 0, step = total / kWalkSteps;
+  bool refined = false;
+  q = l.nominal;
+  while (at < total) {
+    const int next = std::min(total, at + step);
+    const double t = static_cast<double>(next) / total;
+    l.trial = q;
+    for (std::size_t k = 0; k < l.independent_q.size(); ++k) {
+      const int i = l.independent_q[k];
+      double delta = drawn[i] - l.nominal[i];
+      if (l.revolute[k]) delta = std::remainder(delta, 2 * M_PI);
+      l.trial[i] = l.nominal[i] + t * delta;
+    }
+    if (l.solve(l.trial)) {
+      q = l.trial;
+      at = next;
+    } else if (step > 1) {
+      step /= 2;
+      refined = true;
+    } else {
+      ++report_.not_closed;
+      return false;
+    }
+  }
+  for (int i : l.independent_q) q[i] = drawn[i];
+  if (!l.solve(q)) {
+    ++report_.not_closed;
+    return false;
+  }
+  ++report_.closed;
+  if (refined) ++report_.refined;
+  if (!l.within_limits(q)) ++report_.beyond_limits;
+  return true;
+}
+
+std::vector<VecX<double>> collision_sample_configurations(const Description& d, const CollisionSceneOptions& options,
+                                                          SamplingReport* report) {
+  std::vector<VecX<double>> out;
+  ConfigurationSampler sampler(d, options.seed, options.close_loops);
+  VecX<double> q;
+  for (int n = 0; n < options.samples; ++n)
+    if (sampler.next(q)) out.push_back(q);
+  if (report) *report = sampler.report();
+  return out;
+}
+
+std::string sampling_summary(const CollisionScene& scene) {
+  const SamplingReport& r = scene.sampling;
+  if (!r.loops) return fmt::format("{} configurations sampled", r.drawn);
+  return fmt::format("{} configurations drawn, loops closed by Newton on a walk from the nominal pose: {} closed ({} "
+                     "with finer steps, {} with a passive joint beyond its limits), {} discarded (not closed)",
+                     r.drawn, r.closed, r.refined, r.beyond_limits, r.not_closed);
+}
 
 CollisionSceneOptions collision_scene_options(const Description& d) {
   CollisionSceneOptions o;
@@ -149,19 +280,24 @@ CollisionScene build_collision_scene(const Description& d, const CollisionSceneO
       decisions.push_back(p);
     }
 
-  // Sampling: seeded configurations within the joint limits (the base where it is: relative
-  // distances do not depend on it).
+  // Sampling: seeded configurations within the joint limits, closed where the robot has loops
+  // (ConfigurationSampler; the base where it is: relative distances do not depend on it).
+  scene.robot = d.robot_name.empty() ? model.name : d.robot_name;
   if (!sampled.empty() && options.samples > 0) {
+    const auto start = std::chrono::steady_clock::now();
     for (std::size_t k : sampled) {
       decisions[k].min_distance = std::numeric_limits<double>::infinity();
       decisions[k].max_distance = -std::numeric_limits<double>::infinity();
     }
-    std::mt19937_64 rng(options.seed);
+    ConfigurationSampler sampler(d, options.seed, options.close_loops);
     Data<double> data(model);
     ProgressBar bar(options.progress, options.samples);
+    VecX<double> q;
     for (int n = 0; n < options.samples; ++n) {
-      VecX<double> q = random_configuration<double>(model, rng);
-      if (model.floating_base()) q.head<7>() << 0, 0, 0, 0, 0, 0, 1;
+      if (!sampler.next(q)) {
+        bar.update(n + 1);
+        continue;
+      }
       forward_kinematics<double>(model, data, q);
       for (std::size_t k : sampled) {
         PairDecision& p = decisions[k];
@@ -178,10 +314,29 @@ CollisionScene build_collision_scene(const Description& d, const CollisionSceneO
       }
       bar.update(n + 1);
     }
-    for (std::size_t k : sampled) {
-      PairDecision& p = decisions[k];
-      if (p.min_distance > options.margin) p.verdict = PairVerdict::NeverClose;
-      else if (p.max_distance < 0) p.verdict = PairVerdict::AlwaysOverlapping;
+    scene.sampling = sampler.report();
+    scene.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    bar.note(fmt::format("pruning collision pairs: {}, {:.2f} s", sampling_summary(scene), scene.seconds));
+    const SamplingReport& r = scene.sampling;
+    if (r.used() == 0) {
+      // Nothing seen: no pair can be called never close or always overlapping; keep them all.
+      for (std::size_t k : sampled) decisions[k].min_distance = decisions[k].max_distance = nan;
+      scene.warnings.push_back(fmt::format(
+          "collision pruning for robot '{}': none of the {} configurations drawn closed the loops, so no pair was "
+          "pruned by sampling; check the actuated joints' limits against the linkages' workspace",
+          scene.robot, r.drawn));
+    } else {
+      for (std::size_t k : sampled) {
+        PairDecision& p = decisions[k];
+        if (p.min_distance > options.margin) p.verdict = PairVerdict::NeverClose;
+        else if (p.max_distance < 0) p.verdict = PairVerdict::AlwaysOverlapping;
+      }
+      if (r.loops && r.used() < ConfigurationSampler::kWarnUsedFraction * r.drawn)
+        scene.warnings.push_back(fmt::format(
+            "collision pruning for robot '{}': only {} of the {} configurations drawn ({:.0f} %) closed the loops; the "
+            "pruning rests on those {}: raise prune_samples, or narrow the actuated joints' limits to the linkages' "
+            "workspace",
+            scene.robot, r.used(), r.drawn, 100.0 * r.used() / r.drawn, r.used()));
     }
   }
   for (const PairDecision& p : decisions)

@@ -47,11 +47,14 @@ int run_generate(const GenerateOptions& o) {
       options.inputs.push_back({std::filesystem::path(d.extras_file).filename().string(),
                                 codegen::sha256_of_file(d.extras_file)});
 
+    std::vector<std::string> notes;
+    options.notes = &notes;
     const std::vector<codegen::GeneratedFile> files = codegen::generate_robot(d, options);
     const codegen::WriteReport report = codegen::write_generated_files(o.out, files);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!o.quiet) {
       for (const std::string& w : d.warnings) std::cerr << "warning: " << w << "\n";
+      for (const std::string& note : notes) (note.rfind("warning: ", 0) == 0 ? std::cerr : std::cout) << note << "\n";
       std::cout << fmt::format("mbgen: {} (nq {}, nv {}) -> {}/{}.hpp: {} files written, {} unchanged, {:.2f} s\n",
                                options.name, d.model.nq(), d.model.nv(), o.out, options.name, report.written.size(),
                                report.unchanged.size(), seconds);

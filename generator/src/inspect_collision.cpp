@@ -24,8 +24,12 @@ std::string sampled(const gen::PairDecision& p) {
 void print_collision_scene(const gen::CollisionScene& scene, std::ostream& out) {
   int n_kept = 0;
   for (const gen::PairDecision& p : scene.decisions) n_kept += kept(p.verdict) ? 1 : 0;
-  out << fmt::format("\ncollision pairs: {} kept of {} (margin {:.4g} m, {} sampled configurations):\n", n_kept,
-                     scene.decisions.size(), scene.margin, scene.samples);
+  if (scene.sampling.loops)  // the draws are closed by Newton: say how many were used
+    out << fmt::format("\ncollision pairs: {} kept of {} (margin {:.4g} m; {}):\n", n_kept, scene.decisions.size(), scene.margin,
+                       gen::sampling_summary(scene));
+  else
+    out << fmt::format("\ncollision pairs: {} kept of {} (margin {:.4g} m, {} sampled configurations):\n", n_kept,
+                       scene.decisions.size(), scene.margin, scene.samples);
   for (const gen::PairDecision& p : scene.decisions)
     if (kept(p.verdict)) out << fmt::format("  kept    {}{}{}\n", names(scene, p), p.verdict == gen::PairVerdict::Included ? " (included)" : "", sampled(p));
   for (const gen::PairDecision& p : scene.decisions)
@@ -47,7 +51,13 @@ nlohmann::ordered_json collision_scene_json(const gen::CollisionScene& scene) {
                         {"min_distance", std::isnan(p.min_distance) ? Json() : Json(p.min_distance)}});
     }
   }
-  return Json{{"margin", scene.margin}, {"samples", scene.samples}, {"compounds", compounds}, {"kept", kept_pairs}, {"pruned", pruned}};
+  const gen::SamplingReport& r = scene.sampling;
+  const Json sampling = {{"loops_closed", r.loops},         {"drawn", r.drawn},
+                         {"used", r.used()},                {"closed", r.closed},
+                         {"refined", r.refined},            {"not_closed", r.not_closed},
+                         {"beyond_limits", r.beyond_limits}};
+  return Json{{"margin", scene.margin}, {"samples", scene.samples}, {"sampling", sampling}, {"compounds", compounds},
+              {"kept", kept_pairs},     {"pruned", pruned},         {"warnings", scene.warnings}};
 }
 
 }  // namespace mbgen::cli

@@ -166,10 +166,12 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
   if (collision) print_collision_scene(*collision, out);
-  out << fmt::format("\nwarnings ({}):\n", d.warnings.size());
-  for (const std::string& w : d.warnings) out << "  - " << w << "\n";
+  std::vector<std::string> warnings = d.warnings;
+  if (collision) warnings.insert(warnings.end(), collision->warnings.begin(), collision->warnings.end());
+  out << fmt::format("\nwarnings ({}):\n", warnings.size());
+  for (const std::string& w : warnings) out << "  - " << w << "\n";
   out << fmt::format("\nverdict: OK: '{}' loads ({} DoF, {} closure(s), closed-system DoF {}, {} warning(s))\n",
-                     d.robot_name, m.nv(), d.closures.size(), d.closed_dof, d.warnings.size());
+                     d.robot_name, m.nv(), d.closures.size(), d.closed_dof, warnings.size());
 }
 
 Json to_json(const Description& d) {

@@ -22,6 +22,7 @@ SHANK = 0.44                  # knee axis to ankle axis   (~0.246 H, Drillis & C
 THIGH = 0.44                  # hip axis to knee axis     (~0.245 H)
 HIP_ROLL_DROP = 0.08          # hip-yaw joint plane (pelvis frame) to hip roll/pitch axes
 HIP_Y = 0.09                  # lateral offset of each hip from the mid-plane
+HIP_ROLL_BLOCK_R = 0.082      # collision sphere of the hip-pitch drive block (encloses its r 0.055 x 0.12 cylinder)
 PELVIS_Z = ANKLE_H + SHANK + THIGH + HIP_ROLL_DROP   # 1.04 m: pelvis frame above the ground
 TRUNK_YAW_Z = 0.10            # pelvis frame to trunk-yaw joint
 TRUNK_ROLL_Z = 0.06           # trunk-yaw joint to trunk-roll joint (torso frame)
@@ -272,7 +273,12 @@ def leg(side, s):
     joint(f"hip_roll_{side}", "revolute", f"hip_yaw_link_{side}", f"hip_roll_link_{side}",
           (0, 0, -HIP_ROLL_DROP), (1, 0, 0), lim_of("hip_roll", side))
     body(f"hip_roll_link_{side}", 1.8, (0, 0, 0), "cyl", (0.055, 0.12, "y"), "hip-pitch drive (cardan block)")
-    seg(f"hip_roll_link_{side}", (0, -0.05, 0), (0, 0.05, 0), 0.06, ssv=False)
+    # The drive block is the cylinder above (r 0.055, l 0.12 along y) centred on the hip, and the
+    # hips are 2 x HIP_Y = 0.18 m apart: any capsule along y that encloses the cylinder reaches
+    # past the mid-plane (r + half its segment >= 0.115 > 0.09), so the two would overlap at the
+    # nominal pose. Its circumscribed sphere (r = sqrt(0.06^2 + 0.055^2) = 0.0814) encloses it
+    # too and reaches 0.082 m: 16 mm between the left and right blocks.
+    ball(f"hip_roll_link_{side}", (0, 0, 0), HIP_ROLL_BLOCK_R, ssv=False)
     joint(f"hip_pitch_{side}", "revolute", f"hip_roll_link_{side}", f"thigh_{side}", (0, 0, 0), (0, 1, 0),
           lim_of("hip_pitch", side))
     body(f"thigh_{side}", 2.0, (0, 0, -0.22), "box", (0.08, 0.08, 0.40), "thigh structure")

@@ -129,6 +129,12 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
   // seeded, so the output stays deterministic).
   const gen::CollisionScene scene = gen::build_collision_scene(description, gen::collision_scene_options(description));
+  if (options.notes) {
+    if (scene.sampling.drawn > 0)
+      options.notes->push_back(fmt::format("collision pruning: {} of {} pairs kept; {}; {:.2f} s", scene.model.pairs.size(),
+                                           scene.decisions.size(), gen::sampling_summary(scene), scene.seconds));
+    for (const std::string& w : scene.warnings) options.notes->push_back("warning: " + w);
+  }
   const SelfDistanceCode distances = emit_self_distances(model, scene.model, ns, header, options.scalars);
 
   const std::string top = banner(options);

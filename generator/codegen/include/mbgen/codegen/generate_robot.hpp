@@ -19,6 +19,9 @@ struct CodegenOptions {
   ScalarChoice scalars = ScalarChoice::Both;
   std::vector<std::string> frames;  ///< frames for frame_poses / frame_jacobians; empty = leaf bodies
   std::vector<InputFile> inputs;    ///< for the banner
+  /// If set, receives lines for the user that are not part of the output: the collision
+  /// pruning's sampling summary and time, and its warnings (prefixed "warning: ").
+  std::vector<std::string>* notes = nullptr;
 };
 
 struct GeneratedFile {
