@@ -65,7 +65,7 @@ void expect_closed_samples(const gen::Description& d, int draws, const std::stri
   if (some_close) {
     EXPECT_FALSE(samples.empty()) << what;
   }
-  const LoopWorkspace<double> loops(model);
+  const Data<double> loops(model);
   double worst = 0;
   int beyond = 0;
   for (const VecX<double>& q : samples) {
@@ -76,7 +76,7 @@ void expect_closed_samples(const gen::Description& d, int draws, const std::stri
       const Joint& joint = model.joint(JointIndex(j));
       if (joint.nq != 1 || !joint.bounded || !(joint.upper > joint.lower)) continue;
       const double x = q[joint.idx_q];
-      if (loops.column_of[joint.idx_v] >= 0) {  // independent: drawn within the limits
+      if (loops.column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {  // independent: drawn within the limits
         EXPECT_GE(x, joint.lower) << what << ": " << joint.name;
         EXPECT_LE(x, joint.upper) << what << ": " << joint.name;
       } else if (x < joint.lower - 1e-9 || x > joint.upper + 1e-9) {
@@ -176,7 +176,7 @@ TEST(CollisionSceneLoops, MechanismAndParallelLegSamplesAreClosedPoses) {
   const std::string mechanisms = MBGEN_SOURCE_DIR "/robots/mechanisms/";
   for (const char* name : {"four_bar", "slider_crank", "ankle_2dof"})
     expect_closed_samples(load(mechanisms + name + ".urdf", mechanisms + name + ".yaml"), 300, name);
-  // wl16_like: a small Newton basin (loop_maps.hpp, max_step) and unbounded motors, so that few
+  // wl16_like: a small Newton basin (closure_positions.hpp, max_step) and unbounded motors, so that few
   // draws close at all; those that do must be closed poses.
   const std::string wl16 = shared_robot("parallel_legs/wl16_like/");
   if (std::filesystem::exists(wl16))

@@ -14,11 +14,15 @@
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
 //  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
-//    of the closed system: q is every tree joint's position with the loops closed, v the
-//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
-//    forces on dependent joints act through the loops); forward_dynamics returns the independent
-//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
-//    spanning tree's (its inverse dynamics carries no closure forces).
+//    of the closed system: q is every tree joint's position with the loops closed
+//    (closure_positions), v the independent velocities (ny, independent_joint_names order), tau
+//    every tree joint's force (nv; forces on dependent joints act through the loops);
+//    forward_dynamics returns the independent accelerations (ny), full_accelerations every tree
+//    joint's (nv, joint_names_full order). The maps between the two coordinate sets:
+//    closure_positions (positions), velocity_map / full_velocities / independent_velocities
+//    (v = T vy and back), acceleration_bias (qdd = T ydd + g). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces). Without loops ny = nv,
+//    T is the identity and closure_positions returns at once.
 
 namespace ankle_2dof {
 
@@ -28,9 +32,13 @@ constexpr int num_bodies = 8;
 constexpr int num_frames = 1;
 constexpr bool floating_base = false;
 inline constexpr const char* joint_names[] = {"ankle_act_lat_u1", "ankle_act_lat_u2", "ankle_act_lat", "ankle_act_med_u1", "ankle_act_med_u2", "ankle_act_med", "ankle_pitch", "ankle_roll"};
+// Every tree joint, the order of q, v, tau and of full_accelerations (the same as joint_names).
+inline constexpr const auto& joint_names_full = joint_names;
 constexpr int ny = 2;  // independent coordinates (nv for a robot without loops)
 constexpr bool has_loops = true;
 inline constexpr const char* independent_joint_names[] = {"ankle_act_lat", "ankle_act_med"};
+// The v index of each independent coordinate (ascending).
+inline constexpr int independent_v_index[] = {2, 5};
 inline constexpr const char* body_names[] = {"ankle_act_lat_cross", "ankle_act_lat_housing", "ankle_act_lat_rod", "ankle_act_med_cross", "ankle_act_med_housing", "ankle_act_med_rod", "ankle_cross", "foot_body"};
 inline constexpr const char* frame_names[] = {"foot"};
 
@@ -39,7 +47,7 @@ inline constexpr const char* frame_names[] = {"foot"};
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [2] independent accelerations, independent_joint_names order
-/// Cost: 1751 operations: 644 additions/subtractions, 1007 multiplications, 37 divisions, 42 negations, 12 sin/cos, 9 square roots.
+/// Cost: 1829 operations: 681 additions/subtractions, 1030 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -47,8 +55,28 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [8] accelerations of every tree joint, joint_names order
-/// Cost: 1775 operations: 656 additions/subtractions, 1019 multiplications, 37 divisions, 42 negations, 12 sin/cos, 9 square roots.
+/// Cost: 1853 operations: 693 additions/subtractions, 1042 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
+
+/// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// out T: [8 x 2, row-major] velocity map, joint_names_full rows, independent_joint_names columns
+/// Cost: 606 operations: 191 additions/subtractions, 321 multiplications, 38 divisions, 26 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+void velocity_map(const double* q, double* T);
+
+/// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [2] independent velocities, independent_joint_names order
+/// out v: [8] velocities of every tree joint, joint_names_full order
+/// Cost: 618 operations: 197 additions/subtractions, 333 multiplications, 38 divisions, 20 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+void full_velocities(const double* q, const double* vy, double* v);
+
+/// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [2] independent velocities, independent_joint_names order
+/// out g: [8] acceleration bias of every tree joint, joint_names_full order
+/// Cost: 1116 operations: 404 additions/subtractions, 604 multiplications, 44 divisions, 34 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [8] joint positions
@@ -93,6 +121,46 @@ void center_of_mass(const double* q, double* com);
 /// out Ag: [6 x 8, row-major] centroidal momentum matrix
 /// Cost: 676 operations: 277 additions/subtractions, 368 multiplications, 3 divisions, 16 negations, 12 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
+
+/// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
+/// velocities that keep the loops closed.
+template <typename S> inline void independent_velocities(const S* v, S* vy) {
+  for (int i = 0; i < ny; ++i) vy[i] = v[independent_v_index[i]];
+}
+
+/// What closure_positions ended with.
+enum class ClosureStatus : int {
+  converged = 0,      ///< max |Phi| below the tolerance
+  not_converged = 1,  ///< iteration cap reached, or a non-finite residual (q holds the last finite iterate)
+  singular = 2,       ///< a linkage at (or within singular_tolerance of) a dead point: z is not a function of y
+};
+template <typename S> struct ClosureResult {
+  ClosureStatus status;
+  int iterations;   ///< Newton steps taken
+  S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
+  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
+};
+/// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
+template <typename S> struct ClosureOptions {
+  S tolerance;           ///< max |Phi| over the kept rows
+  int max_iterations;
+  S max_step;            ///< steps scaled down to at most this in their largest entry (rad or m)
+  S singular_tolerance;  ///< pivot ratio below this: singular
+};
+/// double: the runtime's defaults. float: residuals are known to ~1e-7 m here (unit round-off
+/// times the loops' size), so 2e-6. Regular poses of the shipped and parallel_legs models have
+/// pivot ratios above 5e-3 (robot_delta's), so 1e-3 marks a dead point. Newton in float reaches
+/// a dead point only to a ratio of ~2e-3 (its residual floor, ~1e-7, is a double root's
+/// ratio squared times the loop's size): there it may report converged, and pivot_ratio is what
+/// shows how close the dead point is; check it in float code that drives linkages near one.
+inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5};
+inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f};
+/// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
+/// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
+/// allocation. Call it after every change of the independent coordinates (a simulation step):
+/// forward_dynamics and the maps need a closed q, and a status other than converged means they
+/// must not be used there.
+ClosureResult<double> closure_positions(double* q, const ClosureOptions<double>& options = closure_options_double);
 
 /// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
 constexpr int num_distance_pairs = 5;

@@ -12,7 +12,7 @@ namespace four_bar {
 namespace {
 
 // Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
-// 26 operations: 9 additions/subtractions, 8 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
+// 20 operations: 6 additions/subtractions, 5 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 template <typename S>
 void frame_jacobians_impl(const S* q, S* J) {
   (void)q;
@@ -31,25 +31,19 @@ void frame_jacobians_impl(const S* q, S* J) {
   const S _t12 = _t10 + _t11;
   const S _t13 = -_t3;
   const S _t14 = -_t7;
-  const S _t15 = _t7 * _t8;
-  const S _t16 = _t7 * _t9;
-  const S _t17 = -_t12;
-  const S _t18 = _t12 * S(0.19);
-  const S _t19 = _t16 - _t16;
-  const S _t20 = _t15 - _t15;
-  const S _t21 = _t3 * _t8;
-  const S _t22 = -_t21;
-  const S _t23 = _t3 * _t9;
-  const S _t24 = -_t23;
-  const S _t25 = _t18 - _t18;
-  J[0] = _t24;
-  J[1] = _t19;
+  const S _t15 = -_t12;
+  const S _t16 = _t3 * _t8;
+  const S _t17 = -_t16;
+  const S _t18 = _t3 * _t9;
+  const S _t19 = -_t18;
+  J[0] = _t19;
+  J[1] = S(0);
   J[2] = S(0);
   J[3] = S(0);
   J[4] = S(0);
   J[5] = S(0);
-  J[6] = _t22;
-  J[7] = _t20;
+  J[6] = _t17;
+  J[7] = S(0);
   J[8] = S(0);
   J[9] = S(0);
   J[10] = S(0);
@@ -68,13 +62,13 @@ void frame_jacobians_impl(const S* q, S* J) {
   J[23] = S(0);
   J[24] = S(0);
   J[25] = S(0);
-  J[26] = _t25;
+  J[26] = S(0);
   J[27] = S(0);
   J[28] = S(0);
   J[29] = S(0);
   J[30] = S(0);
   J[31] = S(0);
-  J[32] = _t17;
+  J[32] = _t15;
   J[33] = S(0);
   J[34] = S(0);
   J[35] = S(0);

@@ -14,11 +14,15 @@
 //  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
 //  - no function allocates, throws or keeps state: all may run concurrently.
 //  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
-//    of the closed system: q is every tree joint's position with the loops closed, v the
-//    independent velocities (ny, independent_joint_names order), tau every tree joint's force (nv;
-//    forces on dependent joints act through the loops); forward_dynamics returns the independent
-//    accelerations (ny), full_accelerations every tree joint's (nv). The other functions are the
-//    spanning tree's (its inverse dynamics carries no closure forces).
+//    of the closed system: q is every tree joint's position with the loops closed
+//    (closure_positions), v the independent velocities (ny, independent_joint_names order), tau
+//    every tree joint's force (nv; forces on dependent joints act through the loops);
+//    forward_dynamics returns the independent accelerations (ny), full_accelerations every tree
+//    joint's (nv, joint_names_full order). The maps between the two coordinate sets:
+//    closure_positions (positions), velocity_map / full_velocities / independent_velocities
+//    (v = T vy and back), acceleration_bias (qdd = T ydd + g). The other functions are the
+//    spanning tree's (its inverse dynamics carries no closure forces). Without loops ny = nv,
+//    T is the identity and closure_positions returns at once.
 
 namespace lola {
 
@@ -28,9 +32,13 @@ constexpr int num_bodies = 41;
 constexpr int num_frames = 3;
 constexpr bool floating_base = true;
 inline constexpr const char* joint_names[] = {"root_joint", "trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "knee_rod_joint_l", "knee_l", "ankle_act_lat_u1_l", "ankle_act_lat_u2_l", "ankle_act_lat_l", "ankle_act_med_u1_l", "ankle_act_med_u2_l", "ankle_act_med_l", "ankle_pitch_l", "ankle_roll_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "knee_rod_joint_r", "knee_r", "ankle_act_lat_u1_r", "ankle_act_lat_u2_r", "ankle_act_lat_r", "ankle_act_med_u1_r", "ankle_act_med_u2_r", "ankle_act_med_r", "ankle_pitch_r", "ankle_roll_r", "toe_r"};
+// Every tree joint, the order of q, v, tau and of full_accelerations (the same as joint_names).
+inline constexpr const auto& joint_names_full = joint_names;
 constexpr int ny = 30;  // independent coordinates (nv for a robot without loops)
 constexpr bool has_loops = true;
 inline constexpr const char* independent_joint_names[] = {"root_joint[0]", "root_joint[1]", "root_joint[2]", "root_joint[3]", "root_joint[4]", "root_joint[5]", "trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "ankle_act_lat_l", "ankle_act_med_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "ankle_act_lat_r", "ankle_act_med_r", "toe_r"};
+// The v index of each independent coordinate (ascending).
+inline constexpr int independent_v_index[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 24, 27, 30, 31, 32, 33, 34, 39, 42, 45};
 inline constexpr const char* body_names[] = {"pelvis", "trunk_link", "torso", "neck", "head", "shoulder_l", "upper_arm_l", "forearm_l", "shoulder_r", "upper_arm_r", "forearm_r", "hip_yaw_link_l", "hip_roll_link_l", "thigh_l", "knee_nut_l", "knee_rod_l", "shank_l", "ankle_act_lat_cross_l", "ankle_act_lat_housing_l", "ankle_act_lat_rod_l", "ankle_act_med_cross_l", "ankle_act_med_housing_l", "ankle_act_med_rod_l", "ankle_cross_l", "foot_body_l", "toe_link_l", "hip_yaw_link_r", "hip_roll_link_r", "thigh_r", "knee_nut_r", "knee_rod_r", "shank_r", "ankle_act_lat_cross_r", "ankle_act_lat_housing_r", "ankle_act_lat_rod_r", "ankle_act_med_cross_r", "ankle_act_med_housing_r", "ankle_act_med_rod_r", "ankle_cross_r", "foot_body_r", "toe_link_r"};
 inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 
@@ -39,7 +47,7 @@ inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [30] independent accelerations, independent_joint_names order
-/// Cost: 16706 operations: 6967 additions/subtractions, 9420 multiplications, 142 divisions, 89 negations, 68 sin/cos, 20 square roots.
+/// Cost: 16791 operations: 7005 additions/subtractions, 9427 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -47,15 +55,35 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
-/// Cost: 16750 operations: 6989 additions/subtractions, 9442 multiplications, 142 divisions, 89 negations, 68 sin/cos, 20 square roots.
+/// Cost: 16835 operations: 7027 additions/subtractions, 9449 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
+
+/// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// out T: [46 x 30, row-major] velocity map, joint_names_full rows, independent_joint_names columns
+/// Cost: 2330 operations: 844 additions/subtractions, 1248 multiplications, 86 divisions, 68 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+void velocity_map(const double* q, double* T);
+
+/// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [30] independent velocities, independent_joint_names order
+/// out v: [46] velocities of every tree joint, joint_names_full order
+/// Cost: 2358 operations: 856 additions/subtractions, 1276 multiplications, 86 divisions, 56 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+void full_velocities(const double* q, const double* vy, double* v);
+
+/// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [30] independent velocities, independent_joint_names order
+/// out g: [46] acceleration bias of every tree joint, joint_names_full order
+/// Cost: 4879 operations: 1947 additions/subtractions, 2688 multiplications, 102 divisions, 58 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 /// in  q: [47] joint positions
 /// in  v: [46] joint velocities
 /// in  qdd: [46] joint accelerations
 /// out tau: [46] joint forces
-/// Cost: 5476 operations: 2351 additions/subtractions, 3053 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
+/// Cost: 5467 operations: 2345 additions/subtractions, 3050 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
@@ -93,6 +121,46 @@ void center_of_mass(const double* q, double* com);
 /// out Ag: [6 x 46, row-major] centroidal momentum matrix
 /// Cost: 6775 operations: 2978 additions/subtractions, 3714 multiplications, 3 divisions, 12 negations, 68 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
+
+/// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
+/// velocities that keep the loops closed.
+template <typename S> inline void independent_velocities(const S* v, S* vy) {
+  for (int i = 0; i < ny; ++i) vy[i] = v[independent_v_index[i]];
+}
+
+/// What closure_positions ended with.
+enum class ClosureStatus : int {
+  converged = 0,      ///< max |Phi| below the tolerance
+  not_converged = 1,  ///< iteration cap reached, or a non-finite residual (q holds the last finite iterate)
+  singular = 2,       ///< a linkage at (or within singular_tolerance of) a dead point: z is not a function of y
+};
+template <typename S> struct ClosureResult {
+  ClosureStatus status;
+  int iterations;   ///< Newton steps taken
+  S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
+  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
+};
+/// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
+template <typename S> struct ClosureOptions {
+  S tolerance;           ///< max |Phi| over the kept rows
+  int max_iterations;
+  S max_step;            ///< steps scaled down to at most this in their largest entry (rad or m)
+  S singular_tolerance;  ///< pivot ratio below this: singular
+};
+/// double: the runtime's defaults. float: residuals are known to ~1e-7 m here (unit round-off
+/// times the loops' size), so 2e-6. Regular poses of the shipped and parallel_legs models have
+/// pivot ratios above 5e-3 (robot_delta's), so 1e-3 marks a dead point. Newton in float reaches
+/// a dead point only to a ratio of ~2e-3 (its residual floor, ~1e-7, is a double root's
+/// ratio squared times the loop's size): there it may report converged, and pivot_ratio is what
+/// shows how close the dead point is; check it in float code that drives linkages near one.
+inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5};
+inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f};
+/// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
+/// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
+/// allocation. Call it after every change of the independent coordinates (a simulation step):
+/// forward_dynamics and the maps need a closed q, and a status other than converged means they
+/// must not be used there.
+ClosureResult<double> closure_positions(double* q, const ClosureOptions<double>& options = closure_options_double);
 
 /// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
 constexpr int num_distance_pairs = 178;

@@ -12,7 +12,7 @@ namespace slider_crank {
 namespace {
 
 // Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
-// 20 operations: 6 additions/subtractions, 7 multiplications, 0 divisions, 4 negations, 3 sin/cos, 0 square roots.
+// 16 operations: 4 additions/subtractions, 5 multiplications, 0 divisions, 4 negations, 3 sin/cos, 0 square roots.
 template <typename S>
 void frame_jacobians_impl(const S* q, S* J) {
   (void)q;
@@ -28,22 +28,18 @@ void frame_jacobians_impl(const S* q, S* J) {
   const S _t9 = _t0 * S(0.05);
   const S _t10 = -_t3;
   const S _t11 = -_t7;
-  const S _t12 = _t7 * _t8;
-  const S _t13 = _t7 * _t9;
-  const S _t14 = _t13 - _t13;
-  const S _t15 = _t12 - _t12;
-  const S _t16 = _t3 * _t8;
-  const S _t17 = -_t16;
-  const S _t18 = _t3 * _t9;
-  const S _t19 = -_t18;
-  J[0] = _t19;
-  J[1] = _t14;
+  const S _t12 = _t3 * _t8;
+  const S _t13 = -_t12;
+  const S _t14 = _t3 * _t9;
+  const S _t15 = -_t14;
+  J[0] = _t15;
+  J[1] = S(0);
   J[2] = S(0);
   J[3] = S(0);
   J[4] = S(0);
   J[5] = S(0);
-  J[6] = _t17;
-  J[7] = _t15;
+  J[6] = _t13;
+  J[7] = S(0);
   J[8] = S(0);
   J[9] = S(0);
   J[10] = S(0);

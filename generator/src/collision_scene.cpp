@@ -117,14 +117,14 @@ class ProgressBar {
 /// What closing the loops of a draw needs: the runtime's Newton and its work memory, the nominal
 /// pose, where y and z live in q, and the dependent joints' limits.
 struct ConfigurationSampler::Loops {
-  explicit Loops(const Description& d) : model(&d.model), data(d.model), workspace(d.model) {
+  explicit Loops(const Description& d) : model(&d.model), data(d.model) {
     const Model& m = d.model;
     nominal = d.assembly.q.size() == m.nq() ? d.assembly.q : neutral_configuration<double>(m);
     if (m.floating_base()) nominal.head<7>() << 0, 0, 0, 0, 0, 0, 1;
     for (int j = 1; j < m.num_joints(); ++j) {
       const Joint& joint = m.joint(JointIndex(j));
       if (joint.nv != 1) continue;
-      if (workspace.column_of[joint.idx_v] >= 0) {
+      if (data.column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {
         independent_q.push_back(joint.idx_q);
         // A revolute joint free to turn a full circle walks the short way round.
         const bool turns = !joint.bounded || !(joint.upper > joint.lower) || joint.upper - joint.lower >= 2 * M_PI;
@@ -136,7 +136,7 @@ struct ConfigurationSampler::Loops {
   }
   /// Newton on the loops from q's dependent coordinates, q's independent ones held.
   bool solve(VecX<double>& q) {
-    return solve_dependent_coordinates<double>(*model, data, workspace, q) == LoopSolveStatus::Converged;
+    return closure_positions<double>(*model, data, q).status == ClosureStatus::Converged;
   }
   bool within_limits(const VecX<double>& q) const {
     constexpr double slack = 1e-9;
@@ -151,7 +151,6 @@ struct ConfigurationSampler::Loops {
   };
   const Model* model;
   Data<double> data;
-  LoopWorkspace<double> workspace;
   VecX<double> nominal, trial;
   std::vector<int> independent_q;  ///< q indices of the 1-DoF independent coordinates
   std::vector<char> revolute;      ///< per independent_q entry: a revolute joint that turns a full circle

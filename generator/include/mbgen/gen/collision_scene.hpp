@@ -13,7 +13,7 @@
 // independent coordinates (every coordinate not dependent in a sub-system: actuated joints,
 // joints off the loops) are drawn within their limits, the dependent ones start from the
 // assembled nominal pose (Description::assembly.q) and are solved by the runtime's Newton
-// (solve_dependent_coordinates) on a walk from the nominal pose to the drawn values in a few
+// (closure_positions) on a walk from the nominal pose to the drawn values in a few
 // steps, each warm-started at the last (so the linkage stays in the nominal pose's assembly
 // mode). Draws that do not close (the actuators outside the linkage's workspace, a dead point
 // on the way) are discarded and counted (SamplingReport). Closed poses with a passive
