@@ -155,15 +155,22 @@ template <typename S> Vec3<S> universal_row_direction(const LoopClosure& c, cons
   return basis.col(2).cast<S>().cross(R * c.axis_b.cast<S>());
 }
 
-/// Jacobian rows of one closure into the block J (rows x nv), zeroing it first. Needs
-/// compute_joint_jacobians (data.J, data.X_WB).
+/// Jacobian rows of one closure into the block J (rows x nv). Only the columns of the closure's
+/// cycle (the joints between body_a, body_b and their common ancestor) are written; every other
+/// column of J must already be zero, as Data::Phi_q is from its construction. Writing just the
+/// cycle keeps closure_jacobian O(n) over all closures (each cycle is short), where zeroing m x nv
+/// entries would make it O(m nv). Needs compute_joint_jacobians (data.J, data.X_WB).
 template <typename S, typename Block> void closure_jacobian_rows(const Model& model, const Data<S>& data, const LoopClosure& c, Block&& J) {
-  J.setZero();
+  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+  for (BodyIndex j : {c.body_a, c.body_b})
+    for (; j != top; j = model.body(j).parent) {
+      const Joint& joint = model.joint(model.body(j).joint);
+      for (int k = 0; k < joint.nv; ++k) J.col(joint.idx_v + k).setZero();
+    }
   const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
   const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
   const Mat3<double> basis = closure_axis_basis(c.axis);
   const Vec3<S> n_u = universal_row_direction<S>(c, basis, Mat3<S>(A.R.transpose() * B.R));
-  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
   // A column moves Cb's origin (b side, +) or the point of body A coincident with it (a side, -).
   for (int side = 0; side < 2; ++side) {
     const S sign = side == 0 ? S(1) : S(-1);
