@@ -142,6 +142,15 @@ class GeneratedTest : public ::testing::Test {
 
   /// forward_dynamics and full_accelerations: against the generic O(n) recursion, on the tree
   /// for a robot without loops, on the closed system (consistent states) for one with loops.
+  /// A seeded state of the closed system (consistent: loops closed, v = T vy) or, for a tree,
+  /// of the tree; false when Newton does not reach one (then drawn again).
+  template <typename Rng> bool draw_state(Rng& rng, VecX<double>& q, VecX<double>& v) {
+    if (gen_ns::has_loops) return consistent_state(closed, description.assembly.q, rng, 0.05, q, v);
+    q = random_configuration<double>(closed, rng);
+    v = random_vector<double>(closed.nv(), rng, 2.0);
+    return true;
+  }
+
   template <typename T> void compare_closed(double tolerance, int trials) {
     std::mt19937_64 rng(2025);
     const int nv = closed.nv(), ny = gen_ns::ny;
@@ -151,12 +160,7 @@ class GeneratedTest : public ::testing::Test {
     int states = 0;
     for (int trial = 0; trial < 4 * trials && states < trials; ++trial) {
       VecX<double> q, v;
-      if (gen_ns::has_loops) {
-        if (!consistent_state(closed, description.assembly.q, rng, 0.05, q, v)) continue;
-      } else {
-        q = random_configuration<double>(closed, rng);
-        v = random_vector<double>(nv, rng, 2.0);
-      }
+      if (!draw_state(rng, q, v)) continue;
       ++states;
       VecX<double> vy(ny);
       for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
@@ -195,12 +199,7 @@ class GeneratedTest : public ::testing::Test {
     int states = 0;
     for (int trial = 0; trial < 4 * trials && states < trials; ++trial) {
       VecX<double> q, v;
-      if (gen_ns::has_loops) {
-        if (!consistent_state(closed, description.assembly.q, rng, 0.05, q, v)) continue;
-      } else {
-        q = random_configuration<double>(closed, rng);
-        v = random_vector<double>(nv, rng, 2.0);
-      }
+      if (!draw_state(rng, q, v)) continue;
       ++states;
       VecX<double> vy(ny), g(nv), v_full(nv);
       for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];

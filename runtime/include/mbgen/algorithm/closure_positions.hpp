@@ -69,11 +69,8 @@ template <typename S> void closure_newton_step(const Model& model, Data<S>& data
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
     const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
-    for (int i = 0; i < r; ++i) {
-      const int row = sub.rows[static_cast<std::size_t>(i)];
-      for (int c = 0; c < r; ++c) w.R(i, c) = data.Phi_q(row, sub.dependent[static_cast<std::size_t>(c)]);
-      w.rhs(i, p) = data.Phi[row];
-    }
+    load_dependent_block<S>(model, data, k);
+    for (int i = 0; i < r; ++i) w.rhs(i, p) = data.Phi[sub.rows[static_cast<std::size_t>(i)]];
     givens_qr_factor<S>(w.R, r, w.rotation_c, w.rotation_s);
     auto column = w.rhs.middleCols(p, 1);
     givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);

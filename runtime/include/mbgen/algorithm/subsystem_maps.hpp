@@ -39,6 +39,18 @@ template <typename S> S subsystem_pivot_ratio(const Model& model, const Data<S>&
   return worst;
 }
 
+namespace detail {
+/// Copies sub-system k's Phi_z (its kept rows, its dependent columns) from data.Phi_q into
+/// data.subsystem[k].R, ready for givens_qr_factor.
+template <typename S> void load_dependent_block(const Model& model, Data<S>& data, std::size_t k) {
+  const SubSystem& sub = model.subsystems[k];
+  MatX<S>& R = data.subsystem[k].R;
+  for (int i = 0; i < sub.rank(); ++i)
+    for (int c = 0; c < sub.rank(); ++c)
+      R(i, c) = data.Phi_q(sub.rows[static_cast<std::size_t>(i)], sub.dependent[static_cast<std::size_t>(c)]);
+}
+}  // namespace detail
+
 /// G of every sub-system at configuration q (nq), in data.subsystem[s].G; keeps Phi_z's factor
 /// for subsystem_acceleration_biases at the same q. Needs no velocity.
 template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
@@ -47,11 +59,9 @@ template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& 
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
     const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
-    for (int i = 0; i < r; ++i) {
-      const int row = sub.rows[static_cast<std::size_t>(i)];
-      for (int c = 0; c < r; ++c) w.R(i, c) = data.Phi_q(row, sub.dependent[static_cast<std::size_t>(c)]);
-      for (int c = 0; c < p; ++c) w.rhs(i, c) = data.Phi_q(row, sub.independent[static_cast<std::size_t>(c)]);
-    }
+    detail::load_dependent_block<S>(model, data, k);
+    for (int i = 0; i < r; ++i)
+      for (int c = 0; c < p; ++c) w.rhs(i, c) = data.Phi_q(sub.rows[static_cast<std::size_t>(i)], sub.independent[static_cast<std::size_t>(c)]);
     givens_qr_factor<S>(w.R, r, w.rotation_c, w.rotation_s);
     givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, w.rhs, p);
     upper_triangular_solve<S>(w.R, r, w.rhs, p);
