@@ -5,120 +5,16 @@
 
 #include "four_bar.hpp"
 
-#include <cmath>
-
 namespace four_bar {
 
-namespace {
-
 // Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
-// 95 operations: 30 additions/subtractions, 47 multiplications, 5 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
-template <typename S>
-void full_velocities_impl(const S* q, const S* vy, S* v) {
-  (void)q;
-  (void)vy;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = std::cos(q[1]);
-  const S _t5 = std::sin(q[1]);
-  const S _t6 = S(1) - _t4;
-  const S _t7 = _t4 + _t6;
-  const S _t8 = _t1 * _t5;
-  const S _t9 = _t0 * _t4;
-  const S _t10 = _t9 - _t8;
-  const S _t11 = _t0 * _t5;
-  const S _t12 = _t1 * _t4;
-  const S _t13 = _t11 + _t12;
-  const S _t14 = _t3 * _t7;
-  const S _t15 = -_t11;
-  const S _t16 = _t15 - _t12;
-  const S _t17 = _t1 * S(0.05);
-  const S _t18 = _t0 * S(0.05);
-  const S _t19 = std::cos(q[2]);
-  const S _t20 = std::sin(q[2]);
-  const S _t21 = S(1) - _t19;
-  const S _t22 = _t19 + _t21;
-  const S _t23 = _t14 * _t17;
-  const S _t24 = _t14 * _t18;
-  const S _t25 = _t22 * S(0.19);
-  const S _t26 = _t20 * S(0.12);
-  const S _t27 = _t19 * S(-0.022);
-  const S _t28 = _t27 - _t26;
-  const S _t29 = _t19 * S(0.12);
-  const S _t30 = _t20 * S(-0.022);
-  const S _t31 = _t29 + _t30;
-  const S _t32 = S(0.19) + _t28;
-  const S _t33 = _t22 * _t32;
-  const S _t34 = _t22 * _t31;
-  const S _t35 = _t33 - _t25;
-  const S _t36 = _t13 * _t35;
-  const S _t37 = _t10 * _t34;
-  const S _t38 = _t36 - _t37;
-  const S _t39 = _t10 * _t35;
-  const S _t40 = _t16 * _t34;
-  const S _t41 = _t39 - _t40;
-  const S _t42 = _t14 * _t32;
-  const S _t43 = _t14 * _t31;
-  const S _t44 = _t24 - _t43;
-  const S _t45 = _t23 + _t42;
-  const S _t46 = _t13 * _t45;
-  const S _t47 = _t10 * _t44;
-  const S _t48 = -_t47;
-  const S _t49 = _t48 - _t46;
-  const S _t50 = _t10 * _t45;
-  const S _t51 = _t16 * _t44;
-  const S _t52 = -_t51;
-  const S _t53 = _t52 - _t50;
-  const S _t54 = _t3 * _t32;
-  const S _t55 = _t3 * _t31;
-  const S _t56 = _t13 * _t54;
-  const S _t57 = _t10 * _t55;
-  const S _t58 = _t57 - _t56;
-  const S _t59 = _t10 * _t54;
-  const S _t60 = _t16 * _t55;
-  const S _t61 = _t60 - _t59;
-  const S _t62 = _t53 * _t53;
-  const S _t63 = _t49 * _t49;
-  const S _t64 = _t62 + _t63;
-  const S _t65 = std::sqrt(_t64);
-  const S _t66 = S(1.1754943508222875e-38) > _t65 ? S(1.1754943508222875e-38) : _t65;
-  const S _t67 = _t65 / _t66;
-  const S _t68 = S(1) - _t67;
-  const S _t69 = _t49 / _t66;
-  const S _t70 = _t68 + _t69;
-  const S _t71 = _t53 / _t66;
-  const S _t72 = _t53 * _t71;
-  const S _t73 = _t49 * _t70;
-  const S _t74 = _t72 + _t73;
-  const S _t75 = _t41 * _t71;
-  const S _t76 = _t38 * _t70;
-  const S _t77 = _t75 + _t76;
-  const S _t78 = _t38 * _t71;
-  const S _t79 = _t41 * _t70;
-  const S _t80 = _t79 - _t78;
-  const S _t81 = _t61 * _t71;
-  const S _t82 = _t58 * _t70;
-  const S _t83 = _t81 + _t82;
-  const S _t84 = _t58 * _t71;
-  const S _t85 = _t61 * _t70;
-  const S _t86 = _t85 - _t84;
-  const S _t87 = _t86 / _t80;
-  const S _t88 = _t77 * _t87;
-  const S _t89 = _t83 - _t88;
-  const S _t90 = _t89 / _t74;
-  const S _t91 = vy[0] * _t90;
-  const S _t92 = -_t91;
-  const S _t93 = vy[0] * _t87;
-  const S _t94 = -_t93;
+// velocity_map computes T; this multiplies its structurally nonzero entries by vy.
+void full_velocities(const double* q, const double* vy, double* v) {
+  double T[3];
+  velocity_map(q, T);
   v[0] = vy[0];
-  v[1] = _t92;
-  v[2] = _t94;
+  v[1] = T[1] * vy[0];
+  v[2] = T[2] * vy[0];
 }
-
-}  // namespace
-
-void full_velocities(const double* q, const double* vy, double* v) { full_velocities_impl<double>(q, vy, v); }
 
 }  // namespace four_bar

@@ -5,94 +5,16 @@
 
 #include "slider_crank.hpp"
 
-#include <cmath>
-
 namespace slider_crank {
 
-namespace {
-
 // Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
-// 69 operations: 20 additions/subtractions, 32 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
-template <typename S>
-void full_velocities_impl(const S* q, const S* vy, S* v) {
-  (void)q;
-  (void)vy;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = std::cos(q[1]);
-  const S _t5 = std::sin(q[1]);
-  const S _t6 = S(1) - _t4;
-  const S _t7 = _t4 + _t6;
-  const S _t8 = _t1 * _t5;
-  const S _t9 = _t0 * _t4;
-  const S _t10 = _t9 - _t8;
-  const S _t11 = _t0 * _t5;
-  const S _t12 = _t1 * _t4;
-  const S _t13 = _t11 + _t12;
-  const S _t14 = _t3 * _t7;
-  const S _t15 = -_t11;
-  const S _t16 = _t15 - _t12;
-  const S _t17 = _t1 * S(0.05);
-  const S _t18 = _t0 * S(0.05);
-  const S _t19 = q[2] + S(0.12);
-  const S _t20 = _t14 * _t17;
-  const S _t21 = _t14 * _t18;
-  const S _t22 = _t14 * _t19;
-  const S _t23 = _t20 + _t22;
-  const S _t24 = _t13 * _t23;
-  const S _t25 = _t10 * _t21;
-  const S _t26 = -_t25;
-  const S _t27 = _t26 - _t24;
-  const S _t28 = _t10 * _t23;
-  const S _t29 = _t16 * _t21;
-  const S _t30 = -_t29;
-  const S _t31 = _t30 - _t28;
-  const S _t32 = _t3 * _t19;
-  const S _t33 = _t13 * _t32;
-  const S _t34 = _t10 * _t32;
-  const S _t35 = _t31 * _t31;
-  const S _t36 = _t27 * _t27;
-  const S _t37 = _t35 + _t36;
-  const S _t38 = std::sqrt(_t37);
-  const S _t39 = S(1.1754943508222875e-38) > _t38 ? S(1.1754943508222875e-38) : _t38;
-  const S _t40 = _t38 / _t39;
-  const S _t41 = S(1) - _t40;
-  const S _t42 = _t27 / _t39;
-  const S _t43 = _t41 + _t42;
-  const S _t44 = _t31 / _t39;
-  const S _t45 = _t31 * _t44;
-  const S _t46 = _t27 * _t43;
-  const S _t47 = _t45 + _t46;
-  const S _t48 = _t16 * _t44;
-  const S _t49 = _t10 * _t43;
-  const S _t50 = _t48 + _t49;
-  const S _t51 = _t10 * _t44;
-  const S _t52 = _t16 * _t43;
-  const S _t53 = _t52 - _t51;
-  const S _t54 = _t34 * _t44;
-  const S _t55 = _t33 * _t43;
-  const S _t56 = -_t55;
-  const S _t57 = _t56 - _t54;
-  const S _t58 = _t33 * _t44;
-  const S _t59 = _t34 * _t43;
-  const S _t60 = _t58 - _t59;
-  const S _t61 = _t60 / _t53;
-  const S _t62 = _t50 * _t61;
-  const S _t63 = _t57 - _t62;
-  const S _t64 = _t63 / _t47;
-  const S _t65 = vy[0] * _t64;
-  const S _t66 = -_t65;
-  const S _t67 = vy[0] * _t61;
-  const S _t68 = -_t67;
+// velocity_map computes T; this multiplies its structurally nonzero entries by vy.
+void full_velocities(const double* q, const double* vy, double* v) {
+  double T[3];
+  velocity_map(q, T);
   v[0] = vy[0];
-  v[1] = _t66;
-  v[2] = _t68;
+  v[1] = T[1] * vy[0];
+  v[2] = T[2] * vy[0];
 }
-
-}  // namespace
-
-void full_velocities(const double* q, const double* vy, double* v) { full_velocities_impl<double>(q, vy, v); }
 
 }  // namespace slider_crank

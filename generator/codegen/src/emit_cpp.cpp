@@ -166,4 +166,37 @@ std::string emit_selection_definition(const TracedFunction& f, const TracedFunct
   return out;
 }
 
+std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const std::string& ns,
+                                    const std::string& header, ScalarChoice scalars) {
+  const std::size_t n_in = source.inputs.size();
+  if (f.inputs.size() != n_in + 1 || f.outputs.size() != 1 || source.outputs.size() != 1 ||
+      source.outputs[0].size != f.outputs[0].size * f.inputs[n_in].size)
+    throw std::logic_error("emit_product_definition: " + f.name + " is not a product of " + source.name);
+  const int rows = f.outputs[0].size, cols = f.inputs[n_in].size;
+  const std::string& A = source.outputs[0].name;
+  const std::string& x = f.inputs[n_in].name;
+  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
+  out += fmt::format("// {}\n// {} computes {}; this multiplies its structurally nonzero entries by {}.\n", f.doc, source.name, A, x);
+  for (const std::string& scalar : scalar_types(scalars)) {
+    out += signature(f, scalar) + " {\n";
+    std::string args;
+    for (std::size_t i = 0; i < n_in; ++i) args += (i ? ", " : "") + f.inputs[i].name;
+    out += fmt::format("  {} {}[{}];\n  {}({}, {});\n", scalar, A, source.outputs[0].size, source.name, args, A);
+    for (int r = 0; r < rows; ++r) {
+      std::string sum;
+      for (int c = 0; c < cols; ++c) {
+        const int id = source.output_ids[0][static_cast<std::size_t>(r * cols + c)];
+        if (source.graph.is_constant(id, 0)) continue;
+        const std::string term = source.graph.is_constant(id, 1) ? fmt::format("{}[{}]", x, c)
+                                                                 : fmt::format("{}[{}] * {}[{}]", A, r * cols + c, x, c);
+        sum += (sum.empty() ? "" : " + ") + term;
+      }
+      out += fmt::format("  {}[{}] = {};\n", f.outputs[0].name, r, sum.empty() ? scalar + "(0)" : sum);
+    }
+    out += "}\n\n";
+  }
+  out += fmt::format("}}  // namespace {}\n", ns);
+  return out;
+}
+
 }  // namespace mbgen::codegen

@@ -182,6 +182,9 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       std::vector<int> all(static_cast<std::size_t>(model.nv()));
       for (int i = 0; i < model.nv(); ++i) all[static_cast<std::size_t>(i)] = i;
       definition = emit_selection_definition(f, functions[0], all, ns, header, options.scalars);
+    } else if (f.name == "full_velocities") {
+      const auto map = std::find_if(functions.begin(), functions.end(), [](const TracedFunction& g) { return g.name == "velocity_map"; });
+      definition = emit_product_definition(f, *map, ns, header, options.scalars);
     } else
       definition = emit_definition(f, ns, header, options.scalars);
     files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + definition});

@@ -38,4 +38,12 @@ std::string emit_definition(const TracedFunction& f, const std::string& ns, cons
 std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
                                       const std::string& ns, const std::string& header, ScalarChoice scalars);
 
+/// A .cpp body defining `f` (inputs: source's inputs, then a vector x; one output y) as the
+/// product y = A x of `source`'s single output A (row-major, f's output size x x's size): it
+/// calls `source` into a local array and sums only A's entries that are not structural zeros
+/// (an entry that is the constant 1 adds x itself). full_velocities is velocity_map times vy:
+/// one copy of the unrolled maps, not two.
+std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const std::string& ns,
+                                    const std::string& header, ScalarChoice scalars);
+
 }  // namespace mbgen::codegen
