@@ -104,8 +104,10 @@ const VecX<S>& forward_dynamics_independent(const Model& model, Data<S>& data, C
   velocity_map<S>(model, data, q, ws.G);
   if (status)
     *status = subsystem_pivot_ratio<S>(model, data) >= S(options.singular_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular;
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) ws.rhs_y[static_cast<int>(i)] = v[data.independent_v[i]];
-  acceleration_bias<S>(model, data, q, ws.rhs_y, ws.g);
+  // g from the sub-systems' G at q (just computed) and v: acceleration_bias would redo the maps.
+  subsystem_acceleration_biases<S>(model, data, q, v);
+  ws.rhs_y.setZero();
+  detail::expand_independent<S>(model, data, ws.rhs_y, true, ws.g);
   const MatX<S>& M = crba<S>(model, data, q);
   ws.bias = nonlinear_effects<S>(model, data, q, v);
   ws.force = tau - ws.bias;
