@@ -120,8 +120,35 @@ TEST_P(LoopMapsTest, MapsDoNotAllocate) {
   EXPECT_EQ(status, ClosureStatus::Converged);
 }
 
+TEST_P(LoopMapsTest, NanStateIsNotConvergedNeverConverged) {
+  // A NaN in a coordinate of a loop (held or warm start): a status, not a "closed" pose.
+  VecX<double> q = d.assembly.q;
+  q[model.q_index_of_v(model.subsystems.front().coordinates.front())] = std::nan("");
+  const ClosureResult<double> result = closure_positions<double>(model, data, q);
+  EXPECT_NE(result.status, ClosureStatus::Converged);
+  EXPECT_EQ(result.iterations, 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(ClosedLoops, LoopMapsTest, ::testing::ValuesIn(loop_cases()),
                          [](const auto& info) { return info.param.name; });
+
+TEST(ModelCoordinates, QIndexOfVPairsOneDofJointsOnly) {
+  // Lola: a floating base (q 0..6, v 0..5), then 1-DoF joints with q index = v index + 1.
+  const gen::Description d = load(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml");
+  const Model& model = d.model;
+  for (int v = 0; v < 6; ++v) {
+    EXPECT_EQ(model.q_index_of_v(v), -1) << v;
+    EXPECT_EQ(model.joint_of_v(v).value(), 1) << v;
+  }
+  for (int j = 2; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    EXPECT_EQ(model.joint_of_v(joint.idx_v).value(), j);
+    EXPECT_EQ(model.q_index_of_v(joint.idx_v), joint.idx_q);
+    EXPECT_EQ(joint.idx_q, joint.idx_v + 1);
+  }
+  EXPECT_EQ(model.q_index_of_v(model.nv()), -1);  // out of range
+  EXPECT_EQ(model.q_index_of_v(-1), -1);
+}
 
 // ---- closed forms (robots/mechanisms/README.md) -------------------------------------------
 

@@ -57,6 +57,14 @@ template <typename S> void approach_the_stroke_end() {
   for (S x : q) EXPECT_TRUE(std::isfinite(x));
 }
 
+TEST(GeneratedDeadPoint, NanSliderIsNotConverged) {
+  std::vector<double> q(robot::nq, 0.0);
+  q[static_cast<std::size_t>(robot::independent_v_index[0])] = std::nan("");
+  const robot::ClosureResult<double> r = robot::closure_positions(q.data());
+  EXPECT_EQ(r.status, robot::ClosureStatus::not_converged);
+  EXPECT_EQ(r.iterations, 0);
+}
+
 TEST(GeneratedDeadPoint, DoubleReportsSingularAtTheStrokeEnd) { approach_the_stroke_end<double>(); }
 TEST(GeneratedDeadPoint, FloatShowsTheDeadPointInThePivotRatio) { approach_the_stroke_end<float>(); }
 
