@@ -129,12 +129,10 @@ TEST(LoopForwardDynamicsDeadPoint, SliderDrivenSliderCrankReportsSingular) {
 // the energy drifts by less than 1e-6 of its size (RK4 at dt 1e-3 truncates ~1e-8 J here; a wrong
 // term of the maps, g dropped say, drifts by O(1)). The reference integrated in full coordinates
 // drifts without Baumgarte (test_constrained_dynamics.cpp).
-class PassiveLoopSimulation : public ::testing::TestWithParam<std::string> {};
+class PassiveLoopSimulation : public ::testing::TestWithParam<LoopCase> {};
 
 TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
-  gen::LoadOptions options;
-  options.extras_file = MBGEN_SOURCE_DIR "/robots/mechanisms/" + GetParam() + ".yaml";
-  const gen::Description d = gen::load_description(MBGEN_SOURCE_DIR "/robots/mechanisms/" + GetParam() + ".urdf", options);
+  const gen::Description d = load_loop_case(GetParam());
   const Model& model = d.model;
   Data<double> data(model);
   const std::vector<int>& y_index = data.independent_v;  // 1-DoF joints: q index = v index here
@@ -182,13 +180,22 @@ TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
     worst_drift = std::max(worst_drift, std::abs(e - e0));
   }
   const double swing = std::max(1e-9, std::abs(potential_energy<double>(model, data, q)) + std::abs(e0));
-  std::printf("  %s: 5 s, closure residual <= %.1e, energy drift %.2e J (of |E| %.3g J)\n", GetParam().c_str(),
+  std::printf("  %s: 5 s, closure residual <= %.1e, energy drift %.2e J (of |E| %.3g J)\n", GetParam().name.c_str(),
               worst_residual, worst_drift, swing);
   EXPECT_LE(worst_residual, 1e-12);
   EXPECT_LT(worst_drift, 1e-6 * swing);
 }
 
-INSTANTIATE_TEST_SUITE_P(Mechanisms, PassiveLoopSimulation, ::testing::Values("four_bar", "slider_crank", "ankle_2dof"));
+/// The mechanisms, and the ankle with rotor bodies in its loops (their spin energy counts).
+std::vector<LoopCase> mechanism_cases() {
+  std::vector<LoopCase> cases;
+  for (const LoopCase& c : loop_cases())
+    for (const char* name : {"four_bar", "slider_crank", "ankle_2dof", "ankle_2dof_rotors"})
+      if (c.name == name) cases.push_back(c);
+  return cases;
+}
+INSTANTIATE_TEST_SUITE_P(Mechanisms, PassiveLoopSimulation, ::testing::ValuesIn(mechanism_cases()),
+                         [](const auto& info) { return info.param.name; });
 
 INSTANTIATE_TEST_SUITE_P(ClosedLoops, LoopForwardDynamicsTest, ::testing::ValuesIn(loop_cases()),
                          [](const auto& info) { return info.param.name; });

@@ -7,8 +7,9 @@
 // holds identity blocks for the former and G for the latter. The test needs no closure at all: the
 // recursion is exact for any G of full column rank and any g, so random G and g check every term
 // (hanging subtrees, two branches meeting at the root, a chain-only sub-system, a rigid one with
-// no independent coordinate, a floating root, the world as root, drive armature) independently of
-// how the closure maps compute them. Tolerance 1e-10 relative (||a - b|| / max(1, ||b||)): both
+// no independent coordinate, a floating root, the world as root, drive armature, rotor bodies
+// fixed in a sub-system body, in the root and in the world) independently of how the closure maps
+// compute them. Tolerance 1e-10 relative (||a - b|| / max(1, ||b||)): both
 // sides are double and well conditioned here (cond(T^T M T) < 1e5).
 #include <gtest/gtest.h>
 
@@ -79,6 +80,7 @@ struct Case {
   gen::BaseType base;
   std::vector<std::tuple<std::vector<std::string>, std::string, int>> subsystems;  // bodies, root, p
   std::string armature_joint;  // a joint inside a sub-system given a drive's reflected inertia
+  std::vector<std::string> rotor_joints = {};  // joints given a rotor body (rotor.hpp; CRBA and RNEA have it too)
 };
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
@@ -89,6 +91,13 @@ TEST_P(SubsystemAba, EqualsProjectedEquationsOfMotion) {
   Model model = load_tree(c.urdf, c.base);
   for (const auto& [bodies, root, p] : c.subsystems) model.subsystems.push_back(make_subsystem(model, bodies, root, p));
   if (!c.armature_joint.empty()) model.mutable_joint(*model.find_joint(c.armature_joint)).armature = 0.3;
+  // Large rotors (N^2 I_r = 0.5 to 3 kg m^2, gyroscopic moments of the order of the links'), so
+  // that a missing or mis-signed term shows far above the tolerance.
+  for (std::size_t k = 0; k < c.rotor_joints.size(); ++k) {
+    Joint& joint = model.mutable_joint(*model.find_joint(c.rotor_joints[k]));
+    joint.rotor_gear_ratio = 50.0 + 20.0 * static_cast<double>(k);
+    joint.rotor_inertia = 2e-4 * static_cast<double>(k + 1);
+  }
   Data<double> data(model), reference(model);
   std::mt19937_64 rng(23);
   double worst = 0, worst_ydd = 0;
@@ -132,12 +141,30 @@ INSTANTIATE_TEST_SUITE_P(
               {{"lh_upperleg", "lh_lowerleg"}, "lh_hipassembly", 1},
               {{"rh_upperleg", "rh_lowerleg"}, "rh_hipassembly", 0}},
              "lf_hfe_joint"},
+        // Rotor bodies: fixed in the root (lf_haa, rf_haa, lh_hfe), in a sub-system body (lf_hfe,
+        // lh_kfe), in a rigid sub-system (rh_kfe), next to an armature (lf_hfe), and outside every
+        // sub-system (rf_hfe: the tree ABA's rotor step, whose parent is a sub-system body).
+        Case{"hyq_rotors",
+             shared_robot("hyq/hyq_no_sensors.urdf"),
+             gen::BaseType::Floating,
+             {{{"lf_hipassembly", "lf_upperleg", "rf_hipassembly"}, "base_link", 2},
+              {{"lh_upperleg", "lh_lowerleg"}, "lh_hipassembly", 1},
+              {{"rh_upperleg", "rh_lowerleg"}, "rh_hipassembly", 0}},
+             "lf_hfe_joint",
+             {"lf_haa_joint", "lf_hfe_joint", "rf_haa_joint", "lh_hfe_joint", "lh_kfe_joint", "rh_kfe_joint", "rf_hfe_joint"}},
         // The world as root: the four-bar's spanning tree, every body in one sub-system.
         Case{"four_bar",
              std::string(MBGEN_SOURCE_DIR) + "/robots/mechanisms/four_bar.urdf",
              gen::BaseType::Fixed,
              {{{"crank", "coupler", "rocker"}, "world", 1}},
-             ""}),
+             ""},
+        // Rotor bodies fixed in the world (the crank's, the rocker's) and in a moving body (the coupler's).
+        Case{"four_bar_rotors",
+             std::string(MBGEN_SOURCE_DIR) + "/robots/mechanisms/four_bar.urdf",
+             gen::BaseType::Fixed,
+             {{{"crank", "coupler", "rocker"}, "world", 1}},
+             "",
+             {"crank_joint", "coupler_joint", "rocker_joint"}}),
     [](const auto& info) { return info.param.name; });
 
 TEST(SubsystemAbaMemory, DoesNotAllocate) {

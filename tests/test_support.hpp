@@ -106,6 +106,9 @@ inline std::vector<LoopCase> loop_cases() {
   for (const char* m : {"four_bar", "slider_crank", "ankle_2dof"})
     cases.push_back({m, MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".urdf",
                      MBGEN_SOURCE_DIR "/robots/mechanisms/" + std::string(m) + ".yaml"});
+  // Rotor bodies inside both loops (model: body drives on the actuators and joints in the loops).
+  cases.push_back({"ankle_2dof_rotors", MBGEN_SOURCE_DIR "/robots/mechanisms/ankle_2dof.urdf",
+                   MBGEN_TEST_DATA "/mechanisms/ankle_2dof_rotors.yaml"});
   cases.push_back({"lola", MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml"});
   // MJCF: four <connect> equalities, ball joints as hinge chains, a floating base.
   cases.push_back({"cassie_mjcf", shared_robot("cassie_mjcf/cassie.xml"), ""});

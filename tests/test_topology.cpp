@@ -135,17 +135,17 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
 INSTANTIATE_TEST_SUITE_P(SharedRobots, LegsTopology, ::testing::ValuesIn(kLegs),
                          [](const auto& info) { return info.param.model; });
 
-TEST(RotorsInLoops, BodyModelBecomesArmatureWithAWarning) {
+TEST(RotorsInLoops, BodyModelIsKeptWithoutWarning) {
   // tests/data/extras/tiny_arm_full.yaml: the elbow's drive (N 50, I_r 3e-5) uses the rotor-body
-  // model, and the elbow is in a loop, where the O(n) recursion has no rotor-body term: it keeps
-  // its reflected inertia N^2 I_r = 0.075 kg m^2 as armature, and the loader says so.
+  // model and the elbow is in a loop; the O(n) recursion has the rotor body's terms
+  // (subsystem_aba.hpp, tests/test_subsystem_aba.cpp), so the drive stays as described.
   const Description d = load(kData + "/tiny_arm.urdf", kData + "/extras/tiny_arm_full.yaml");
   const Joint& elbow = d.model.joint(*d.model.find_joint("elbow"));
-  EXPECT_FALSE(elbow.has_rotor_body());
-  EXPECT_NEAR(elbow.armature, 50.0 * 50.0 * 3e-5, 1e-15);
-  bool warned = false;
-  for (const std::string& w : d.warnings) warned = warned || w.find("drive of joint 'elbow': its rotor body model is not supported inside a loop") == 0;
-  EXPECT_TRUE(warned);
+  EXPECT_TRUE(elbow.has_rotor_body());
+  EXPECT_EQ(elbow.rotor_gear_ratio, 50.0);
+  EXPECT_EQ(elbow.rotor_inertia, 3e-5);
+  EXPECT_EQ(elbow.armature, 0.0);
+  for (const std::string& w : d.warnings) EXPECT_EQ(w.find("drive of joint"), std::string::npos) << w;
 }
 
 TEST(JointTypeOverrides, MassMatrixAndAbaStayRegularWithTheMasslessChainLinks) {

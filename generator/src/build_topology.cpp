@@ -63,26 +63,6 @@ std::string coordinate_name(const Model& model, int v_index) {
   return fmt::format("v[{}]", v_index);
 }
 
-namespace {
-/// The O(n) recursion treats a sub-system as one aggregate body and has no term yet for a rotor
-/// body spinning inside it: such a drive keeps its reflected inertia (N^2 I_r on the diagonal, the
-/// armature model) and loses its gyroscopic coupling, and a warning says so.
-void rotor_bodies_in_loops_to_armature(Description& d) {
-  for (const SubSystem& s : d.model.subsystems)
-    for (BodyIndex b : s.bodies) {
-      Joint& joint = d.model.mutable_joint(d.model.body(b).joint);
-      if (!joint.has_rotor_body()) continue;
-      joint.armature += joint.rotor_gear_ratio * joint.rotor_gear_ratio * joint.rotor_inertia;
-      joint.rotor_gear_ratio = 0;
-      joint.rotor_inertia = 0;
-      d.warnings.push_back(fmt::format(
-          "drive of joint '{}': its rotor body model is not supported inside a loop; modelled as reflected inertia "
-          "(armature {:.6g}) without the gyroscopic coupling (set its model to armature to silence this)",
-          joint.name, joint.armature));
-    }
-}
-}  // namespace
-
 void build_topology(Description& d) {
   if (d.closures.empty()) {
     d.closed_dof = d.model.nv();
@@ -91,7 +71,6 @@ void build_topology(Description& d) {
   add_closures_to_model(d);
   assemble_closures(d);
   find_subsystems(d);
-  rotor_bodies_in_loops_to_armature(d);
 }
 
 }  // namespace mbgen::gen

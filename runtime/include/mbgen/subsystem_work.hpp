@@ -14,7 +14,7 @@ template <typename S> struct SubSystemWork {
   SubSystemWork() = default;
   /// Throws std::invalid_argument if the sub-system is not one aba() can treat: its bodies must
   /// be moved by 1-DoF joints (coordinates[j] the joint of bodies[j]), each body's parent must be
-  /// in the sub-system or be its root, and no joint may carry a rotor body (armature is fine).
+  /// in the sub-system or be its root. Drives may use either rotor model (subsystem_aba.hpp).
   SubSystemWork(const Model& model, const SubSystem& s)
       : G(MatX<S>::Zero(k(s), p(s))),
         g(VecX<S>::Zero(k(s))),
@@ -41,8 +41,6 @@ template <typename S> struct SubSystemWork {
       const Joint& joint = model.joint(body.joint);
       if (joint.nv != 1 || joint.idx_v != s.coordinates[j])
         fail("body '" + body.name + "' must be moved by the 1-DoF joint of coordinate " + std::to_string(s.coordinates[j]));
-      if (joint.has_rotor_body())
-        fail("joint '" + joint.name + "' has a rotor body; inside a loop use the armature model (scene `rotors: armature`)");
       int parent = -1;
       for (std::size_t i = 0; i < j; ++i)
         if (s.bodies[i] == body.parent) parent = static_cast<int>(i);

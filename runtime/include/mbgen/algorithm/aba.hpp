@@ -54,7 +54,7 @@ const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRe
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
     if (const int s = data.subsystem_of_body[i]; s >= 0) {  // a sub-system: once, at its first body
-      if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_backward<S>(model, data, s, tau);
+      if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_backward<S>(model, data, s, v, tau);
       continue;
     }
     const Body& body = model.body(i);

@@ -18,8 +18,9 @@
 // are accumulated leaves to root inside the sub-system, as the tree ABA does, so the work is
 // O(m p^2 + p^3) for m bodies and p independent coordinates: the whole stays O(n).
 // The closure constraints never appear: G carries them, so redundant closure rows cost nothing.
-#include "mbgen/algorithm/small_ldlt.hpp"
 #include "mbgen/algorithm/kinematics.hpp"
+#include "mbgen/algorithm/rotor.hpp"
+#include "mbgen/algorithm/small_ldlt.hpp"
 
 namespace mbgen::detail {
 
@@ -28,10 +29,56 @@ template <typename S> Vec6<S> block_column(const MatX<S>& M, int b, int col) {
   return M.template block<6, 1>(6 * b, col);
 }
 
+/// Where a rotor body's terms go: its parent P's slots when P is a body of the sub-system, else
+/// the sums at the sub-system's root (P is the root; same frame, so no transform either way).
+template <typename S> struct RotorTarget {
+  Mat6<S>& inertia;    ///< IA_P, or I_S
+  Vec3<S>& moment;     ///< angular part of pA_P (already IA bias + pA, see subsystem_backward), or of p_S
+  MatX<S>& gathered;   ///< w.F, or w.U
+  int first_row;       ///< 6 parent_local, or 0
+};
+
+/// The rotor body of the joint moving sub-system body j (rotor.hpp: fixed in the joint's parent P,
+/// spinning about w at N qd_j, axial inertia I_r only). It is one more body of the sub-system,
+/// with H_R = H_P + N [w; 0] G_j (rows of G: coordinate j). Its spin acceleration is
+///   w . alpha_R = w . (X a_root)_ang + h ydd + beta,  h = w . H_P,ang + N G_j,  beta = w . bias_P,ang + N g_j
+/// (the velocity-product term w_P x (N qd w) is normal to w), and its force in P is
+/// F_R = [0; I_r (w . alpha_R) w + gyro], gyro = I_r (w . w_R)(w_P x w). As a body of the
+/// sub-system it adds (I_R H_R = [0; I_r w h], H_R,ang^T gyro = H_P,ang^T gyro since w . gyro = 0):
+///   D += I_r h^T h,  u -= I_r beta h^T + H_P,ang^T gyro,  F_P += [0; I_r w h],
+///   IA_P += I_R,  pA_P += [0; I_r beta w + gyro]  (carried to the root with P's own terms).
+/// P outside the sub-system is its root: H_P = 0 and bias_P = 0 there (the root's acceleration
+/// enters through U). The tree ABA's add_rotor_to_parent is the same body with p = 1, G = 1.
+template <typename S>
+void add_subsystem_rotor(const Model& model, const Data<S>& data, SubSystemWork<S>& w, int j, const Joint& joint,
+                         const S& qd, const RotorTarget<S>& target) {
+  const int p = static_cast<int>(w.G.cols());
+  const int parent = w.parent_local[static_cast<std::size_t>(j)];
+  const BodyIndex P = model.body(joint.child).parent;
+  const Vec3<S> axis = rotor_axis_in_parent(joint).template cast<S>();
+  const S N(joint.rotor_gear_ratio), I(joint.rotor_inertia);
+  const S spin_rate = axis.dot(data.v[P].angular) + N * qd;
+  const Vec3<S> gyro = data.v[P].angular.cross(axis) * (I * spin_rate);
+  S beta = N * w.g[j];
+  if (parent >= 0) beta += axis.dot(w.bias.col(parent).template tail<3>());
+  for (int r = 0; r < p; ++r) {
+    w.scratch[r] = N * w.G(j, r);  // h
+    if (parent >= 0) w.scratch[r] += axis.dot(w.H.template block<3, 1>(6 * parent + 3, r));
+  }
+  for (int r = 0; r < p; ++r) {
+    w.u[r] -= I * beta * w.scratch[r];
+    if (parent >= 0) w.u[r] -= w.H.template block<3, 1>(6 * parent + 3, r).dot(gyro);
+    for (int col = r; col < p; ++col) w.D(r, col) += I * w.scratch[r] * w.scratch[col];
+    target.gathered.template block<3, 1>(target.first_row + 3, r) += axis * (I * w.scratch[r]);
+  }
+  target.inertia.template bottomRightCorner<3, 3>() += (axis * axis.transpose()) * I;
+  target.moment += axis * (I * beta) + gyro;
+}
+
 /// Backward step of sub-system `s` (aba pass 2), run once all bodies outside it with a larger
 /// index are done. Adds the sub-system's articulated inertia and bias force to its root.
 template <typename S>
-void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVecRef<S>& tau) {
+void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   const SubSystem& sub = model.subsystems[static_cast<std::size_t>(s)];
   SubSystemWork<S>& w = data.subsystem[static_cast<std::size_t>(s)];
   const int m = static_cast<int>(sub.bodies.size());
@@ -56,7 +103,11 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
   }
 
   // Per body: F_b = IA_b H_b (kept in w.F), D += H_b^T F_b, P_b = IA_b bias_b + pA_b (in pA),
-  // u -= H_b^T P_b. The drives' reflected inertias join through G.
+  // u -= H_b^T P_b. The drives' reflected inertias join through G, their rotor bodies as bodies
+  // fixed in the joint's parent (add_subsystem_rotor), after the parent's own terms.
+  Mat6<S> I_S = Mat6<S>::Zero();  // the root's share, gathered leaves to root below
+  Force<S> p_S = Force<S>::Zero();
+  w.U.setZero();
   for (int col = 0; col < p; ++col) {
     S u_col = S(0);
     for (int j = 0; j < static_cast<int>(sub.coordinates.size()); ++j) u_col += w.G(j, col) * tau[sub.coordinates[static_cast<std::size_t>(j)]];
@@ -78,27 +129,32 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
         w.u[r] -= S(joint.armature) * w.G(j, r) * w.g[j];
         for (int col = r; col < p; ++col) w.D(r, col) += S(joint.armature) * w.G(j, r) * w.G(j, col);
       }
+    if (joint.has_rotor_body()) {
+      const int parent = w.parent_local[static_cast<std::size_t>(j)];
+      const RotorTarget<S> target = parent >= 0 ? RotorTarget<S>{data.IA[sub.bodies[static_cast<std::size_t>(parent)]],
+                                                                 data.pA[sub.bodies[static_cast<std::size_t>(parent)]].angular,
+                                                                 w.F, 6 * parent}
+                                                : RotorTarget<S>{I_S, p_S.angular, w.U, 0};
+      add_subsystem_rotor<S>(model, data, w, j, joint, v[joint.idx_v], target);
+    }
   }
   for (int r = 0; r < p; ++r)
     for (int col = 0; col < r; ++col) w.D(r, col) = w.D(col, r);
 
   // Leaves to root inside the sub-system: I_S, U = sum X^T F_b, p_S, gathered in the root frame.
-  Mat6<S> I_S = Mat6<S>::Zero();
-  Vec6<S> p_S = Vec6<S>::Zero();
-  w.U.setZero();
   for (int j = m - 1; j >= 0; --j) {
     const BodyIndex b = sub.bodies[static_cast<std::size_t>(j)];
     const Joint& joint = model.joint(model.body(b).joint);
     const int parent = w.parent_local[static_cast<std::size_t>(j)];
     const Mat6<S> I_up = inertia_child_to_parent<S>(joint, data.X_J[b], data.IA[b]);
-    const Vec6<S> p_up = force_child_to_parent<S>(joint, data.X_J[b], data.pA[b]).vector();
+    const Force<S> p_up = force_child_to_parent<S>(joint, data.X_J[b], data.pA[b]);
     if (parent >= 0) {
       const BodyIndex pb = sub.bodies[static_cast<std::size_t>(parent)];
       data.IA[pb] += I_up;
-      data.pA[pb] = Force<S>::from_vector(data.pA[pb].vector() + p_up);
+      data.pA[pb] = data.pA[pb] + p_up;
     } else {
       I_S += I_up;
-      p_S += p_up;
+      p_S = p_S + p_up;
     }
     for (int col = 0; col < p; ++col) {
       const Vec6<S> F_up = force_child_to_parent<S>(joint, data.X_J[b], Force<S>::from_vector(block_column<S>(w.F, j, col))).vector();
@@ -124,7 +180,7 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
       Ia(r, c) = x;
       Ia(c, r) = x;
     }
-  Vec6<S> pa = p_S;
+  Vec6<S> pa = p_S.vector();
   for (int r = 0; r < 6; ++r)
     for (int k = 0; k < p; ++k) pa[r] += UDinv(r, k) * w.u[k];
   data.IA[sub.root] += Ia;
