@@ -107,8 +107,11 @@ std::string emit_closure_positions_definition(const Model& model, const std::str
   } else {
     const TracedFunction step = trace_closure_newton_step(model);
     out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
+    const SplitStatements split = split_statements(step, "closure_newton_step", kMaxStatementsPerPart);
+    if (!split.parts.empty()) out += noinline_macro();
+    out += split.parts;
     out += "template <typename S> void closure_newton_step(const S* q, S* residual, S* pivots, S* step) {\n";
-    out += emit_statements(step) + "}\n\n";
+    out += split.body + "}\n\n";
     std::vector<int> begin{0}, dependent_q;
     for (const SubSystem& sub : model.subsystems) {
       begin.push_back(begin.back() + sub.rank());

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <set>
 #include <stdexcept>
 
 namespace mbgen::codegen {
@@ -26,9 +28,14 @@ std::vector<bool> reachable(const TracedFunction& f) {
   return seen;
 }
 
-std::string signature(const TracedFunction& f, const std::string& scalar) {
+std::string input_parameters(const TracedFunction& f, const std::string& scalar) {
   std::string args;
   for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
+  return args;
+}
+
+std::string signature(const TracedFunction& f, const std::string& scalar) {
+  std::string args = input_parameters(f, scalar);
   for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, a.name);
   return fmt::format("void {}({})", f.name, args);
 }
@@ -93,51 +100,174 @@ std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars) {
   return out;
 }
 
-std::string emit_statements(const TracedFunction& f) {
-  const std::vector<bool> seen = reachable(f);
+namespace {
+
+bool is_statement(const Node& n) { return n.op != Op::Constant && n.op != Op::Input; }
+
+/// The right-hand side of node n's statement, its operands named by `name`.
+template <typename Name> std::string expression(const Node& n, Name name) {
+  switch (n.op) {
+    case Op::Add: return fmt::format("{} + {}", name(n.a), name(n.b));
+    case Op::Sub: return fmt::format("{} - {}", name(n.a), name(n.b));
+    case Op::Mul: return fmt::format("{} * {}", name(n.a), name(n.b));
+    case Op::Div: return fmt::format("{} / {}", name(n.a), name(n.b));
+    case Op::Neg: return fmt::format("-{}", name(n.a));
+    case Op::Sin: return fmt::format("std::sin({})", name(n.a));
+    case Op::Cos: return fmt::format("std::cos({})", name(n.a));
+    case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
+    // A select, not std::fmax: no libm call on a microcontroller.
+    case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
+    case Op::Constant:
+    case Op::Input: break;
+  }
+  throw std::logic_error("expression: not a statement");
+}
+
+/// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
+std::vector<std::string> leaf_and_temporary_names(const TracedFunction& f, const std::vector<bool>& seen) {
   std::vector<std::string> names(static_cast<std::size_t>(f.graph.size()));
-  auto operand = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
-  std::string body;
-  body.reserve(64 * static_cast<std::size_t>(f.graph.size()));
   int temporaries = 0;
   for (int id = 0; id < f.graph.size(); ++id) {
     if (!seen[static_cast<std::size_t>(id)]) continue;
     const Node& n = f.graph.node(id);
     std::string& name = names[static_cast<std::size_t>(id)];
-    std::string expr;
-    switch (n.op) {
-      case Op::Constant: name = literal(n.value); continue;
-      case Op::Input: name = fmt::format("{}[{}]", f.inputs.at(static_cast<std::size_t>(n.input)).name, n.index); continue;
-      case Op::Add: expr = fmt::format("{} + {}", operand(n.a), operand(n.b)); break;
-      case Op::Sub: expr = fmt::format("{} - {}", operand(n.a), operand(n.b)); break;
-      case Op::Mul: expr = fmt::format("{} * {}", operand(n.a), operand(n.b)); break;
-      case Op::Div: expr = fmt::format("{} / {}", operand(n.a), operand(n.b)); break;
-      case Op::Neg: expr = fmt::format("-{}", operand(n.a)); break;
-      case Op::Sin: expr = fmt::format("std::sin({})", operand(n.a)); break;
-      case Op::Cos: expr = fmt::format("std::cos({})", operand(n.a)); break;
-      case Op::Sqrt: expr = fmt::format("std::sqrt({})", operand(n.a)); break;
-      // A select, not std::fmax: no libm call on a microcontroller.
-      case Op::Max: expr = fmt::format("{0} > {1} ? {0} : {1}", operand(n.a), operand(n.b)); break;
-    }
-    name = fmt::format("_t{}", temporaries++);
-    body += fmt::format("  const S {} = {};\n", name, expr);
+    if (n.op == Op::Constant) name = literal(n.value);
+    else if (n.op == Op::Input) name = fmt::format("{}[{}]", f.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
+    else name = fmt::format("_t{}", temporaries++);
   }
+  return names;
+}
+
+std::string output_assignments(const TracedFunction& f, const std::vector<std::string>& names) {
+  std::string body;
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     for (std::size_t i = 0; i < f.output_ids[o].size(); ++i)
-      body += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, operand(f.output_ids[o][i]));
+      body += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, names[static_cast<std::size_t>(f.output_ids[o][i])]);
   return body;
+}
+
+std::string unused_inputs(const TracedFunction& f) {
+  std::string out;
+  for (const ArraySpec& a : f.inputs) out += fmt::format("  (void){};\n", a.name);
+  return out;
+}
+
+}  // namespace
+
+std::string emit_statements(const TracedFunction& f) {
+  const std::vector<bool> seen = reachable(f);
+  const std::vector<std::string> names = leaf_and_temporary_names(f, seen);
+  auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
+  std::string body;
+  body.reserve(64 * static_cast<std::size_t>(f.graph.size()));
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id)))
+      body += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
+  return body + output_assignments(f, names);
+}
+
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements) {
+  const std::vector<bool> seen = reachable(f);
+  std::vector<int> statements;
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id))) statements.push_back(id);
+  const int count = static_cast<int>(statements.size());
+  if (count <= max_statements) return {"", emit_statements(f)};
+
+  // Parts of equal size, in id order (a topological order): part_of[id] for statements.
+  const int parts = (count + max_statements - 1) / max_statements;
+  const int per_part = (count + parts - 1) / parts;
+  std::vector<int> part_of(static_cast<std::size_t>(f.graph.size()), -1);
+  for (int k = 0; k < count; ++k) part_of[static_cast<std::size_t>(statements[static_cast<std::size_t>(k)])] = k / per_part;
+  // The last part reading each statement (`parts`: the caller, which assigns the outputs).
+  std::vector<int> last_use(part_of);
+  auto use = [&](int operand, int part) {
+    if (operand >= 0 && part_of[static_cast<std::size_t>(operand)] >= 0)
+      last_use[static_cast<std::size_t>(operand)] = std::max(last_use[static_cast<std::size_t>(operand)], part);
+  };
+  for (int id : statements) {
+    use(f.graph.node(id).a, part_of[static_cast<std::size_t>(id)]);
+    use(f.graph.node(id).b, part_of[static_cast<std::size_t>(id)]);
+  }
+  for (const auto& ids : f.output_ids)
+    for (int id : ids) use(id, parts);
+
+  // Workspace slots for the values that outlive their part. A part reads the workspace in its
+  // statements and writes its own values at its end, so a slot whose value is last read in
+  // part p takes a value of part p; the lowest free slot first (deterministic, and the
+  // workspace stays as small as the widest boundary between parts).
+  std::vector<int> slot(static_cast<std::size_t>(f.graph.size()), -1);
+  std::set<int> free_slots;
+  int slots = 0;
+  std::vector<std::vector<int>> released(static_cast<std::size_t>(parts) + 1), stored(static_cast<std::size_t>(parts));
+  for (int id : statements) {
+    const int p = part_of[static_cast<std::size_t>(id)], last = last_use[static_cast<std::size_t>(id)];
+    if (last == p) continue;
+    stored[static_cast<std::size_t>(p)].push_back(id);
+    released[static_cast<std::size_t>(last)].push_back(id);
+  }
+  for (int p = 0; p < parts; ++p) {
+    for (int id : released[static_cast<std::size_t>(p)]) free_slots.insert(slot[static_cast<std::size_t>(id)]);
+    for (int id : stored[static_cast<std::size_t>(p)]) {
+      int& s = slot[static_cast<std::size_t>(id)];
+      if (free_slots.empty()) {
+        s = slots++;
+      } else {
+        s = *free_slots.begin();
+        free_slots.erase(free_slots.begin());
+      }
+    }
+  }
+
+  const std::vector<std::string> local_names = leaf_and_temporary_names(f, seen);
+  std::vector<std::string> workspace_names(local_names);
+  for (int id : statements)
+    if (slot[static_cast<std::size_t>(id)] >= 0) workspace_names[static_cast<std::size_t>(id)] = fmt::format("w[{}]", slot[static_cast<std::size_t>(id)]);
+
+  SplitStatements out;
+  for (int p = 0; p < parts; ++p) {
+    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, S* w) {{\n", prefix, p,
+                             input_parameters(f, "S"));
+    out.parts += unused_inputs(f);
+    auto name = [&](int id) -> const std::string& {
+      const std::size_t i = static_cast<std::size_t>(id);
+      return part_of[i] == p ? local_names[i] : workspace_names[i];
+    };
+    for (int k = p * per_part; k < std::min(count, (p + 1) * per_part); ++k) {
+      const int id = statements[static_cast<std::size_t>(k)];
+      out.parts += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
+    }
+    for (int id : stored[static_cast<std::size_t>(p)])
+      out.parts += fmt::format("  {} = {};\n", workspace_names[static_cast<std::size_t>(id)], local_names[static_cast<std::size_t>(id)]);
+    out.parts += "}\n\n";
+  }
+  std::string arguments;
+  for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
+  out.body = fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
+                         "  // w carries the {} values that cross a part boundary.\n  S w[{}];\n",
+                         count, parts, slots, std::max(slots, 1));
+  for (int p = 0; p < parts; ++p) out.body += fmt::format("  {}_part{}<S>({}w);\n", prefix, p, arguments);
+  out.body += output_assignments(f, workspace_names);
+  return out;
+}
+
+std::string noinline_macro() {
+  return "// The parts of a split function stay functions of their own (see split_statements).\n"
+         "#ifndef MBGEN_GENERATED_NOINLINE\n#if defined(__GNUC__)\n#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))\n"
+         "#else\n#define MBGEN_GENERATED_NOINLINE\n#endif\n#endif\n\n";
 }
 
 std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
                             ScalarChoice scalars) {
-  const std::string body = emit_statements(f);
-  std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\nnamespace {} {{\n\nnamespace {{\n\n", header, ns);
+  const SplitStatements split = split_statements(f, f.name, kMaxStatementsPerPart);
+  std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\n", header);
+  if (!split.parts.empty()) out += noinline_macro();
+  out += fmt::format("namespace {} {{\n\nnamespace {{\n\n", ns);
+  out += split.parts;
   out += fmt::format("// {}\n// {}.\ntemplate <typename S>\n", f.doc, describe_operations(count_operations(f)));
   std::string impl_sig = signature(f, "S");
   impl_sig.replace(impl_sig.find(f.name), f.name.size(), f.name + "_impl");
-  std::string unused;
-  for (const ArraySpec& a : f.inputs) unused += fmt::format("  (void){};\n", a.name);
-  out += impl_sig + " {\n" + unused + body + "}\n\n}  // namespace\n\n";
+  out += impl_sig + " {\n" + unused_inputs(f) + split.body + "}\n\n}  // namespace\n\n";
   for (const std::string& s : scalar_types(scalars))
     out += fmt::format("{} {{ {}_impl<{}>({}); }}\n\n", signature(f, s), f.name, s, call_arguments(f));
   out += fmt::format("}}  // namespace {}\n", ns);

@@ -24,6 +24,26 @@ std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars);
 /// them in a function; emit_self_distances in a function with local output arrays.
 std::string emit_statements(const TracedFunction& f);
 
+/// Statements per part above which a function is split (split_statements). g++'s register
+/// allocation grows faster than linearly with a function's size: wl16_like's full_accelerations
+/// (~39k statements per scalar) took 200 s in one piece at -O3.
+inline constexpr int kMaxStatementsPerPart = 20000;
+
+/// A function body split into parts: `parts` defines `template <typename S> void
+/// <prefix>_part<k>(inputs..., S* w)` (marked noinline, see noinline_macro), each computing
+/// one run of consecutive statements and storing at its end the values later parts or the
+/// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
+/// the outputs. Functions of at most max_statements statements are not split: parts is empty
+/// and body is emit_statements(f). Deterministic: slots are reused lowest first.
+struct SplitStatements {
+  std::string parts;
+  std::string body;
+};
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements);
+
+/// Defines MBGEN_GENERATED_NOINLINE (GCC and Clang: noinline; else nothing), for files with parts.
+std::string noinline_macro();
+
 /// `S(value)` in shortest round-trip form.
 std::string literal(double value);
 
