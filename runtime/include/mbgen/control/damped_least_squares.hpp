@@ -6,7 +6,9 @@
 // with the damping schedule (Nakamura; Chiaverini's singular region, per singular value)
 //   lambda_i^2 = lambda_0^2 + (sigma_i < epsilon ? lambda_max^2 (1 - (sigma_i / epsilon)^2) : 0).
 // With lambda_0 = 0 this is the exact pseudo-inverse away from singularities (sigma_min >= epsilon)
-// and stays bounded at them (|x| <= |e| / (2 lambda_max) along a vanishing sigma); with
+// and stays bounded at them; with max_damping = singular_region (the default of the
+// differential IK) the gain sigma / (sigma^2 + lambda^2) rises linearly to 1 / epsilon inside the
+// region and never exceeds it, so |x| <= |e| / epsilon whatever the pose. With
 // epsilon = 0 it is the classical A^T (A A^T + lambda_0^2 I)^-1 e.
 //
 // Why an SVD: it gives the damping schedule (the singular values) and the rank at once, and its
