@@ -76,7 +76,8 @@ struct StepReport {
 template <typename S> class DifferentialIk {
  public:
   /// tasks: the primary stack (at least one). collision_model: the scene's compounds and kept
-  /// pairs (needed iff options.collision_avoidance), kept by reference: it must outlive this.
+  /// pairs (needed iff options.collision_avoidance). The model and the collision model are kept
+  /// by reference: they must outlive the controller.
   DifferentialIk(const Model& model, const std::vector<TaskSpec>& tasks, const DifferentialIkOptions& options = {},
                  const collision::CollisionModel* collision_model = nullptr)
       : model_(model), options_(options), collision_model_(collision_model), data_(model),
@@ -143,6 +144,8 @@ template <typename S> class DifferentialIk {
     u2_ = VecX<S>::Zero(nc_);
     uc_ = VecX<S>::Zero(nc_);
     c_ = VecX<S>::Zero(nc_);
+    secondary_ = VecX<S>::Zero(nc_);
+    collision_ = VecX<S>::Zero(nc_);
   }
 
   const Model& model() const { return model_; }
@@ -216,6 +219,8 @@ template <typename S> class DifferentialIk {
       const Vec3<S> s = Eigen::LLT<Mat3<S>>(M).solve(r - C_.transpose() * uc_);
       u2_.noalias() += C_ * s;
     }
+    secondary_ = scale_.cwiseProduct(u2_);
+    collision_ = scale_.cwiseProduct(uc_);
     c_ = scale_.cwiseProduct(u1_ + u2_);
     S limit_scale = S(1);
     for (int i = 0; i < nc_; ++i)
@@ -236,8 +241,8 @@ template <typename S> class DifferentialIk {
   const MatX<S>& velocity_map() const { return T_; }              ///< nv x ny (loops only; empty for a tree)
   const VecX<S>& coordinates_velocity() const { return c_; }      ///< nc: the solved velocity (after limits)
   /// nc: the secondary part D u2 of the solved velocity (before limits): in null(J T).
-  VecX<S> secondary_velocity() const { return scale_.cwiseProduct(u2_); }
-  VecX<S> collision_velocity() const { return scale_.cwiseProduct(uc_); }  ///< nc: D N u_c (before limits)
+  const VecX<S>& secondary_velocity() const { return secondary_; }
+  const VecX<S>& collision_velocity() const { return collision_; }  ///< nc: D N u_c (before limits)
   const VecX<S>& collision_gradient() const { return gradient_; }          ///< nv: dP/dq
   const collision::CollisionData<S>* collision_data() const { return collision_data_ ? &*collision_data_ : nullptr; }
   Data<S>& data() { return data_; }
@@ -278,7 +283,7 @@ template <typename S> class DifferentialIk {
   VecX<S> xd_;
   Mat3X<S> Jcom_, Bk_;
   Mat6X<S> frame_J_;
-  VecX<S> gradient_, gradient_c_, column_, u1_, u2_, uc_, c_;
+  VecX<S> gradient_, gradient_c_, column_, u1_, u2_, uc_, c_, secondary_, collision_;
 };
 
 }  // namespace mbgen::control
