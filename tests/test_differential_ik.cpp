@@ -15,7 +15,8 @@
 //    closed to first order (Phi_q v = 0, 1e-10), with collision avoidance and momentum tracking
 //    active, also over 300 steps of a closed-loop simulation that re-closes the loops by Newton;
 //  - a singular pose (stretched arm, unreachable target): finite, bounded velocities;
-//  - float instantiation; no allocation in step(); construction errors by their text.
+//  - non-finite input reported, zero commanded; float instantiation; no allocation in step();
+//    construction errors by their text.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -412,6 +413,21 @@ TEST(DifferentialIk, SingularPoseGivesBoundedVelocities) {
     std::printf("  stretched arm bent by %.0e rad: sigma_min %.1e, |v| / |xd| = %.2f\n", bend, bent.smallest_singular_value,
                 v.norm() / ik.primary_velocity().norm());
   }
+}
+
+TEST(DifferentialIk, NonFiniteInputIsReportedNotCommanded) {
+  const Model model = load_tree(MBGEN_TEST_DATA "/collision_arm.urdf", gen::BaseType::Fixed);
+  DifferentialIk<double> ik(model, {{"tip", TaskKind::FramePosition, "link3", 5.0}});
+  VecX<double> q(model.nq()), v = VecX<double>::Ones(model.nv());
+  q << 0.0, 0.6, 2.0, 0.0;
+  ik.target(0).position = Vec3<double>(std::nan(""), 0.0, 0.0);
+  EXPECT_FALSE(ik.step(q, v).ok);
+  EXPECT_EQ(v.cwiseAbs().maxCoeff(), 0.0);
+  ik.target(0).position = Vec3<double>(0.35, 0.0, 0.0);
+  q[1] = std::nan("");
+  v.setOnes();
+  EXPECT_FALSE(ik.step(q, v).ok);
+  EXPECT_EQ(v.cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(DifferentialIk, FloatScalarWorks) {

@@ -66,7 +66,7 @@ struct DifferentialIkOptions {
 
 /// What a step did (no exceptions in the step: a failure is reported here, qd is then zero).
 struct StepReport {
-  bool ok = false;          ///< false if the primary Jacobian or a target was not finite
+  bool ok = false;          ///< false if the primary Jacobian, a target or the result was not finite
   int rank = 0;             ///< numerical rank of the weighted primary Jacobian
   double smallest_singular_value = 0;
   int active_pairs = 0;     ///< collision pairs within the activation distance
@@ -222,6 +222,11 @@ template <typename S> class DifferentialIk {
     secondary_ = scale_.cwiseProduct(u2_);
     collision_ = scale_.cwiseProduct(uc_);
     c_ = scale_.cwiseProduct(u1_ + u2_);
+    if (!c_.allFinite()) {  // e.g. a distance that came out NaN: refuse rather than command it
+      v.setZero();
+      report.ok = false;
+      return report;
+    }
     S limit_scale = S(1);
     for (int i = 0; i < nc_; ++i)
       if (std::abs(c_[i]) * limit_scale > limits_[i]) limit_scale = limits_[i] / std::abs(c_[i]);
