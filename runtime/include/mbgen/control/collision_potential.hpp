@@ -1,0 +1,58 @@
+#pragma once
+// Self-collision potential over a scene's kept pairs (thesis ch. 5; DESIGN.md "Controller side"):
+//   P(q) = sum_k  1/2 * stiffness * (d_a - d_k(q))^2   for d_k < d_a, 0 otherwise,
+//   dP/dq = - sum_k stiffness * (d_a - d_k) * dd_k/dq   (velocity coordinates, nv).
+// d_a is the activation distance. The quadratic is C^1 at d_a: the potential and its gradient
+// switch on from zero, so a controller that descends it does not jerk when a pair comes within
+// d_a; it is defined for negative d (overlap) too, where it keeps pushing apart with a force that
+// grows linearly with the penetration of the activation zone. The gradient is what the
+// differential IK projects into the null space of the primary tasks (its negative, scaled by the
+// inverse velocity weights, is the steepest-descent velocity of P).
+//
+// Needs compute_distances and compute_distance_jacobians (collision/compound_distance.hpp) at q.
+#include <stdexcept>
+#include <string>
+
+#include "mbgen/collision/compound_distance.hpp"
+
+namespace mbgen::control {
+
+struct CollisionPotentialOptions {
+  double activation_distance = 0.05;  ///< d_a, m: pairs closer than this are pushed apart
+  double stiffness = 100.0;           ///< of the potential, 1/(m s): the repulsive velocity is stiffness * (d_a - d) * J_d^T
+};
+
+inline void check(const CollisionPotentialOptions& o) {
+  if (!(o.activation_distance > 0) || !std::isfinite(o.activation_distance))
+    throw std::invalid_argument("collision avoidance: activation_distance must be finite and > 0, got " + std::to_string(o.activation_distance));
+  if (!(o.stiffness > 0) || !std::isfinite(o.stiffness))
+    throw std::invalid_argument("collision avoidance: stiffness must be finite and > 0, got " + std::to_string(o.stiffness));
+}
+
+/// P(q) from the pair distances in cd.
+template <typename S> S collision_potential(const collision::CollisionData<S>& cd, const CollisionPotentialOptions& o) {
+  const S da(o.activation_distance), k(o.stiffness);
+  S p = S(0);
+  for (const auto& pair : cd.distances) {
+    const S gap = da - pair.result.distance;
+    if (gap > S(0)) p += S(0.5) * k * gap * gap;
+  }
+  return p;
+}
+
+/// dP/dq (nv) from the distances and distance Jacobians in cd; returns the number of active pairs.
+template <typename S, typename Out>
+int collision_potential_gradient(const collision::CollisionData<S>& cd, const CollisionPotentialOptions& o, Out&& gradient) {
+  const S da(o.activation_distance), k(o.stiffness);
+  gradient.setZero();
+  int active = 0;
+  for (std::size_t i = 0; i < cd.distances.size(); ++i) {
+    const S gap = da - cd.distances[i].result.distance;
+    if (!(gap > S(0))) continue;
+    gradient -= (k * gap) * cd.jacobian.row(static_cast<int>(i)).transpose();
+    ++active;
+  }
+  return active;
+}
+
+}  // namespace mbgen::control

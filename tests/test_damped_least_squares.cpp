@@ -1,0 +1,175 @@
+// Damped least squares with its null-space projector (runtime/include/mbgen/control/damped_least_squares.hpp),
+// against independent closed forms:
+//  - constant damping (no singular region): A^T (A A^T + lambda^2 I)^-1 e by an LDL^T of the
+//    m x m normal matrix, to 1e-12 relative;
+//  - no damping at a regular A: Eigen's complete orthogonal decomposition pseudo-inverse, and
+//    A x = e, to 1e-12;
+//  - the damping schedule at the singular (stretched) pose of a planar two-link arm: the
+//    per-eigenvalue formula from an eigen-decomposition of J J^T, bounded by |e| / (2 lambda)
+//    along the lost direction, and continuous as the arm approaches the singularity;
+//  - the projector: symmetric, idempotent, A N = 0 (1e-14 |A|), rank of a rank-deficient A;
+//  - no allocation in compute / solve / project_to_null.
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+#include <cstdio>
+#include <random>
+
+#include "malloc_guard.hpp"
+#include "mbgen/control/damped_least_squares.hpp"
+
+namespace mbgen::test {
+namespace {
+
+using control::DampedLeastSquares;
+using control::DampingOptions;
+
+MatX<double> random_matrix(int m, int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  MatX<double> A(m, n);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = u(rng);
+  return A;
+}
+
+/// Null-space projector of dls as a dense matrix (n x n), column by column.
+MatX<double> projector(DampedLeastSquares<double>& dls, int n) {
+  MatX<double> N(n, n);
+  VecX<double> e(n);
+  for (int j = 0; j < n; ++j) {
+    e.setZero();
+    e[j] = 1;
+    dls.project_to_null(e);
+    N.col(j) = e;
+  }
+  return N;
+}
+
+TEST(DampedLeastSquares, ConstantDampingIsTheClassicalClosedForm) {
+  const MatX<double> A = random_matrix(6, 10, 1);
+  const VecX<double> e = random_matrix(6, 1, 2);
+  for (double lambda : {1e-3, 0.1, 1.0}) {
+    DampedLeastSquares<double> dls(6, 10, DampingOptions{lambda, 0.0, 0.0, 1e-10});
+    ASSERT_TRUE(dls.compute(A));
+    VecX<double> x(10);
+    dls.solve(e, x);
+    const MatX<double> normal = A * A.transpose() + lambda * lambda * MatX<double>::Identity(6, 6);
+    const VecX<double> reference = A.transpose() * normal.ldlt().solve(e);
+    EXPECT_LT((x - reference).norm(), 1e-12 * reference.norm()) << "lambda " << lambda;
+  }
+}
+
+TEST(DampedLeastSquares, RegularMatrixGivesTheExactMinimumNormSolution) {
+  const MatX<double> A = random_matrix(6, 10, 3);
+  const VecX<double> e = random_matrix(6, 1, 4);
+  // The singular region is below every singular value of A: no damping at all.
+  DampedLeastSquares<double> dls(6, 10, DampingOptions{0.0, 1e-3, 0.1, 1e-10});
+  ASSERT_TRUE(dls.compute(A));
+  ASSERT_GT(dls.smallest_singular_value(), 1e-3);
+  VecX<double> x(10);
+  dls.solve(e, x);
+  const VecX<double> reference = A.completeOrthogonalDecomposition().pseudoInverse() * e;
+  EXPECT_LT((x - reference).norm(), 1e-12 * reference.norm());
+  EXPECT_LT((A * x - e).norm(), 1e-12 * e.norm());
+  EXPECT_EQ(dls.rank(), 6);
+}
+
+TEST(DampedLeastSquares, ProjectorIsOrthogonalAndAnnihilatesTheRowSpace) {
+  // Rank 4: the last two rows are combinations of the first four.
+  MatX<double> A = random_matrix(6, 10, 5);
+  A.row(4) = 0.3 * A.row(0) - 2.0 * A.row(3);
+  A.row(5) = A.row(1) + A.row(2);
+  DampedLeastSquares<double> dls(6, 10);
+  ASSERT_TRUE(dls.compute(A));
+  EXPECT_EQ(dls.rank(), 4);
+  const MatX<double> N = projector(dls, 10);
+  const double scale = A.norm();
+  EXPECT_LT((A * N).cwiseAbs().maxCoeff(), 1e-14 * scale);
+  EXPECT_LT((N - N.transpose()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((N * N - N).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_NEAR(N.trace(), 6.0, 1e-13);  // dimension of the null space: 10 - 4
+}
+
+/// Jacobian of the tip of a planar two-link arm (lengths l1, l2) at angles q1, q2.
+Eigen::Matrix2d two_link_jacobian(double q1, double q2, double l1 = 0.5, double l2 = 0.4) {
+  Eigen::Matrix2d J;
+  J << -l1 * std::sin(q1) - l2 * std::sin(q1 + q2), -l2 * std::sin(q1 + q2),  //
+      l1 * std::cos(q1) + l2 * std::cos(q1 + q2), l2 * std::cos(q1 + q2);
+  return J;
+}
+
+TEST(DampedLeastSquares, SingularPoseIsDampedAsTheScheduleSays) {
+  const DampingOptions options{0.0, 0.05, 0.02, 1e-10};  // epsilon 0.05, lambda_max 0.02
+  DampedLeastSquares<double> dls(2, 2, options);
+  const Eigen::Vector2d e(0.3, -0.2);
+  double worst = 0, largest_norm = 0;
+  VecX<double> previous;
+  for (int k = 0; k <= 200; ++k) {
+    const double q2 = 0.2 * (1.0 - k / 200.0);  // down to the stretched arm, q2 = 0 exactly
+    const Eigen::Matrix2d J = two_link_jacobian(0.4, q2);
+    ASSERT_TRUE(dls.compute(J));
+    VecX<double> x(2);
+    dls.solve(e, x);
+    ASSERT_TRUE(x.allFinite());
+    // Independent closed form: J J^T = U diag(s^2) U^T, x = J^T U diag(1 / (s^2 + lambda(s)^2)) U^T e.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(J * J.transpose());
+    Eigen::Vector2d y = eig.eigenvectors().transpose() * e;
+    for (int i = 0; i < 2; ++i) {
+      const double s = std::sqrt(std::max(0.0, eig.eigenvalues()[i]));
+      const double lambda2 = s < 0.05 ? 0.02 * 0.02 * (1 - (s / 0.05) * (s / 0.05)) : 0.0;
+      y[i] /= eig.eigenvalues()[i] + lambda2;
+    }
+    const Eigen::Vector2d reference = J.transpose() * eig.eigenvectors() * y;
+    worst = std::max(worst, (x - reference).norm() / reference.norm());
+    // Gain along a singular direction: sigma / (sigma^2 + lambda_max^2 (1 - sigma^2 / eps^2)) peaks at
+    // 1 / (2 lambda_max sqrt(1 - lambda_max^2 / eps^2)) = 27.3 inside the region, 1 / sigma <= 20 outside.
+    EXPECT_LE(x.norm(), e.norm() / (2 * 0.02 * std::sqrt(1 - 0.16)) + 1e-12);
+    if (previous.size()) largest_norm = std::max(largest_norm, (x - previous).norm());
+    previous = x;
+  }
+  std::printf("  two-link arm to the stretched pose: max relative error vs closed form %.2e, largest step in x %.2e\n", worst,
+              largest_norm);
+  EXPECT_LT(worst, 1e-10);
+  EXPECT_LT(largest_norm, 0.5);  // continuous: 201 poses over 0.2 rad, no jump of the size of x (~10)
+  // At q2 = 0 the lost direction (along the arm) gets nothing; the other is the plain inverse.
+  EXPECT_EQ(dls.rank(), 1);
+}
+
+TEST(DampedLeastSquares, NonFiniteMatrixIsRefused) {
+  DampedLeastSquares<double> dls(2, 3);
+  MatX<double> A = MatX<double>::Zero(2, 3);
+  A(1, 2) = std::nan("");
+  EXPECT_FALSE(dls.compute(A));
+  EXPECT_FALSE(dls.valid());
+}
+
+TEST(DampedLeastSquares, NegativeOptionsAreRefusedWithAMessage) {
+  try {
+    DampedLeastSquares<double> dls(2, 3, DampingOptions{-1.0, 0.0, 0.0, 1e-10});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "DampedLeastSquares: damping options must be non-negative (constant, singular_region, max_damping, rank_tolerance)");
+  }
+}
+
+TEST(DampedLeastSquares, DoesNotAllocate) {
+  const MatX<double> A = random_matrix(18, 40, 7);
+  const VecX<double> e = random_matrix(18, 1, 8);
+  DampedLeastSquares<double> dls(18, 40, DampingOptions{0.0, 0.05, 0.02, 1e-10});
+  VecX<double> x(40), v = random_matrix(40, 1, 9);
+  {
+    MallocGuard guard;
+    dls.compute(A);
+    dls.solve(e, x);
+    dls.project_to_null(v);
+    EXPECT_EQ(guard.count(), 0u);
+  }
+  EXPECT_LT((A * v).norm(), 1e-13);
+}
+
+}  // namespace
+}  // namespace mbgen::test
