@@ -55,14 +55,18 @@ struct ClosureOptions {
   /// at r = 2e-11 in double and at 1.5e-6 in float alike); a pose closed to the tolerance is
   /// therefore within reach of a dead point when sigma^2 < 2 h tolerance. h is a property of the
   /// linkage; its assembled pose, a residual distance D from the nearest dead point, has
-  /// sigma_0^2 ~= 2 h D, so the test becomes (sigma / sigma_0)^2 < tolerance / D, free of h and of
-  /// the rows' and columns' units. The loader's assembled poses lie D >= 5 mm (of closure
-  /// residual: a few mrad times a link) inside the stroke (the slider-crank's: 60 mm); a smaller D
-  /// only widens the flagged zone by D / 5 mm. Hence sqrt(tolerance / 5e-3):
+  /// sigma_0^2 ~= 2 h D (the slider-crank: 0.42^2 / 2.4 = 73 mm, for 60 mm of slider travel),
+  /// so the test becomes (sigma / sigma_0)^2 < tolerance / D, free of h and of the rows' and
+  /// columns' units (sigma_max, the ratio's denominator, changes little: 0.12 to 0.18 there).
+  /// D is taken as 5 mm of closure residual (a few mrad times a link): assembled poses lie
+  /// farther inside their stroke, and a true D above 5 mm widens the flagged zone to
+  /// tolerance x D / 5 mm (the slider-crank in float: 30 um of its 60 mm stroke), one below
+  /// narrows it. Hence sqrt(tolerance / 5e-3):
   /// sqrt(1e-12 / 5e-3) = 1.4e-5 here (in double the singular_tolerance test above fires first:
   /// the dead point is found in the same steps as before), sqrt(2e-6 / 5e-3) = 2e-2 for float's
   /// tolerance of 2e-6 (the generated closure_options_float): the slider-crank's stroke end reads
-  /// 4.5e-3 in float, the loop robots' regular poses >= 8e-2 (test_closure_positions).
+  /// 4.5e-3 in float, the loop robots' regular poses >= 0.4 at test_closure_positions' poses and
+  /// >= 8e-2 after moves of 0.3 rad (docs/loops.md): a factor 4 or more either side.
   double dead_point_tolerance = 1.4e-5;
 };
 
