@@ -5,7 +5,9 @@
 // slider-driven slider-crank, and no allocation per call.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include "malloc_guard.hpp"
@@ -99,6 +101,46 @@ TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
   EXPECT_LE(result.iterations, 6);
   EXPECT_LT(result.residual, 1e-12);
   EXPECT_GT(result.pivot_ratio, 1e-5);
+}
+
+/// The generated code's float settings (closure_options_float): a float Newton's tolerances.
+ClosureOptions float_options() {
+  ClosureOptions options;
+  options.tolerance = 2e-6;
+  options.singular_tolerance = 1e-3;
+  options.dead_point_tolerance = 2e-2;
+  return options;
+}
+
+TEST_P(LoopMapsTest, NewtonOnRegularPosesIsConvergedInDoubleAndFloat) {
+  // No false dead point: from seeded random closed poses (spread 0.05, as test_generated) with
+  // the dependent coordinates moved by up to 1e-3, Newton reports converged, in double with the
+  // defaults and in float with the generated float settings. The figures behind
+  // dead_point_tolerance (2e-2 in float): the smallest relative pivot ratio met here.
+  std::mt19937_64 rng(25);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Data<float> data_f(model);
+  double smallest[2] = {1, 1}, smallest_ratio[2] = {1, 1};
+  for (int trial = 0; trial < 8; ++trial) {
+    VecX<double> q, v;
+    ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    VecX<double> moved = q;
+    for (int z : dependent_coordinates(model)) moved[model.q_index_of_v(z)] += 1e-3 * unit(rng);
+    VecX<double> closed = moved;
+    const ClosureResult<double> in_double = closure_positions<double>(model, data, closed);
+    EXPECT_EQ(in_double.status, ClosureStatus::Converged) << trial << ": relative pivot ratio " << in_double.relative_pivot_ratio;
+    VecX<float> closed_f = moved.cast<float>();
+    const ClosureResult<float> in_float = closure_positions<float>(model, data_f, closed_f, float_options());
+    EXPECT_EQ(in_float.status, ClosureStatus::Converged) << trial << ": " << to_string(in_float.status) << ", residual "
+                                                         << in_float.residual << ", pivot ratio " << in_float.pivot_ratio
+                                                         << ", relative " << in_float.relative_pivot_ratio;
+    smallest[0] = std::min(smallest[0], in_double.relative_pivot_ratio);
+    smallest[1] = std::min(smallest[1], static_cast<double>(in_float.relative_pivot_ratio));
+    smallest_ratio[0] = std::min(smallest_ratio[0], in_double.pivot_ratio);
+    smallest_ratio[1] = std::min(smallest_ratio[1], static_cast<double>(in_float.pivot_ratio));
+  }
+  std::cout << "[ pivots   ] " << GetParam().name << ": smallest pivot ratio double " << smallest_ratio[0] << ", float "
+            << smallest_ratio[1] << "; relative to the assembled pose: double " << smallest[0] << ", float " << smallest[1] << "\n";
 }
 
 TEST_P(LoopMapsTest, MapsDoNotAllocate) {
@@ -212,32 +254,60 @@ TEST(LoopMapsClosedForm, SliderCrankFollowsItsClosedForm) {
   }
 }
 
-TEST(LoopMapsDeadPoint, SliderDrivenToTheStrokeEndIsSingularNotNaN) {
-  // tests/data/mechanisms/slider_crank_slider_driven.yaml: the slider is independent. At the
-  // stroke end x = l + r (slider_joint = 0.06) crank and rod are in line and Phi_z is singular;
-  // beyond it there is no closed pose. Either way: a status, and a finite q.
+/// tests/data/mechanisms/slider_crank_slider_driven.yaml: the slider is independent. At the
+/// stroke end x = l + r (slider_joint = 0.06) crank and rod are in line and Phi_z is singular;
+/// beyond it there is no closed pose. Either way: a status, and a finite q. Returns the result at
+/// the stroke end.
+template <typename S> ClosureResult<S> approach_the_stroke_end(const ClosureOptions& options) {
   const gen::Description d = load(kMechanisms + "slider_crank.urdf", MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
   const Model& model = d.model;
-  Data<double> data(model);
+  Data<S> data(model);
   const int slider = q_index(model, "slider_joint");
-  ASSERT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
-  VecX<double> q = VecX<double>::Zero(model.nq());
+  EXPECT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
+  VecX<S> q = VecX<S>::Zero(model.nq());
   // Warm-started approach: regular until close to the stroke end.
   for (double x : {0.01, 0.02, 0.03, 0.04, 0.05}) {
-    q[slider] = x;
-    EXPECT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged) << x;
+    q[slider] = S(x);
+    const ClosureResult<S> r = closure_positions<S>(model, data, q, options);
+    EXPECT_EQ(r.status, ClosureStatus::Converged) << x << ": relative pivot ratio " << r.relative_pivot_ratio;
   }
-  q[slider] = 0.06;
-  const ClosureResult<double> at_dead_point = closure_positions<double>(model, data, q);
-  EXPECT_EQ(at_dead_point.status, ClosureStatus::Singular) << to_string(at_dead_point.status) << ", residual " << at_dead_point.residual;
-  EXPECT_LT(at_dead_point.pivot_ratio, 1e-5);
+  q[slider] = S(0.06);
+  const ClosureResult<S> at_dead_point = closure_positions<S>(model, data, q, options);
+  EXPECT_EQ(at_dead_point.status, ClosureStatus::Singular) << to_string(at_dead_point.status) << ", residual " << at_dead_point.residual
+                                                           << ", relative pivot ratio " << at_dead_point.relative_pivot_ratio;
   EXPECT_TRUE(q.allFinite());
-  q[slider] = 0.07;  // beyond the stroke
-  const ClosureResult<double> beyond = closure_positions<double>(model, data, q);
+  const VecX<S> at_stroke_end = q;
+  q[slider] = S(0.07);  // beyond the stroke
+  const ClosureResult<S> beyond = closure_positions<S>(model, data, q, options);
   EXPECT_NE(beyond.status, ClosureStatus::Converged);
   EXPECT_TRUE(q.allFinite());
-  std::cout << "[ dead pt  ] at the stroke end: " << to_string(at_dead_point.status) << " (pivot ratio "
-            << at_dead_point.pivot_ratio << "); beyond: " << to_string(beyond.status) << " (residual " << beyond.residual << ")\n";
+  std::cout << "[ dead pt  ] " << (sizeof(S) == 8 ? "double" : "float") << " at the stroke end: " << to_string(at_dead_point.status)
+            << " after " << at_dead_point.iterations << " steps (pivot ratio " << at_dead_point.pivot_ratio << ", relative "
+            << at_dead_point.relative_pivot_ratio << ", residual " << at_dead_point.residual << "); beyond: " << to_string(beyond.status)
+            << " (residual " << beyond.residual << ")\n";
+  return at_dead_point;
+}
+
+TEST(LoopMapsDeadPoint, SliderDrivenToTheStrokeEndIsSingularNotNaN) {
+  // double: the pivot ratio itself falls below singular_tolerance (1e-5) on the way in, before
+  // the residual reaches 1e-12: the dead-point test at convergence plays no part, and without it
+  // (dead_point_tolerance 0, the rule before it) the same status comes in the same steps (18).
+  const ClosureResult<double> at_dead_point = approach_the_stroke_end<double>(ClosureOptions{});
+  EXPECT_LT(at_dead_point.pivot_ratio, 1e-5);
+  ClosureOptions pivot_test_only;
+  pivot_test_only.dead_point_tolerance = 0;
+  const ClosureResult<double> before = approach_the_stroke_end<double>(pivot_test_only);
+  EXPECT_EQ(at_dead_point.iterations, before.iterations);
+  EXPECT_EQ(at_dead_point.iterations, 18);
+}
+
+TEST(LoopMapsDeadPoint, FloatNewtonTellsTheStrokeEndByTheRelativePivotRatio) {
+  // float: Newton closes the loop to 2e-6 while still ~2e-3 in pivot ratio from the dead point
+  // (above singular_tolerance, 1e-3); relative to the assembled pose's ratio (0.42) that is
+  // ~4.5e-3, below dead_point_tolerance (2e-2): singular, not converged.
+  const ClosureResult<float> at_dead_point = approach_the_stroke_end<float>(float_options());
+  EXPECT_GE(at_dead_point.pivot_ratio, 1e-3f);  // what the relative test adds: the plain one passes here
+  EXPECT_LT(at_dead_point.relative_pivot_ratio, 2e-2f);
 }
 
 }  // namespace

@@ -132,29 +132,35 @@ template <typename S> inline void independent_velocities(const S* v, S* vy) {
 enum class ClosureStatus : int {
   converged = 0,      ///< max |Phi| below the tolerance
   not_converged = 1,  ///< iteration cap reached, or a non-finite residual (q holds the last finite iterate)
-  singular = 2,       ///< a linkage at (or within singular_tolerance of) a dead point: z is not a function of y
+  singular = 2,       ///< a linkage at a dead point, or closer to one than the tolerance can tell: z is not a function of y there
 };
 template <typename S> struct ClosureResult {
   ClosureStatus status;
   int iterations;   ///< Newton steps taken
   S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
   S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
+  S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
 };
 /// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
 template <typename S> struct ClosureOptions {
   S tolerance;           ///< max |Phi| over the kept rows
   int max_iterations;
   S max_step;            ///< steps scaled down to at most this in their largest entry (rad or m)
-  S singular_tolerance;  ///< pivot ratio below this: singular
+  S singular_tolerance;  ///< pivot ratio below this, at any step: singular
+  S dead_point_tolerance;  ///< relative pivot ratio below this at the closed pose: singular
 };
 /// double: the runtime's defaults. float: residuals are known to ~1e-7 m here (unit round-off
-/// times the loops' size), so 2e-6. Regular poses of the shipped and parallel_legs models have
-/// pivot ratios above 5e-3 (robot_delta's), so 1e-3 marks a dead point. Newton in float reaches
-/// a dead point only to a ratio of ~2e-3 (its residual floor, ~1e-7, is a double root's
-/// ratio squared times the loop's size): there it may report converged, and pivot_ratio is what
-/// shows how close the dead point is; check it in float code that drives linkages near one.
-inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5};
-inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f};
+/// times the loops' size), so 2e-6; regular poses of the shipped and parallel_legs models have
+/// pivot ratios above 1e-3 (robot_delta's ~4e-3, wl16_like's down to ~1.5e-3), so 1e-3 stops
+/// Newton where no step can be trusted. A dead point itself shows only in relative terms in
+/// float: Newton stops a residual r <= 2e-6 short of it, where the pivot ratio squared is ~2 h r
+/// (h the linkage's curvature), ~2e-3 for the slider-crank, no lower than some regular poses of
+/// other robots. Each sub-system's ratio over its ratio at the assembled pose (a residual
+/// D >= 5e-3 from any dead point) cancels h: below sqrt(tolerance / D) the converged pose is
+/// within the tolerance's reach of a dead point, status singular; sqrt(1e-12 / 5e-3) = 1.4e-5,
+/// sqrt(2e-6 / 5e-3) = 2e-2 (the runtime's ClosureOptions::dead_point_tolerance says more).
+inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5, 1.4e-5};
+inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f, 2e-2f};
 /// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
 /// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
 /// allocation. Call it after every change of the independent coordinates (a simulation step):

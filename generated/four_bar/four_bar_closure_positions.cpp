@@ -127,10 +127,12 @@ constexpr int R = 2;
 constexpr int num_subsystems = 1;
 constexpr int subsystem_begin[2] = {0, 2};
 constexpr int dependent_q[2] = {1, 2};
+// Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).
+template <typename S> constexpr S nominal_pivot_ratio[1] = {S(6.6e-01)};
 
 template <typename S> ClosureResult<S> closure_positions_impl(S* q, const ClosureOptions<S>& options) {
   S residual[R], pivots[R], step[R];
-  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1)};
+  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1)};
   for (;; ++result.iterations) {
     closure_newton_step<S>(q, residual, pivots, step);
     bool finite = true;
@@ -139,8 +141,10 @@ template <typename S> ClosureResult<S> closure_positions_impl(S* q, const Closur
       finite = finite && std::isfinite(residual[i]);
       if (std::fabs(residual[i]) > result.residual) result.residual = std::fabs(residual[i]);
     }
-    // Smallest / largest |R_ii| per sub-system, the worst of them; NaN (0 / 0) counts as singular.
+    // Smallest / largest |R_ii| per sub-system, the worst of them, and the worst of them relative
+    // to the sub-system's ratio at the assembled pose; NaN (0 / 0) counts as singular.
     result.pivot_ratio = S(1);
+    result.relative_pivot_ratio = S(1);
     for (int k = 0; k < num_subsystems; ++k) {
       S smallest = S(0), largest = S(0);
       for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) {
@@ -150,10 +154,14 @@ template <typename S> ClosureResult<S> closure_positions_impl(S* q, const Closur
       }
       const S ratio = smallest / largest;
       if (!(ratio >= result.pivot_ratio)) result.pivot_ratio = ratio;
+      const S relative = ratio / nominal_pivot_ratio<S>[k];
+      if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative;
     }
     if (!finite) return result.status = ClosureStatus::not_converged, result;
     if (!(result.pivot_ratio >= options.singular_tolerance)) return result.status = ClosureStatus::singular, result;
-    if (result.residual < options.tolerance) return result.status = ClosureStatus::converged, result;
+    if (result.residual < options.tolerance)  // closed, but maybe within the tolerance's reach of a dead point
+      return result.status = result.relative_pivot_ratio >= options.dead_point_tolerance ? ClosureStatus::converged : ClosureStatus::singular,
+             result;
     if (result.iterations == options.max_iterations) return result.status = ClosureStatus::not_converged, result;
     // Steps limited to max_step in their largest entry, per sub-system.
     for (int k = 0; k < num_subsystems; ++k) {

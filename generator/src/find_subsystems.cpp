@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
 #include <set>
 
 #include "mbgen/algorithm/closure.hpp"
+#include "mbgen/algorithm/givens_qr.hpp"
 #include "mbgen/gen/load_error.hpp"
 #include "mbgen/gen/topology.hpp"
 
@@ -34,6 +36,21 @@ const Joint& joint_of_coordinate(const Model& model, int v_index) {
     if (v_index >= joint.idx_v && v_index < joint.idx_v + joint.nv) return joint;
   }
   throw std::out_of_range("no joint has velocity index " + std::to_string(v_index));
+}
+
+/// SubSystem::nominal_pivot_ratio: the runtime's factorisation of Phi_z (givens_qr.hpp, rows and
+/// dependent columns in the runtime's ascending order) at the assembled pose, rounded to two
+/// significant digits through its decimal text, so that the generated constant is this very double.
+double nominal_pivot_ratio(const MatrixXd& Phi_q, const SubSystem& s) {
+  const int r = s.rank();
+  if (r == 0) return 1.0;
+  MatX<double> R(r, r);
+  VecX<double> c(r * (r - 1) / 2), sn(r * (r - 1) / 2);
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < r; ++j) R(i, j) = Phi_q(s.rows[i], s.dependent[j]);
+  givens_qr_factor<double>(R, r, c, sn);
+  const Eigen::VectorXd pivots = R.diagonal().cwiseAbs();
+  return std::stod(fmt::format("{:.1e}", pivots.minCoeff() / pivots.maxCoeff()));
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -151,6 +168,7 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
     for (int c : z) is_dependent[c] = true;
     for (int c = 0; c < k; ++c) (is_dependent[c] ? s.dependent : s.independent).push_back(s.coordinates[c]);
     std::sort(s.dependent.begin(), s.dependent.end());
+    s.nominal_pivot_ratio = nominal_pivot_ratio(Phi_q, s);
     for (int c : z)
       if (!free_joint[c] && ++out.dependent_actuated)
         out.warnings.push_back(fmt::format(

@@ -18,7 +18,7 @@ std::string int_array(const std::string& name, const std::vector<int>& items) {
 // dependent coordinates; num_subsystems, subsystem_begin, dependent_q: see the tables above it.
 const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_positions_impl(S* q, const ClosureOptions<S>& options) {
   S residual[R], pivots[R], step[R];
-  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1)};
+  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1)};
   for (;; ++result.iterations) {
     closure_newton_step<S>(q, residual, pivots, step);
     bool finite = true;
@@ -27,8 +27,10 @@ const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_posi
       finite = finite && std::isfinite(residual[i]);
       if (std::fabs(residual[i]) > result.residual) result.residual = std::fabs(residual[i]);
     }
-    // Smallest / largest |R_ii| per sub-system, the worst of them; NaN (0 / 0) counts as singular.
+    // Smallest / largest |R_ii| per sub-system, the worst of them, and the worst of them relative
+    // to the sub-system's ratio at the assembled pose; NaN (0 / 0) counts as singular.
     result.pivot_ratio = S(1);
+    result.relative_pivot_ratio = S(1);
     for (int k = 0; k < num_subsystems; ++k) {
       S smallest = S(0), largest = S(0);
       for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) {
@@ -38,10 +40,14 @@ const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_posi
       }
       const S ratio = smallest / largest;
       if (!(ratio >= result.pivot_ratio)) result.pivot_ratio = ratio;
+      const S relative = ratio / nominal_pivot_ratio<S>[k];
+      if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative;
     }
     if (!finite) return result.status = ClosureStatus::not_converged, result;
     if (!(result.pivot_ratio >= options.singular_tolerance)) return result.status = ClosureStatus::singular, result;
-    if (result.residual < options.tolerance) return result.status = ClosureStatus::converged, result;
+    if (result.residual < options.tolerance)  // closed, but maybe within the tolerance's reach of a dead point
+      return result.status = result.relative_pivot_ratio >= options.dead_point_tolerance ? ClosureStatus::converged : ClosureStatus::singular,
+             result;
     if (result.iterations == options.max_iterations) return result.status = ClosureStatus::not_converged, result;
     // Steps limited to max_step in their largest entry, per sub-system.
     for (int k = 0; k < num_subsystems; ++k) {
@@ -63,29 +69,35 @@ std::string emit_closure_positions_declaration(ScalarChoice scalars) {
 enum class ClosureStatus : int {
   converged = 0,      ///< max |Phi| below the tolerance
   not_converged = 1,  ///< iteration cap reached, or a non-finite residual (q holds the last finite iterate)
-  singular = 2,       ///< a linkage at (or within singular_tolerance of) a dead point: z is not a function of y
+  singular = 2,       ///< a linkage at a dead point, or closer to one than the tolerance can tell: z is not a function of y there
 };
 template <typename S> struct ClosureResult {
   ClosureStatus status;
   int iterations;   ///< Newton steps taken
   S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
   S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
+  S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
 };
 /// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
 template <typename S> struct ClosureOptions {
   S tolerance;           ///< max |Phi| over the kept rows
   int max_iterations;
   S max_step;            ///< steps scaled down to at most this in their largest entry (rad or m)
-  S singular_tolerance;  ///< pivot ratio below this: singular
+  S singular_tolerance;  ///< pivot ratio below this, at any step: singular
+  S dead_point_tolerance;  ///< relative pivot ratio below this at the closed pose: singular
 };
 /// double: the runtime's defaults. float: residuals are known to ~1e-7 m here (unit round-off
-/// times the loops' size), so 2e-6. Regular poses of the shipped and parallel_legs models have
-/// pivot ratios above 5e-3 (robot_delta's), so 1e-3 marks a dead point. Newton in float reaches
-/// a dead point only to a ratio of ~2e-3 (its residual floor, ~1e-7, is a double root's
-/// ratio squared times the loop's size): there it may report converged, and pivot_ratio is what
-/// shows how close the dead point is; check it in float code that drives linkages near one.
-inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5};
-inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f};
+/// times the loops' size), so 2e-6; regular poses of the shipped and parallel_legs models have
+/// pivot ratios above 1e-3 (robot_delta's ~4e-3, wl16_like's down to ~1.5e-3), so 1e-3 stops
+/// Newton where no step can be trusted. A dead point itself shows only in relative terms in
+/// float: Newton stops a residual r <= 2e-6 short of it, where the pivot ratio squared is ~2 h r
+/// (h the linkage's curvature), ~2e-3 for the slider-crank, no lower than some regular poses of
+/// other robots. Each sub-system's ratio over its ratio at the assembled pose (a residual
+/// D >= 5e-3 from any dead point) cancels h: below sqrt(tolerance / D) the converged pose is
+/// within the tolerance's reach of a dead point, status singular; sqrt(1e-12 / 5e-3) = 1.4e-5,
+/// sqrt(2e-6 / 5e-3) = 2e-2 (the runtime's ClosureOptions::dead_point_tolerance says more).
+inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5, 1.4e-5};
+inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f, 2e-2f};
 /// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
 /// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
 /// allocation. Call it after every change of the independent coordinates (a simulation step):
@@ -103,7 +115,7 @@ std::string emit_closure_positions_definition(const Model& model, const std::str
   if (model.subsystems.empty()) {
     out += "// No loops: every configuration is closed.\n"
            "template <typename S> ClosureResult<S> closure_positions_impl(S*, const ClosureOptions<S>&) {\n"
-           "  return {ClosureStatus::converged, 0, S(0), S(1)};\n}\n";
+           "  return {ClosureStatus::converged, 0, S(0), S(1), S(1)};\n}\n";
   } else {
     const TracedFunction step = trace_closure_newton_step(model);
     out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
@@ -120,7 +132,14 @@ std::string emit_closure_positions_definition(const Model& model, const std::str
     out += "// Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;\n"
            "// entry i moves q[dependent_q[i]].\n";
     out += fmt::format("constexpr int R = {};\nconstexpr int num_subsystems = {};\n", num_dependent(model), model.subsystems.size());
-    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + "\n" + kNewtonLoop;
+    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q);
+    // SubSystem::nominal_pivot_ratio holds two significant digits: printed back exactly.
+    // (A variable template: the float code converts at compile time, no double arithmetic.)
+    out += "// Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).\n";
+    out += fmt::format("template <typename S> constexpr S nominal_pivot_ratio[{}] = {{", model.subsystems.size());
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k)
+      out += fmt::format("{}S({:.1e})", k ? ", " : "", model.subsystems[k].nominal_pivot_ratio);
+    out += "};\n\n" + std::string(kNewtonLoop);
   }
   out += "\n}  // namespace\n\n";
   for (const std::string& s : scalar_types(scalars))

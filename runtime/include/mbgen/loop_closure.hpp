@@ -72,6 +72,11 @@ struct SubSystem {
   std::vector<int> independent;     ///< subset of `coordinates`: the sub-system's own coordinates y
   std::vector<int> dependent;       ///< the rest: z, solved from the closures
   std::vector<int> rows;            ///< kept (independent) constraint rows, global indices; size = rank
+  /// Smallest / largest |R_ii| of Phi_z (Givens QR, rows and dependent columns ascending) at the
+  /// assembled pose, rounded to two significant digits (a scale, and the same constant in the
+  /// generated code): what closure_positions measures this sub-system's pivot ratio against to
+  /// tell a dead point in float (algorithm/closure_positions.hpp). 1 unless the loader set it.
+  double nominal_pivot_ratio = 1.0;
   int rank() const { return static_cast<int>(rows.size()); }
 };
 

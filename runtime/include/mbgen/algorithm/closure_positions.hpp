@@ -7,9 +7,13 @@
 // traces the step (detail::closure_newton_step) and emits the loop around it.
 //
 // Status, never a silent NaN: a fixed loop with an iteration cap that reports Converged,
-// NotConverged (cap reached, or a non-finite residual) or Singular (Phi_z's smallest |R_ii| below
-// singular_tolerance times its largest, along the way or at the solution: a linkage at its dead
-// point, where z is not a function of y). q is left at the last finite iterate. No allocation.
+// NotConverged (cap reached, or a non-finite residual) or Singular: a linkage at its dead point,
+// where z is not a function of y. Singular is found two ways: Phi_z's smallest |R_ii| below
+// singular_tolerance times its largest, along the way or at the solution (no Newton step can be
+// trusted there); or a converged pose that the residual tolerance cannot tell from a dead point,
+// its pivot ratio below dead_point_tolerance times the sub-system's ratio at the assembled pose
+// (what float needs: see dead_point_tolerance). q is left at the last finite iterate. No
+// allocation.
 #include <cmath>
 
 #include "mbgen/algorithm/closure.hpp"
@@ -43,6 +47,27 @@ struct ClosureOptions {
   /// test_closure_positions): one order above it, 1e-5, is the finest distinction the residual
   /// tolerance supports (z moving 1e5 times faster than y counts as the dead point).
   double singular_tolerance = 1e-5;
+  /// A converged pose is a dead point when a sub-system's pivot ratio, divided by its ratio at
+  /// the assembled pose (SubSystem::nominal_pivot_ratio), is below this. Why relative, and why
+  /// this value: near a dead point the closure is quadratic along Phi_z's null direction (its
+  /// curvature h), so Newton leaves the smallest pivot sigma and the residual r in the relation
+  /// sigma^2 ~= 2 h r (the slider-crank: 2.4 per metre of residual in the pivot ratio squared,
+  /// at r = 2e-11 in double and at 1.5e-6 in float alike); a pose closed to the tolerance is
+  /// therefore within reach of a dead point when sigma^2 < 2 h tolerance. h is a property of the
+  /// linkage; its assembled pose, a residual distance D from the nearest dead point, has
+  /// sigma_0^2 ~= 2 h D (the slider-crank: 0.42^2 / 2.4 = 73 mm, for 60 mm of slider travel),
+  /// so the test becomes (sigma / sigma_0)^2 < tolerance / D, free of h and of the rows' and
+  /// columns' units (sigma_max, the ratio's denominator, changes little: 0.12 to 0.18 there).
+  /// D is taken as 5 mm of closure residual (a few mrad times a link): assembled poses lie
+  /// farther inside their stroke, and a true D above 5 mm widens the flagged zone to
+  /// tolerance x D / 5 mm (the slider-crank in float: 30 um of its 60 mm stroke), one below
+  /// narrows it. Hence sqrt(tolerance / 5e-3):
+  /// sqrt(1e-12 / 5e-3) = 1.4e-5 here (in double the singular_tolerance test above fires first:
+  /// the dead point is found in the same steps as before), sqrt(2e-6 / 5e-3) = 2e-2 for float's
+  /// tolerance of 2e-6 (the generated closure_options_float): the slider-crank's stroke end reads
+  /// 4.5e-3 in float, the loop robots' regular poses >= 0.4 at test_closure_positions' poses and
+  /// >= 8e-2 after moves of 0.3 rad (docs/loops.md): a factor 4 or more either side.
+  double dead_point_tolerance = 1.4e-5;
 };
 
 template <typename S> struct ClosureResult {
@@ -50,6 +75,7 @@ template <typename S> struct ClosureResult {
   int iterations = 0;      ///< Newton steps taken
   S residual = S(0);       ///< max |Phi| over the kept rows at the returned q
   S pivot_ratio = S(1);    ///< subsystem_pivot_ratio at the returned q (1 without loops)
+  S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio at the returned q (1 without loops)
 };
 
 namespace detail {
@@ -106,9 +132,12 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
     detail::closure_newton_step<S>(model, data, q);
     const bool finite = detail::kept_residual<S>(model, data, result.residual);
     result.pivot_ratio = subsystem_pivot_ratio<S>(model, data);
+    result.relative_pivot_ratio = subsystem_relative_pivot_ratio<S>(model, data);
     if (!finite) return result.status = ClosureStatus::NotConverged, result;
     if (!(result.pivot_ratio >= S(options.singular_tolerance))) return result.status = ClosureStatus::Singular, result;
-    if (result.residual < S(options.tolerance)) return result.status = ClosureStatus::Converged, result;
+    if (result.residual < S(options.tolerance))
+      return result.status = result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular,
+             result;
     if (result.iterations == options.max_iterations) return result.status = ClosureStatus::NotConverged, result;
     for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
       const SubSystem& sub = model.subsystems[k];

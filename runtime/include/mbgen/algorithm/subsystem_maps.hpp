@@ -17,24 +17,42 @@
 
 namespace mbgen {
 
+namespace detail {
+/// Smallest / largest |R_ii| of sub-system k's factor (1 for an empty sub-system); NaN (from a
+/// 0 / 0 rotation) stays NaN.
+template <typename S> S pivot_ratio_of(const Data<S>& data, std::size_t k) {
+  using std::abs;
+  const MatX<S>& R = data.subsystem[k].R;
+  S smallest = S(0), largest = S(0);
+  for (int i = 0; i < R.rows(); ++i) {
+    const S p = abs(R(i, i));
+    if (i == 0 || !(p >= smallest)) smallest = p;
+    if (p > largest) largest = p;
+  }
+  return R.rows() > 0 ? smallest / largest : S(1);
+}
+}  // namespace detail
+
 /// Smallest / largest |diagonal of R| of Phi_z over all sub-systems after
 /// subsystem_velocity_maps (1 for a model without loops): how far from a dead point the
 /// linkages are. NaN (from a 0 / 0 rotation) counts as singular.
 template <typename S> S subsystem_pivot_ratio(const Model& model, const Data<S>& data) {
-  using std::abs;
   S worst = S(1);
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const MatX<S>& R = data.subsystem[k].R;
-    S smallest = S(0), largest = S(0);
-    for (int i = 0; i < R.rows(); ++i) {
-      const S p = abs(R(i, i));
-      if (i == 0 || !(p >= smallest)) smallest = p;
-      if (p > largest) largest = p;
-    }
-    if (R.rows() > 0) {
-      const S ratio = smallest / largest;
-      if (!(ratio >= worst)) worst = ratio;
-    }
+    const S ratio = detail::pivot_ratio_of<S>(data, k);
+    if (!(ratio >= worst)) worst = ratio;
+  }
+  return worst;
+}
+
+/// The smallest over sub-systems of their pivot ratio divided by SubSystem::nominal_pivot_ratio
+/// (the ratio at the assembled pose): a scale-free distance from a dead point, 1 at the
+/// assembled pose and without loops (closure_positions' dead-point test). NaN counts as singular.
+template <typename S> S subsystem_relative_pivot_ratio(const Model& model, const Data<S>& data) {
+  S worst = S(1);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const S relative = detail::pivot_ratio_of<S>(data, k) / S(model.subsystems[k].nominal_pivot_ratio);
+    if (!(relative >= worst)) worst = relative;
   }
   return worst;
 }
