@@ -12,8 +12,8 @@
 // region and never exceeds it, so |x| <= |e| / epsilon whatever the pose. With
 // epsilon = 0 it is the classical A^T (A A^T + lambda_0^2 I)^-1 e.
 //
-// The scheme (k = min(m, n)). A full SVD of A (Jacobi) cost ~95 us for 18 x 38, most of a
-// controller step; this costs a fifth of it (bench/bench_control.cpp, docs/control.md):
+// The scheme (k = min(m, n)). A Jacobi SVD of A was most of a controller step; this costs a
+// quarter of it (18 x 38: 26 us against 110-134 us, bench/bench_control.cpp, docs/control.md):
 //  1. A^T P = Q R, Householder QR with column pivoting (Q: n x n orthogonal, kept as k reflectors;
 //     R: k x m upper trapezoidal; P a permutation of the m task rows). So A = P R^T Q^T and A has
 //     the singular values of R.
@@ -25,9 +25,10 @@
 //     lies in range(A^T) = range(Q) exactly as the SVD's did.
 //  3. sigma_i = |R^T w_i| (not the square root of the eigenvalue): the eigenvalues of the formed
 //     Gram matrix carry absolute errors ~ u sigma_max^2 (u the unit round-off), so their square
-//     roots cannot resolve a singular value below ~sqrt(u) sigma_max = 1e-8 sigma_max; the norm
-//     of R^T w_i has absolute error ~ u sigma_max (times the eigenvector's error, which is
-//     ~ u sigma_max^2 / gap and enters multiplied by the larger singular values).
+//     roots cannot resolve a singular value below ~sqrt(u) sigma_max = 1e-8 sigma_max. An error
+//     delta_j of w_i towards w_j adds ~ sigma_j delta_j to |R^T w_i|, and delta_j ~
+//     u sigma_max^2 / |sigma_j^2 - sigma_i^2|: typically a few u sigma_max (1e-14 absolute at
+//     sigma_max = 3 down to sigma_i = 1e-12 in the tests), never worse than the square root.
 //
 // Accuracy of the solve. Each factor 1 / (sigma_i^2 + lambda_i^2) has relative error
 // ~ u sigma_max^2 / (sigma_i^2 + lambda_i^2). Outside the singular region sigma_i >= epsilon, so
@@ -35,6 +36,10 @@
 // differential IK's epsilon = 0.01. Inside the region the damping dominates the denominator
 // (lambda_i^2 >= lambda_0^2, and lambda_max^2 (1 - (sigma/epsilon)^2) + sigma^2 >=
 // min(lambda_max^2, epsilon^2)), so the error stays <= u sigma_max^2 / min(lambda_max, epsilon)^2.
+// The eigenvectors' errors (~ u sigma_max^2 / gap, large for close singular values) do not add
+// to this: x depends on W only through W g(S^2) W^T = g(R R^T), g(t) = 1 / (t + lambda(t)^2),
+// whose error is bounded by the Gram matrix's (~ u sigma_max^2) times g's Lipschitz constant,
+// the bound above times max(1, lambda_max^2 / epsilon^2). Q and R P^T e are backward stable.
 // Where it matters: an undamped solve (lambda_0 = epsilon = 0) of an ill-conditioned A loses
 // u kappa^2 instead of the SVD's u kappa (the Gram matrix squares the condition number); the
 // default options of the differential IK never run undamped.
