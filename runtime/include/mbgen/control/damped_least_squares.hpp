@@ -13,7 +13,7 @@
 // epsilon = 0 it is the classical A^T (A A^T + lambda_0^2 I)^-1 e.
 //
 // The scheme (k = min(m, n)). A Jacobi SVD of A was most of a controller step; this costs a
-// quarter of it (18 x 38: 26 us against 110-134 us, bench/bench_control.cpp, docs/control.md):
+// quarter of it (18 x 38: 26-35 us against 110-134 us, bench/bench_control.cpp, docs/control.md):
 //  1. A^T P = Q R, Householder QR with column pivoting (Q: n x n orthogonal, kept as k reflectors;
 //     R: k x m upper trapezoidal; P a permutation of the m task rows). So A = P R^T Q^T and A has
 //     the singular values of R.
