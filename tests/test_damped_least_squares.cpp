@@ -7,7 +7,8 @@
 //  - the damping schedule at the singular (stretched) pose of a planar two-link arm: the
 //    per-eigenvalue formula from an eigen-decomposition of J J^T, bounded by |e| / (2 lambda)
 //    along the lost direction, and continuous as the arm approaches the singularity;
-//  - the projector: symmetric, idempotent, A N = 0 (1e-14 |A|), rank of a rank-deficient A;
+//  - the projector: symmetric, idempotent, A N = 0 (1e-14 |A|), rank of a rank-deficient A, and
+//    the rank with a singular value 100 times above / below the rank tolerance;
 //  - no allocation in compute / solve / project_to_null.
 #include <gtest/gtest.h>
 
@@ -91,6 +92,53 @@ TEST(DampedLeastSquares, ProjectorIsOrthogonalAndAnnihilatesTheRowSpace) {
   EXPECT_LT((N - N.transpose()).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_LT((N * N - N).cwiseAbs().maxCoeff(), 1e-14);
   EXPECT_NEAR(N.trace(), 6.0, 1e-13);  // dimension of the null space: 10 - 4
+}
+
+/// U diag(s) V^T (m x n) with seeded random orthogonal U, V; returns V too.
+MatX<double> with_singular_values(int m, int n, const VecX<double>& s, unsigned seed, MatX<double>& V) {
+  const MatX<double> U = Eigen::HouseholderQR<MatX<double>>(random_matrix(m, m, seed)).householderQ();
+  V = Eigen::HouseholderQR<MatX<double>>(random_matrix(n, n, seed + 1)).householderQ();
+  MatX<double> S = MatX<double>::Zero(m, n);
+  for (int i = 0; i < s.size(); ++i) S(i, i) = s[i];
+  return U * S * V.transpose();
+}
+
+TEST(DampedLeastSquares, ProjectorRankFollowsTheToleranceAtTinySingularValues) {
+  // 18 x 38, singular values 3 .. 0.5 and a last one 100 times above or below the rank
+  // tolerance (1e-10 relative): 1e-8 is a direction the task sees (the projector must remove it),
+  // 1e-12 is null space (the projector must keep it). A projector of the wrong rank fails the
+  // trace and the check on v_17, the right singular vector of the tiny singular value.
+  for (const double tiny : {1e-8, 1e-12}) {
+    VecX<double> s = VecX<double>::LinSpaced(18, 3.0, 0.5);
+    s[17] = tiny;
+    MatX<double> V;
+    const MatX<double> A = with_singular_values(18, 38, s, 11, V);
+    DampedLeastSquares<double> dls(18, 38, DampingOptions{0.0, 1e-2, 1e-2, 1e-10});
+    ASSERT_TRUE(dls.compute(A));
+    const int expected_rank = tiny > 1e-10 * 3.0 ? 18 : 17;
+    EXPECT_EQ(dls.rank(), expected_rank) << "tiny " << tiny;
+    const MatX<double> N = projector(dls, 38);
+    EXPECT_NEAR(N.trace(), 38.0 - expected_rank, 1e-13) << "tiny " << tiny;
+    // A wrong rank fails here by orders of magnitude. Rank 18: A N = 0 to round-off (keeping the
+    // direction of the 1e-8 singular value would leave |A N| = 1e-8). Its singular vector v17 is
+    // removed up to its own uncertainty: the constructed A carries rounding errors ~u |A|, which
+    // tilt v17 towards the null space (singular value 0) by ~1e-15 / 1e-8 = 1e-7, for an SVD
+    // just as here. Rank 17: v17 is kept, |N v17| = 1 (its tilt towards the range is
+    // ~1e-15 / 0.5), and A N = A v17 v17^T-like terms of size 1e-12.
+    VecX<double> v17 = V.col(17);
+    dls.project_to_null(v17);
+    if (expected_rank == 18) {
+      EXPECT_LT(v17.norm(), 1e-6) << "tiny " << tiny;
+      EXPECT_LT((A * N).cwiseAbs().maxCoeff(), 1e-14) << "tiny " << tiny;
+    } else {
+      EXPECT_NEAR(v17.norm(), 1.0, 1e-13) << "tiny " << tiny;
+      EXPECT_LT((A * N).cwiseAbs().maxCoeff(), 2e-12) << "tiny " << tiny;
+    }
+    // Singular values, decreasing, to an absolute 1e-14 (3 sigma_max u x a few): the tiny one
+    // too, which the square root of a Gram eigenvalue could only give to ~1e-8.
+    for (int i = 0; i < 18; ++i) EXPECT_NEAR(dls.singular_values()[i], s[i], 1e-14) << "tiny " << tiny << " i " << i;
+    EXPECT_NEAR(dls.smallest_singular_value(), tiny, 1e-14);
+  }
 }
 
 /// Jacobian of the tip of a planar two-link arm (lengths l1, l2) at angles q1, q2.

@@ -1,5 +1,6 @@
 #pragma once
-// Damped least squares with a null-space projector, from one singular value decomposition.
+// Damped least squares with a null-space projector, from a column-pivoted QR of A^T and the
+// eigen-decomposition of a small Gram matrix.
 //
 // For A (m x n, m <= n expected but not required) and a right-hand side e (m), computes
 //   x = sum_i  sigma_i / (sigma_i^2 + lambda_i^2) v_i u_i^T e
@@ -11,23 +12,63 @@
 // region and never exceeds it, so |x| <= |e| / epsilon whatever the pose. With
 // epsilon = 0 it is the classical A^T (A A^T + lambda_0^2 I)^-1 e.
 //
-// Why an SVD: it gives the damping schedule (the singular values) and the rank at once, and its
-// V is orthonormal to round-off, so the projector N = I - V_r V_r^T onto the null space of A is
-// symmetric and idempotent to ~eps. The textbook I - A^+ A with a damped A^+ is not a projector
-// (it leaks lambda^2 / sigma^2 of a secondary motion into the primary task), and
-// I - A^T (A A^T)^-1 A squares the condition number. V_r holds the right singular vectors with
-// sigma_i > rank_tolerance * sigma_max: directions the primary task sees, damped or not, are
-// never handed to a secondary objective.
+// The scheme (k = min(m, n)). A Jacobi SVD of A was most of a controller step; this costs a
+// quarter of it (18 x 38: 26-35 us against 110-134 us, bench/bench_control.cpp, docs/control.md):
+//  1. A^T P = Q R, Householder QR with column pivoting (Q: n x n orthogonal, kept as k reflectors;
+//     R: k x m upper trapezoidal; P a permutation of the m task rows). So A = P R^T Q^T and A has
+//     the singular values of R.
+//  2. R R^T = W diag(sigma_i^2) W^T, symmetric eigen-decomposition of the k x k Gram matrix
+//     (tridiagonalisation, implicit QR). With R = W S Z^T, A's right singular vectors are Q W
+//     and its left ones P Z = P R^T W S^-1, so
+//        x = Q W diag(1 / (sigma_i^2 + lambda_i^2)) W^T R P^T e :
+//     no division by sigma (a zero sigma_i has W^T R = 0 in its row, whatever the factor), and x
+//     lies in range(A^T) = range(Q) exactly as the SVD's did.
+//  3. sigma_i = |R^T w_i| (not the square root of the eigenvalue): the eigenvalues of the formed
+//     Gram matrix carry absolute errors ~ u sigma_max^2 (u the unit round-off), so their square
+//     roots cannot resolve a singular value below ~sqrt(u) sigma_max = 1e-8 sigma_max. An error
+//     delta_j of w_i towards w_j adds ~ sigma_j delta_j to |R^T w_i|, and delta_j ~
+//     u sigma_max^2 / |sigma_j^2 - sigma_i^2|: typically a few u sigma_max (1e-14 absolute at
+//     sigma_max = 3 down to sigma_i = 1e-12 in the tests), never worse than the square root.
+//
+// Accuracy of the solve. Each factor 1 / (sigma_i^2 + lambda_i^2) has relative error
+// ~ u sigma_max^2 / (sigma_i^2 + lambda_i^2). Outside the singular region sigma_i >= epsilon, so
+// the error is <= u (sigma_max / epsilon)^2: ~4e-12 for a Jacobian with sigma_max = 2 and the
+// differential IK's epsilon = 0.01. Inside the region the damping dominates the denominator
+// (lambda_i^2 >= lambda_0^2, and lambda_max^2 (1 - (sigma/epsilon)^2) + sigma^2 >=
+// min(lambda_max^2, epsilon^2)), so the error stays <= u sigma_max^2 / min(lambda_max, epsilon)^2.
+// The eigenvectors' errors (~ u sigma_max^2 / gap, large for close singular values) do not add
+// to this: x depends on W only through W g(S^2) W^T = g(R R^T), g(t) = 1 / (t + lambda(t)^2),
+// whose error is bounded by the Gram matrix's (~ u sigma_max^2) times g's Lipschitz constant,
+// the bound above times max(1, lambda_max^2 / epsilon^2). Q and R P^T e are backward stable.
+// Where it matters: an undamped solve (lambda_0 = epsilon = 0) of an ill-conditioned A loses
+// u kappa^2 instead of the SVD's u kappa (the Gram matrix squares the condition number); the
+// default options of the differential IK never run undamped.
+//
+// The null-space projector comes from the QR alone: N = I - Q_r Q_r^T, with Q_r the first r
+// columns of Q, applied as v <- H_0 .. H_{r-1} diag(0_r, I) H_{r-1} .. H_0 v with the Householder
+// reflectors (no explicit Q). Q is orthogonal to round-off, so N is symmetric and idempotent to
+// ~u, as the SVD's I - V_r V_r^T was (I - A^+ A with a damped A^+ is not a projector: it leaks
+// lambda^2 / sigma^2 of a secondary motion into the primary task; I - A^T (A A^T)^-1 A squares
+// the condition number). The rank r counts the pivots |R_jj| > rank_tolerance * |R_00|: pivoted
+// QR's R_jj carry absolute errors ~ u |A| (not the sqrt(u) |A| of the Gram eigenvalues), and
+// |R_00| (the largest row norm of A) lies within sqrt(m) of sigma_max. Directions the primary task
+// sees, damped or not, are never handed to a secondary objective.
 //
 // Allocation: every buffer is sized by the constructor; compute(), solve() and project_to_null()
 // do not allocate for an A of the constructed size (tests/test_damped_least_squares.cpp).
+// SelfAdjointEigenSolver::compute, and Eigen's application of a HouseholderSequence to a dynamic
+// matrix, allocate temporaries; hence Tridiagonalization + computeFromTridiagonal, and both the
+// QR's and the tridiagonalisation's reflectors applied by a hand-written loop over their stored
+// essential parts.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "mbgen/spatial/types.hpp"
 
@@ -38,15 +79,18 @@ struct DampingOptions {
   double constant = 0.0;        ///< lambda_0: damping everywhere (0: exact pseudo-inverse when regular)
   double singular_region = 0.0; ///< epsilon: singular values below it are damped more the smaller they are
   double max_damping = 0.0;     ///< lambda_max: damping reached at sigma = 0 inside the singular region
-  double rank_tolerance = 1e-10;///< relative to sigma_max: smaller singular values count as zero (null space)
+  double rank_tolerance = 1e-10;///< relative to the largest QR pivot (~sigma_max): smaller pivots count as zero (null space)
 };
 
 template <typename S> class DampedLeastSquares {
  public:
   /// Sized for m x n matrices. Throws std::invalid_argument on negative options or sizes.
   DampedLeastSquares(int m, int n, const DampingOptions& options = {})
-      : m_(m), n_(n), options_(options), svd_(m, n, Eigen::ComputeThinU | Eigen::ComputeThinV),
-        tmp_(VecX<S>::Zero(std::min(m, n))), range_coeffs_(VecX<S>::Zero(std::min(m, n))) {
+      : m_(m), n_(n), k_(std::max(0, std::min(m, n))), options_(options), qr_(std::max(n, 0), std::max(m, 0)),
+        r_(MatX<S>::Zero(k_, std::max(m, 0))), gram_(MatX<S>::Zero(k_, k_)), tri_(std::max(k_, 1)), eig_(std::max(k_, 1)),
+        w_(MatX<S>::Zero(k_, k_)), rtw_(MatX<S>::Zero(std::max(m, 0), k_)), sigma_(VecX<S>::Zero(k_)),
+        sorted_sigma_(VecX<S>::Zero(k_)), permuted_e_(VecX<S>::Zero(std::max(m, 0))), coeffs_(VecX<S>::Zero(k_)),
+        coeffs2_(VecX<S>::Zero(k_)), diag_(VecX<S>::Zero(k_)), subdiag_(VecX<S>::Zero(std::max(k_ - 1, 0))) {
     if (m < 0 || n < 0) throw std::invalid_argument("DampedLeastSquares: negative size " + std::to_string(m) + " x " + std::to_string(n));
     if (!(options.constant >= 0) || !(options.singular_region >= 0) || !(options.max_damping >= 0) || !(options.rank_tolerance >= 0))
       throw std::invalid_argument("DampedLeastSquares: damping options must be non-negative (constant, singular_region, max_damping, rank_tolerance)");
@@ -57,29 +101,63 @@ template <typename S> class DampedLeastSquares {
   const DampingOptions& options() const { return options_; }
 
   /// Decomposes A (rows() x cols()). Returns false (and keeps nothing usable) if A is not finite.
-  /// Takes a plain matrix: JacobiSVD::compute takes a MatX, so any other expression (an
-  /// Eigen::Ref, a block) would be copied into a heap temporary.
   bool compute(const MatX<S>& A) {
-    if (!A.allFinite()) {
-      rank_ = 0;
-      valid_ = false;
-      return false;
-    }
-    svd_.compute(A);
-    const auto& sigma = svd_.singularValues();
-    const S largest = sigma.size() > 0 ? sigma[0] : S(0);
+    valid_ = false;
     rank_ = 0;
-    for (int i = 0; i < sigma.size(); ++i)
-      if (sigma[i] > S(options_.rank_tolerance) * largest && sigma[i] > S(0)) rank_ = i + 1;
+    if (!A.allFinite()) return false;
+    if (k_ == 0) {
+      valid_ = true;
+      return true;
+    }
+    qr_.compute(A.transpose());
+    const auto& packed = qr_.matrixQR();
+    // R with explicit zeros below the diagonal: dense products below need no triangular views.
+    r_.setZero();
+    for (int j = 0; j < m_; ++j) {
+      const int top = std::min(j + 1, k_);
+      r_.col(j).head(top) = packed.col(j).head(top);
+    }
+    const S largest_pivot = std::abs(packed(0, 0));
+    for (int j = 0; j < k_; ++j) {
+      // Pivoting makes |R_jj| non-increasing: the rank is the leading run above the tolerance.
+      const S pivot = std::abs(packed(j, j));
+      if (!(pivot > S(options_.rank_tolerance) * largest_pivot && pivot > S(0))) break;
+      rank_ = j + 1;
+    }
+
+    gram_.noalias() = r_ * r_.transpose();
+    tri_.compute(gram_);
+    // Through plain vectors: computeFromTridiagonal takes the sub-diagonal as a VectorX, and
+    // the expression would be copied into a heap temporary.
+    diag_ = tri_.diagonal();
+    subdiag_ = tri_.subDiagonal();
+    eig_.computeFromTridiagonal(diag_, subdiag_, Eigen::ComputeEigenvectors);
+    if (eig_.info() != Eigen::Success) return false;
+    // W = Q_t Z with Z the tridiagonal matrix's eigenvectors (increasing eigenvalues): columns
+    // reversed so that w_0 belongs to the largest singular value.
+    const auto& z = eig_.eigenvectors();
+    for (int i = 0; i < k_; ++i) w_.col(i) = z.col(k_ - 1 - i);
+    const auto& tri_packed = tri_.packedMatrix();
+    const auto& tri_coeffs = tri_.coefficients();
+    for (int j = k_ - 2; j >= 0; --j)  // W <- H_0 .. H_{k-2} W, reflector j acting on rows j+1 ..
+      for (int c = 0; c < k_; ++c) reflect(tri_packed.col(j).tail(k_ - j - 2), tri_coeffs[j], j + 1, w_.col(c));
+
+    rtw_.noalias() = r_.transpose() * w_;
+    for (int i = 0; i < k_; ++i) sigma_[i] = rtw_.col(i).norm();
+    sorted_sigma_ = sigma_;
+    // Already decreasing up to round-off between (nearly) equal singular values.
+    std::sort(sorted_sigma_.data(), sorted_sigma_.data() + k_, std::greater<S>());
     valid_ = true;
     return true;
   }
 
   bool valid() const { return valid_; }
-  /// Number of singular values above rank_tolerance * sigma_max.
+  /// Number of QR pivots |R_jj| above rank_tolerance * |R_00| (the dimension of the range of A^T
+  /// the projector removes).
   int rank() const { return rank_; }
-  const VecX<S>& singular_values() const { return svd_.singularValues(); }
-  S smallest_singular_value() const { return svd_.singularValues().size() ? svd_.singularValues().minCoeff() : S(0); }
+  /// The min(m, n) singular values of A, decreasing.
+  const VecX<S>& singular_values() const { return sorted_sigma_; }
+  S smallest_singular_value() const { return k_ ? sorted_sigma_[k_ - 1] : S(0); }
 
   /// lambda_i^2 for singular value sigma.
   S damping_squared(const S& sigma) const {
@@ -94,28 +172,59 @@ template <typename S> class DampedLeastSquares {
 
   /// x (cols()) = damped least-squares solution of A x = e (e: rows()). Needs compute().
   template <typename In, typename Out> void solve(const In& e, Out&& x) {
-    const auto& sigma = svd_.singularValues();
-    tmp_.noalias() = svd_.matrixU().transpose() * e;
-    for (int i = 0; i < sigma.size(); ++i) {
-      const S denom = sigma[i] * sigma[i] + damping_squared(sigma[i]);
-      tmp_[i] = denom > S(0) ? tmp_[i] * sigma[i] / denom : S(0);
+    if (k_ == 0) {
+      x.setZero();
+      return;
     }
-    x.noalias() = svd_.matrixV() * tmp_;
+    const auto& perm = qr_.colsPermutation().indices();
+    for (int j = 0; j < m_; ++j) permuted_e_[j] = e[perm[j]];  // P^T e
+    coeffs_.noalias() = r_ * permuted_e_;                       // R P^T e
+    coeffs2_.noalias() = w_.transpose() * coeffs_;
+    for (int i = 0; i < k_; ++i) {
+      const S denom = sigma_[i] * sigma_[i] + damping_squared(sigma_[i]);
+      coeffs2_[i] = denom > S(0) ? coeffs2_[i] / denom : S(0);
+    }
+    x.head(k_).noalias() = w_ * coeffs2_;
+    x.tail(n_ - k_).setZero();
+    // x <- Q x = H_0 .. H_{k-1} x.
+    for (int j = k_ - 1; j >= 0; --j) reflect_qr(j, x);
   }
 
-  /// v <- N v for a vector v (cols()), N = I - V_r V_r^T the orthogonal projector onto the null
+  /// v <- N v for a vector v (cols()), N = I - Q_r Q_r^T the orthogonal projector onto the null
   /// space of A. Needs compute().
   template <typename Vec> void project_to_null(Vec&& v) {
-    auto coeffs = range_coeffs_.head(rank_);
-    coeffs.noalias() = svd_.matrixV().leftCols(rank_).transpose() * v;
-    v.noalias() -= svd_.matrixV().leftCols(rank_) * coeffs;
+    for (int j = 0; j < rank_; ++j) reflect_qr(j, v);  // Q_r^T v in the first r entries
+    v.head(rank_).setZero();
+    for (int j = rank_ - 1; j >= 0; --j) reflect_qr(j, v);
   }
 
  private:
-  int m_, n_;
+  /// y <- (I - tau h h^T) y with h = [0 (offset), 1, essential].
+  template <typename Ess, typename Vec> static void reflect(const Ess& essential, const S& tau, int offset, Vec&& y) {
+    const int len = static_cast<int>(essential.size());
+    const S w = tau * (y[offset] + essential.dot(y.segment(offset + 1, len)));
+    y[offset] -= w;
+    y.segment(offset + 1, len) -= w * essential;
+  }
+  /// The j-th reflector of the QR of A^T (n x n, acting on rows j .. n-1).
+  template <typename Vec> void reflect_qr(int j, Vec& y) const {
+    reflect(qr_.matrixQR().col(j).tail(n_ - j - 1), qr_.hCoeffs()[j], j, y);
+  }
+
+  int m_, n_, k_;
   DampingOptions options_;
-  Eigen::JacobiSVD<MatX<S>> svd_;
-  VecX<S> tmp_, range_coeffs_;
+  Eigen::ColPivHouseholderQR<MatX<S>> qr_;
+  MatX<S> r_, gram_;
+  /// Eigen's tridiagonalisation with its Householder coefficients by reference
+  /// (householderCoefficients() returns a copy, a heap allocation).
+  struct Tridiagonalization : Eigen::Tridiagonalization<MatX<S>> {
+    using Eigen::Tridiagonalization<MatX<S>>::Tridiagonalization;
+    const typename Eigen::Tridiagonalization<MatX<S>>::CoeffVectorType& coefficients() const { return this->m_hCoeffs; }
+  };
+  Tridiagonalization tri_;
+  Eigen::SelfAdjointEigenSolver<MatX<S>> eig_;
+  MatX<S> w_, rtw_;
+  VecX<S> sigma_, sorted_sigma_, permuted_e_, coeffs_, coeffs2_, diag_, subdiag_;
   int rank_ = 0;
   bool valid_ = false;
 };

@@ -1,0 +1,206 @@
+// Controller-side costs (runtime/include/mbgen/control/, docs/control.md):
+//   dls/<m>x<n>/svd      damped least-squares solve + null-space projection of one vector from
+//                        Eigen's JacobiSVD (thin U, V): the scheme DampedLeastSquares used before;
+//   dls/<m>x<n>/qr_eig   the same with DampedLeastSquares (column-pivoted QR of A^T and the
+//                        eigen-decomposition of R R^T);
+//   ik_step/talos/generic one DifferentialIk::step on TALOS (talos_reduced): feet poses, CoM and
+//                        torso orientation (18 rows, 38 coordinates), angular-momentum objective
+//                        on, as tests/test_differential_ik.cpp sets it up.
+// Both dls implementations run on the same 64 seeded random matrices (entries uniform in
+// [-1, 1]) with the differential IK's damping (singular region 0.01, max damping 0.01);
+// registration checks that they agree on every sample. Sizes: m = 12 .. 24 task rows,
+// n = 30 .. 50 coordinates, the range of walking robots.
+#include <Eigen/SVD>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench_support.hpp"
+#include "mbgen/control/differential_ik.hpp"
+#include "mbgen/gen/description.hpp"
+
+namespace mbgen::bench {
+namespace {
+
+using control::DampedLeastSquares;
+using control::DampingOptions;
+
+const DampingOptions kDamping{0.0, 1e-2, 1e-2, 1e-10};  // DifferentialIkOptions' default
+
+struct DlsInput {
+  MatX<double> A;
+  VecX<double> e, v;  // right-hand side, vector to project
+};
+
+std::shared_ptr<const std::vector<DlsInput>> dls_pool(int m, int n) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto pool = std::make_shared<std::vector<DlsInput>>();
+  for (std::size_t k = 0; k < kPoolSize; ++k) {
+    DlsInput in{MatX<double>(m, n), VecX<double>(m), VecX<double>(n)};
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < m; ++i) in.A(i, j) = u(rng);
+    for (int i = 0; i < m; ++i) in.e[i] = u(rng);
+    for (int j = 0; j < n; ++j) in.v[j] = u(rng);
+    pool->push_back(std::move(in));
+  }
+  return pool;
+}
+
+/// The SVD scheme: x = V diag(s / (s^2 + lambda(s)^2)) U^T e, N v = v - V_r V_r^T v.
+struct SvdWork {
+  SvdWork(int m, int n)
+      : svd(m, n, Eigen::ComputeThinU | Eigen::ComputeThinV), damping(m, n, kDamping), tmp(std::min(m, n)), coeffs(std::min(m, n)),
+        x(n), y(n) {}
+  Eigen::JacobiSVD<MatX<double>> svd;
+  DampedLeastSquares<double> damping;  // only for damping_squared (the same schedule)
+  VecX<double> tmp, coeffs, x, y;
+  const double* run(const DlsInput& in) {
+    svd.compute(in.A);
+    const auto& s = svd.singularValues();
+    int rank = 0;
+    for (int i = 0; i < s.size(); ++i)
+      if (s[i] > kDamping.rank_tolerance * s[0] && s[i] > 0) rank = i + 1;
+    tmp.noalias() = svd.matrixU().transpose() * in.e;
+    for (int i = 0; i < s.size(); ++i) {
+      const double denom = s[i] * s[i] + damping.damping_squared(s[i]);
+      tmp[i] = denom > 0 ? tmp[i] * s[i] / denom : 0;
+    }
+    x.noalias() = svd.matrixV() * tmp;
+    y = in.v;
+    auto c = coeffs.head(rank);
+    c.noalias() = svd.matrixV().leftCols(rank).transpose() * y;
+    y.noalias() -= svd.matrixV().leftCols(rank) * c;
+    return x.data();
+  }
+};
+
+struct QrEigWork {
+  QrEigWork(int m, int n) : dls(m, n, kDamping), x(n), y(n) {}
+  DampedLeastSquares<double> dls;
+  VecX<double> x, y;
+  const double* run(const DlsInput& in) {
+    dls.compute(in.A);
+    dls.solve(in.e, x);
+    y = in.v;
+    dls.project_to_null(y);
+    return x.data();
+  }
+};
+
+void add_dls(int m, int n) {
+  const auto pool = dls_pool(m, n);
+  const std::string size = std::to_string(m) + "x" + std::to_string(n);
+  // Agreement on every sample: solutions to 1e-12 relative, projections to 1e-12 (random
+  // matrices of this size are well conditioned, sigma_min > 0.1).
+  SvdWork svd(m, n);
+  QrEigWork qr(m, n);
+  for (const DlsInput& in : *pool) {
+    svd.run(in);
+    qr.run(in);
+    if ((svd.x - qr.x).norm() > 1e-12 * svd.x.norm() || (svd.y - qr.y).norm() > 1e-12 * in.v.norm())
+      throw std::runtime_error("dls/" + size + ": the SVD and QR + eigen schemes disagree");
+  }
+  add_benchmark<DlsInput>("dls", size, "svd", pool,
+                          [w = std::make_shared<SvdWork>(m, n)](const DlsInput& in) { return w->run(in); });
+  add_benchmark<DlsInput>("dls", size, "qr_eig", pool,
+                          [w = std::make_shared<QrEigWork>(m, n)](const DlsInput& in) { return w->run(in); });
+}
+
+/// TALOS with its controller, loaded on the first run of the benchmark (not at static
+/// initialisation: the loader's own statics may not be constructed yet) and kept for the others.
+struct IkFixture {
+  Model model;
+  std::unique_ptr<control::DifferentialIk<double>> ik;
+  std::vector<VecX<double>> poses;
+  VecX<double> v;
+
+  IkFixture() {
+    gen::LoadOptions options;
+    options.base = gen::BaseType::Floating;
+    options.pick_up_robot_yaml = false;
+    model = gen::load_description(std::string(MBGEN_SHARED_ROBOTS) + "/talos/talos_reduced.urdf", options).model;
+    // Bent knees and random joint angles within +-0.2 rad (tests/test_differential_ik.cpp's poses).
+    for (unsigned seed = 0; seed < kPoolSize; ++seed) poses.push_back(pose(seed));
+    const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "left_sole_link", 10.0},
+                                                  {"right_foot", control::TaskKind::FramePose, "right_sole_link", 10.0},
+                                                  {"com", control::TaskKind::CenterOfMass, "", 10.0},
+                                                  {"torso", control::TaskKind::FrameOrientation, "torso_2_link", 10.0}};
+    control::DifferentialIkOptions ik_options;
+    ik_options.angular_momentum.enabled = true;
+    ik_options.angular_momentum.weight = 50.0;
+    ik = std::make_unique<control::DifferentialIk<double>>(model, tasks, ik_options);
+    // Targets 5 cm / 0.1 rad from the first pose, with feed-forward velocities.
+    std::mt19937_64 rng(7);
+    Data<double> data(model);
+    center_of_mass<double>(model, data, poses[0]);
+    update_frame_placements<double>(model, data);
+    for (int i = 0; i < ik->num_tasks(); ++i) {
+      const control::Task& t = ik->task(i);
+      control::TaskTarget<double>& target = ik->target(i);
+      const Vec3<double> offset = random_vector<double>(3, rng, 0.05);
+      if (t.spec.kind == control::TaskKind::CenterOfMass) {
+        target.position = data.com + offset;
+      } else {
+        target.position = data.X_WF[t.frame].translation + offset;
+        target.rotation = Eigen::AngleAxisd(0.1, Vec3<double>(random_vector<double>(3, rng)).normalized()).toRotationMatrix() *
+                          data.X_WF[t.frame].rotation;
+      }
+      target.velocity = random_vector<double>(6, rng, 0.2);
+    }
+    ik->angular_momentum_target = Vec3<double>(4.0, -3.0, 2.0);
+    v = VecX<double>::Zero(model.nv());
+    for (const VecX<double>& q : poses)
+      if (!ik->step(q, v).ok) throw std::runtime_error("ik_step/talos/generic: a step failed");
+  }
+
+  VecX<double> pose(unsigned seed) const {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-0.2, 0.2);
+    VecX<double> q = neutral_configuration<double>(model);
+    for (int j = 2; j < model.num_joints(); ++j) q[model.joint(JointIndex(j)).idx_q] = u(rng);
+    for (const char* side : {"left", "right"}) {
+      q[model.joint(*model.find_joint(std::string("leg_") + side + "_3_joint")).idx_q] = -0.4;
+      q[model.joint(*model.find_joint(std::string("leg_") + side + "_4_joint")).idx_q] = 0.8;
+      q[model.joint(*model.find_joint(std::string("leg_") + side + "_5_joint")).idx_q] = -0.4;
+    }
+    return q;
+  }
+};
+
+void ik_step(benchmark::State& state) {
+  static std::unique_ptr<IkFixture> fixture;
+  if (!fixture) {
+    try {
+      fixture = std::make_unique<IkFixture>();
+    } catch (const std::exception& e) {
+      state.SkipWithError(e.what());
+      return;
+    }
+  }
+  IkFixture& f = *fixture;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(f.ik->step(f.poses[k], f.v));
+    benchmark::DoNotOptimize(f.v.data());
+    benchmark::ClobberMemory();
+    k = (k + 1) & (kPoolSize - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+/// Registered at static initialisation, as bench_ssv.cpp does, so that main (bench_dynamics.cpp)
+/// need not know this file.
+const bool registered = [] {
+  add_dls(12, 30);
+  add_dls(18, 38);
+  add_dls(24, 50);
+  benchmark::RegisterBenchmark("ik_step/talos/generic", ik_step);
+  return true;
+}();
+
+}  // namespace
+}  // namespace mbgen::bench
