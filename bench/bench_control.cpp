@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "talos_ik_scenario.hpp"
 #include "mbgen/control/differential_ik.hpp"
 #include "mbgen/gen/description.hpp"
 
@@ -123,51 +124,17 @@ struct IkFixture {
     options.base = gen::BaseType::Floating;
     options.pick_up_robot_yaml = false;
     model = gen::load_description(std::string(MBGEN_SHARED_ROBOTS) + "/talos/talos_reduced.urdf", options).model;
-    // Bent knees and random joint angles within +-0.2 rad (tests/test_differential_ik.cpp's poses).
-    for (unsigned seed = 0; seed < kPoolSize; ++seed) poses.push_back(pose(seed));
-    const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "left_sole_link", 10.0},
-                                                  {"right_foot", control::TaskKind::FramePose, "right_sole_link", 10.0},
-                                                  {"com", control::TaskKind::CenterOfMass, "", 10.0},
-                                                  {"torso", control::TaskKind::FrameOrientation, "torso_2_link", 10.0}};
+    // The scenario tests/test_differential_ik.cpp checks (bench/talos_ik_scenario.hpp).
+    for (unsigned seed = 0; seed < kPoolSize; ++seed) poses.push_back(scenario::talos_pose(model, seed));
     control::DifferentialIkOptions ik_options;
     ik_options.angular_momentum.enabled = true;
     ik_options.angular_momentum.weight = 50.0;
-    ik = std::make_unique<control::DifferentialIk<double>>(model, tasks, ik_options);
-    // Targets 5 cm / 0.1 rad from the first pose, with feed-forward velocities.
-    std::mt19937_64 rng(7);
-    Data<double> data(model);
-    center_of_mass<double>(model, data, poses[0]);
-    update_frame_placements<double>(model, data);
-    for (int i = 0; i < ik->num_tasks(); ++i) {
-      const control::Task& t = ik->task(i);
-      control::TaskTarget<double>& target = ik->target(i);
-      const Vec3<double> offset = random_vector<double>(3, rng, 0.05);
-      if (t.spec.kind == control::TaskKind::CenterOfMass) {
-        target.position = data.com + offset;
-      } else {
-        target.position = data.X_WF[t.frame].translation + offset;
-        target.rotation = Eigen::AngleAxisd(0.1, Vec3<double>(random_vector<double>(3, rng)).normalized()).toRotationMatrix() *
-                          data.X_WF[t.frame].rotation;
-      }
-      target.velocity = random_vector<double>(6, rng, 0.2);
-    }
+    ik = std::make_unique<control::DifferentialIk<double>>(model, scenario::talos_tasks(10.0), ik_options);
+    scenario::set_targets_near(*ik, model, poses[0], 7);
     ik->angular_momentum_target = Vec3<double>(4.0, -3.0, 2.0);
     v = VecX<double>::Zero(model.nv());
     for (const VecX<double>& q : poses)
       if (!ik->step(q, v).ok) throw std::runtime_error("ik_step/talos/generic: a step failed");
-  }
-
-  VecX<double> pose(unsigned seed) const {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-0.2, 0.2);
-    VecX<double> q = neutral_configuration<double>(model);
-    for (int j = 2; j < model.num_joints(); ++j) q[model.joint(JointIndex(j)).idx_q] = u(rng);
-    for (const char* side : {"left", "right"}) {
-      q[model.joint(*model.find_joint(std::string("leg_") + side + "_3_joint")).idx_q] = -0.4;
-      q[model.joint(*model.find_joint(std::string("leg_") + side + "_4_joint")).idx_q] = 0.8;
-      q[model.joint(*model.find_joint(std::string("leg_") + side + "_5_joint")).idx_q] = -0.4;
-    }
-    return q;
   }
 };
 

@@ -27,6 +27,7 @@
 #include "malloc_guard.hpp"
 #include "mbgen/control/differential_ik.hpp"
 #include "mbgen/gen/collision_scene.hpp"
+#include "talos_ik_scenario.hpp"  // bench/: the scenario ik_step/talos times
 #include "test_support.hpp"
 
 namespace mbgen::test {
@@ -36,47 +37,9 @@ using namespace mbgen::control;
 
 Model talos() { return load_tree(shared_robot("talos/talos_reduced.urdf"), gen::BaseType::Floating); }
 
-/// Bent knees and random small joint angles: a regular pose for the feet tasks.
-VecX<double> talos_pose(const Model& model, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-0.2, 0.2);
-  VecX<double> q = neutral_configuration<double>(model);
-  for (int j = 2; j < model.num_joints(); ++j) q[model.joint(JointIndex(j)).idx_q] = u(rng);
-  for (const char* side : {"left", "right"}) {
-    q[model.joint(*model.find_joint(std::string("leg_") + side + "_3_joint")).idx_q] = -0.4;
-    q[model.joint(*model.find_joint(std::string("leg_") + side + "_4_joint")).idx_q] = 0.8;
-    q[model.joint(*model.find_joint(std::string("leg_") + side + "_5_joint")).idx_q] = -0.4;
-  }
-  return q;
-}
-
-std::vector<TaskSpec> talos_tasks(double gain = 10.0) {
-  return {{"left_foot", TaskKind::FramePose, "left_sole_link", gain},
-          {"right_foot", TaskKind::FramePose, "right_sole_link", gain},
-          {"com", TaskKind::CenterOfMass, "", gain},
-          {"torso", TaskKind::FrameOrientation, "torso_2_link", gain}};
-}
-
-/// Targets near the current pose (5 cm, 0.1 rad away) with feed-forward velocities.
-void set_targets_near(DifferentialIk<double>& ik, const Model& model, const VecX<double>& q, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  Data<double> data(model);
-  center_of_mass<double>(model, data, q);
-  update_frame_placements<double>(model, data);
-  for (int i = 0; i < ik.num_tasks(); ++i) {
-    const Task& t = ik.task(i);
-    TaskTarget<double>& target = ik.target(i);
-    const Vec3<double> offset = random_vector<double>(3, rng, 0.05);
-    if (t.spec.kind == TaskKind::CenterOfMass) {
-      target.position = data.com + offset;
-    } else {
-      target.position = data.X_WF[t.frame].translation + offset;
-      target.rotation = Eigen::AngleAxisd(0.1, Vec3<double>(random_vector<double>(3, rng)).normalized()).toRotationMatrix() *
-                        data.X_WF[t.frame].rotation;
-    }
-    target.velocity = random_vector<double>(6, rng, 0.2);
-  }
-}
+using scenario::set_targets_near;
+using scenario::talos_pose;
+using scenario::talos_tasks;
 
 TEST(DifferentialIk, PrimaryTasksAreAchievedExactlyAndMoveTheBase) {
   const Model model = talos();
