@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "mbgen/algorithm/center_of_mass.hpp"
+#include "mbgen/algorithm/configuration.hpp"
+#include "mbgen/algorithm/kinematics.hpp"
 #include "mbgen/control/differential_ik.hpp"
 
 namespace mbgen::scenario {
