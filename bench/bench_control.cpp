@@ -21,7 +21,7 @@
 #include "bench_support.hpp"
 #include "talos_ik_scenario.hpp"
 #include "mbgen/control/differential_ik.hpp"
-#include "mbgen/gen/description.hpp"
+#include "model/load_description.hpp"
 
 namespace mbgen::bench {
 namespace {

@@ -30,7 +30,7 @@
 #include "bench_self_distance.hpp"
 #include "bench_support.hpp"
 #include "kdl_from_urdf.hpp"
-#include "mbgen/gen/description.hpp"
+#include "model/load_description.hpp"
 
 namespace mbgen::bench {
 namespace {

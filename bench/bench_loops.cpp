@@ -19,7 +19,7 @@
 #include "cassie_mjcf.hpp"
 #include "lola.hpp"
 #include "loop_chain.hpp"
-#include "mbgen/gen/description.hpp"
+#include "model/load_description.hpp"
 #include "pl_cassie_like.hpp"
 #include "pl_digit_like_2legs.hpp"
 

@@ -7,7 +7,7 @@
 
 #include "iiwa14_rotors_armature.hpp"
 #include "iiwa14_rotors_body.hpp"
-#include "mbgen/gen/description.hpp"
+#include "model/load_description.hpp"
 
 namespace mbgen::bench {
 

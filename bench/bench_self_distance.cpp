@@ -13,7 +13,8 @@
 
 #include "lola.hpp"
 #include "mbgen/collision/compound_distance.hpp"
-#include "mbgen/gen/collision_scene.hpp"
+#include "collision/collision_scene.hpp"
+#include "model/load_description.hpp"
 #include "panda_collision.hpp"
 
 namespace mbgen::bench {

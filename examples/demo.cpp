@@ -9,8 +9,8 @@
 
 #include MBGEN_DEMO_HEADER
 #include "mbgen/collision/compound_distance.hpp"
-#include "mbgen/gen/collision_scene.hpp"
-#include "mbgen/gen/description.hpp"
+#include "collision/collision_scene.hpp"
+#include "model/load_description.hpp"
 #include "mbgen/mbgen.hpp"
 
 namespace robot = MBGEN_DEMO_NS;

@@ -4,7 +4,7 @@
 #
 #   bash scripts/regenerate.sh                 # update generated/ (builds mbgen first if needed)
 #   bash scripts/regenerate.sh --check         # compare instead; exit 1 on any difference
-#   bash scripts/regenerate.sh --mbgen PATH    # use this mbgen instead of build/generator/mbgen
+#   bash scripts/regenerate.sh --mbgen PATH    # use this mbgen instead of build/bin/mbgen
 #
 # Inputs are given to mbgen by repository-relative paths from the repository root, so the output
 # does not depend on where the checkout lives. Each robot gets its extras' base and mbgen's default
@@ -24,7 +24,7 @@ while (($#)); do
   shift
 done
 if [[ -z $mbgen ]]; then
-  mbgen=build/generator/mbgen
+  mbgen=build/bin/mbgen
   [[ -d build ]] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build build --target mbgen -j"$(nproc)" >/dev/null
 fi

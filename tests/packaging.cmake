@@ -42,3 +42,10 @@ if(MBGEN_BUILD_BENCH)
   set_tests_properties(bench.instructions_per_call PROPERTIES TIMEOUT 300)
 endif()
 add_test(NAME bench.scaling_chart COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_scaling_chart.py)
+
+# The generator's stages depend downward only (generator/README.md), and the check catches a
+# planted upward include in a copy of the tree.
+add_test(NAME layout.stages COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/check_layout.sh)
+add_test(NAME layout.stages_catches_upward_include
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_layout_planted.sh ${PROJECT_SOURCE_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/layout_planted)

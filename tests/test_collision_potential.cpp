@@ -17,7 +17,8 @@
 
 #include "malloc_guard.hpp"
 #include "mbgen/control/differential_ik.hpp"
-#include "mbgen/gen/collision_scene.hpp"
+#include "collision/collision_scene.hpp"
+#include "model/load_description.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {

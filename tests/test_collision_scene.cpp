@@ -1,4 +1,4 @@
-// The collision scene (generator/src/collision_scene.cpp): compounds per body and the pruned pair
+// The collision scene (generator/collision/collision_scene.cpp): compounds per body and the pruned pair
 // list, on tests/data/collision_arm.urdf whose answers follow from its geometry (see the file's
 // comment: adjacent, never close with a closed-form distance range, always overlapping, kept),
 // and on the Lola biped's scene (excluded pairs, determinism). Robots with loops are sampled in
@@ -13,7 +13,7 @@
 #include <map>
 
 #include "mbgen/collision/compound_distance.hpp"
-#include "mbgen/gen/collision_scene.hpp"
+#include "collision/collision_scene.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {

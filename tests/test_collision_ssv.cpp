@@ -1,4 +1,4 @@
-// SSVs from URDF collision geometry (generator/src/collision_ssv.cpp): spheres become point-SSVs,
+// SSVs from URDF collision geometry (generator/load/collision_ssv.cpp): spheres become point-SSVs,
 // cylinders line-SSVs along their axis; boxes and meshes are counted, not modelled; the extras'
 // `ssv:` replaces a link's compound. Expected endpoints are worked out by hand from the files.
 #include <gtest/gtest.h>

@@ -26,7 +26,8 @@
 
 #include "malloc_guard.hpp"
 #include "mbgen/control/differential_ik.hpp"
-#include "mbgen/gen/collision_scene.hpp"
+#include "collision/collision_scene.hpp"
+#include "model/load_description.hpp"
 #include "talos_ik_scenario.hpp"  // bench/: the scenario ik_step/talos times
 #include "test_support.hpp"
 

@@ -26,7 +26,8 @@
 #include MBGEN_GENERATED_HEADER
 #include "malloc_guard.hpp"
 #include "mbgen/collision/compound_distance.hpp"
-#include "mbgen/gen/collision_scene.hpp"
+#include "collision/collision_scene.hpp"
+#include "model/load_description.hpp"
 #include "test_support.hpp"
 
 namespace gen_ns = MBGEN_GENERATED_NS;

@@ -2,8 +2,8 @@
 // robot.yaml convention on the seven shared closed-loop models.
 #include <gtest/gtest.h>
 
-#include "mbgen/gen/load_error.hpp"
-#include "mbgen/gen/name_match.hpp"
+#include "load/load_error.hpp"
+#include "load/name_match.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {

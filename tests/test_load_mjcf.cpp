@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "mbgen/gen/load_error.hpp"
+#include "load/load_error.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {

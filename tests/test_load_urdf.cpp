@@ -2,7 +2,7 @@
 // root idiom, limits, and every shared robot loading both ways.
 #include <gtest/gtest.h>
 
-#include "mbgen/gen/load_error.hpp"
+#include "load/load_error.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {

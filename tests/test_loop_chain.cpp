@@ -9,7 +9,7 @@
 #include <random>
 
 #include "loop_chain.hpp"
-#include "mbgen/gen/topology.hpp"
+#include "model/topology.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {

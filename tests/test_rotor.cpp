@@ -10,7 +10,7 @@
 #include <Eigen/Cholesky>
 #include <random>
 
-#include "mbgen/gen/load_error.hpp"
+#include "load/load_error.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mbgen/gen/description.hpp"
+#include "model/load_description.hpp"
 #include "mbgen/mbgen.hpp"
 
 namespace mbgen::test {

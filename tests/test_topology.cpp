@@ -1,4 +1,4 @@
-// Topology stage of loading (generator/include/mbgen/gen/topology.hpp): joint type overrides,
+// Topology stage of loading (generator/model/topology.hpp): joint type overrides,
 // closures into the Model, assembly and sub-systems, on the parallel_legs models (against
 // LOOPS.md), the mechanisms and Lola.
 #include <gtest/gtest.h>
@@ -8,8 +8,8 @@
 #include <random>
 #include <set>
 
-#include "mbgen/gen/load_error.hpp"
-#include "mbgen/gen/topology.hpp"
+#include "load/load_error.hpp"
+#include "model/topology.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {

@@ -2,7 +2,7 @@
 // problem. The inputs are the tiny files in tests/data/bad/.
 #include <gtest/gtest.h>
 
-#include "mbgen/gen/load_error.hpp"
+#include "load/load_error.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {

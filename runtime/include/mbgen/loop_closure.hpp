@@ -61,7 +61,7 @@ struct LoopClosure {
 /// Bodies that must be solved together: the union of the fundamental cycles (tree path body_a ->
 /// common ancestor -> body_b) that share a moving joint, i.e. a body other than their roots.
 /// Loops that only meet at a body stay apart: their coordinates are disjoint and their rows
-/// decouple (generator/include/mbgen/gen/topology.hpp). Coordinates are velocity indices; the
+/// decouple (generator/model/topology.hpp). Coordinates are velocity indices; the
 /// rows of Phi_q outside `coordinates` are exact zeros, so Phi_z = Phi_q(rows, dependent) and
 /// Phi_y = Phi_q(rows, independent) are all a sub-system needs (algorithm/closure_positions.hpp, algorithm/subsystem_maps.hpp).
 struct SubSystem {

@@ -1,0 +1,332 @@
+#include "codegen/emit_cpp.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+namespace mbgen::codegen {
+
+namespace {
+
+/// Nodes that the outputs depend on.
+std::vector<bool> reachable(const TracedFunction& f) {
+  std::vector<bool> seen(static_cast<std::size_t>(f.graph.size()), false);
+  std::vector<int> stack;
+  for (const auto& ids : f.output_ids)
+    for (int id : ids) stack.push_back(id);
+  while (!stack.empty()) {
+    const int id = stack.back();
+    stack.pop_back();
+    if (seen[static_cast<std::size_t>(id)]) continue;
+    seen[static_cast<std::size_t>(id)] = true;
+    const Node& n = f.graph.node(id);
+    if (n.a >= 0) stack.push_back(n.a);
+    if (n.b >= 0) stack.push_back(n.b);
+  }
+  return seen;
+}
+
+std::string input_parameters(const TracedFunction& f, const std::string& scalar) {
+  std::string args;
+  for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
+  return args;
+}
+
+std::string signature(const TracedFunction& f, const std::string& scalar) {
+  std::string args = input_parameters(f, scalar);
+  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, a.name);
+  return fmt::format("void {}({})", f.name, args);
+}
+
+std::string call_arguments(const TracedFunction& f) {
+  std::string args;
+  for (const ArraySpec& a : f.inputs) args += fmt::format("{}{}", args.empty() ? "" : ", ", a.name);
+  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}", args.empty() ? "" : ", ", a.name);
+  return args;
+}
+
+}  // namespace
+
+std::string literal(double value) {
+  // fmt prints the shortest representation that reads back to the same double.
+  return fmt::format("S({})", value);
+}
+
+OpCount count_operations(const TracedFunction& f) {
+  const std::vector<bool> seen = reachable(f);
+  OpCount c;
+  for (int id = 0; id < f.graph.size(); ++id) {
+    if (!seen[static_cast<std::size_t>(id)]) continue;
+    switch (f.graph.node(id).op) {
+      case Op::Add:
+      case Op::Sub: ++c.add; break;
+      case Op::Mul: ++c.mul; break;
+      case Op::Div: ++c.div; break;
+      case Op::Neg: ++c.neg; break;
+      case Op::Sin:
+      case Op::Cos: ++c.trig; break;
+      case Op::Sqrt: ++c.sqrt; break;
+      case Op::Max: ++c.max; break;
+      default: break;
+    }
+  }
+  return c;
+}
+
+std::vector<std::string> scalar_types(ScalarChoice choice) {
+  switch (choice) {
+    case ScalarChoice::Double: return {"double"};
+    case ScalarChoice::Float: return {"float"};
+    case ScalarChoice::Both: return {"double", "float"};
+  }
+  return {};
+}
+
+std::string describe_operations(const OpCount& c) {
+  return fmt::format("{} operations: {} additions/subtractions, {} multiplications, {} divisions, {} negations, "
+                     "{} sin/cos, {} square roots{}",
+                     c.total(), c.add, c.mul, c.div, c.neg, c.trig, c.sqrt,
+                     c.max > 0 ? fmt::format(", {} max (selects)", c.max) : std::string());
+}
+
+std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars) {
+  std::string out = fmt::format("/// {}\n", f.doc);
+  for (const ArraySpec& a : f.inputs) out += fmt::format("/// in  {}: {}\n", a.name, a.doc);
+  for (const ArraySpec& a : f.outputs) out += fmt::format("/// out {}: {}\n", a.name, a.doc);
+  out += fmt::format("/// Cost: {}.\n", describe_operations(count_operations(f)));
+  for (const std::string& s : scalar_types(scalars)) out += signature(f, s) + ";\n";
+  return out;
+}
+
+namespace {
+
+bool is_statement(const Node& n) { return n.op != Op::Constant && n.op != Op::Input; }
+
+/// The right-hand side of node n's statement, its operands named by `name`.
+template <typename Name> std::string expression(const Node& n, Name name) {
+  switch (n.op) {
+    case Op::Add: return fmt::format("{} + {}", name(n.a), name(n.b));
+    case Op::Sub: return fmt::format("{} - {}", name(n.a), name(n.b));
+    case Op::Mul: return fmt::format("{} * {}", name(n.a), name(n.b));
+    case Op::Div: return fmt::format("{} / {}", name(n.a), name(n.b));
+    case Op::Neg: return fmt::format("-{}", name(n.a));
+    case Op::Sin: return fmt::format("std::sin({})", name(n.a));
+    case Op::Cos: return fmt::format("std::cos({})", name(n.a));
+    case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
+    // A select, not std::fmax: no libm call on a microcontroller.
+    case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
+    case Op::Constant:
+    case Op::Input: break;
+  }
+  throw std::logic_error("expression: not a statement");
+}
+
+/// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
+std::vector<std::string> leaf_and_temporary_names(const TracedFunction& f, const std::vector<bool>& seen) {
+  std::vector<std::string> names(static_cast<std::size_t>(f.graph.size()));
+  int temporaries = 0;
+  for (int id = 0; id < f.graph.size(); ++id) {
+    if (!seen[static_cast<std::size_t>(id)]) continue;
+    const Node& n = f.graph.node(id);
+    std::string& name = names[static_cast<std::size_t>(id)];
+    if (n.op == Op::Constant) name = literal(n.value);
+    else if (n.op == Op::Input) name = fmt::format("{}[{}]", f.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
+    else name = fmt::format("_t{}", temporaries++);
+  }
+  return names;
+}
+
+std::string output_assignments(const TracedFunction& f, const std::vector<std::string>& names) {
+  std::string body;
+  for (std::size_t o = 0; o < f.outputs.size(); ++o)
+    for (std::size_t i = 0; i < f.output_ids[o].size(); ++i)
+      body += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, names[static_cast<std::size_t>(f.output_ids[o][i])]);
+  return body;
+}
+
+std::string unused_inputs(const TracedFunction& f) {
+  std::string out;
+  for (const ArraySpec& a : f.inputs) out += fmt::format("  (void){};\n", a.name);
+  return out;
+}
+
+}  // namespace
+
+std::string emit_statements(const TracedFunction& f) {
+  const std::vector<bool> seen = reachable(f);
+  const std::vector<std::string> names = leaf_and_temporary_names(f, seen);
+  auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
+  std::string body;
+  body.reserve(64 * static_cast<std::size_t>(f.graph.size()));
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id)))
+      body += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
+  return body + output_assignments(f, names);
+}
+
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements) {
+  const std::vector<bool> seen = reachable(f);
+  std::vector<int> statements;
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id))) statements.push_back(id);
+  const int count = static_cast<int>(statements.size());
+  if (count <= max_statements) return {"", emit_statements(f)};
+
+  // Parts of equal size, in id order (a topological order): part_of[id] for statements.
+  const int parts = (count + max_statements - 1) / max_statements;
+  const int per_part = (count + parts - 1) / parts;
+  std::vector<int> part_of(static_cast<std::size_t>(f.graph.size()), -1);
+  for (int k = 0; k < count; ++k) part_of[static_cast<std::size_t>(statements[static_cast<std::size_t>(k)])] = k / per_part;
+  // The last part reading each statement (`parts`: the caller, which assigns the outputs).
+  std::vector<int> last_use(part_of);
+  auto use = [&](int operand, int part) {
+    if (operand >= 0 && part_of[static_cast<std::size_t>(operand)] >= 0)
+      last_use[static_cast<std::size_t>(operand)] = std::max(last_use[static_cast<std::size_t>(operand)], part);
+  };
+  for (int id : statements) {
+    use(f.graph.node(id).a, part_of[static_cast<std::size_t>(id)]);
+    use(f.graph.node(id).b, part_of[static_cast<std::size_t>(id)]);
+  }
+  for (const auto& ids : f.output_ids)
+    for (int id : ids) use(id, parts);
+
+  // Workspace slots for the values that outlive their part. A part reads the workspace in its
+  // statements and writes its own values at its end, so a slot whose value is last read in
+  // part p takes a value of part p; the lowest free slot first (deterministic, and the
+  // workspace stays as small as the widest boundary between parts).
+  std::vector<int> slot(static_cast<std::size_t>(f.graph.size()), -1);
+  std::set<int> free_slots;
+  int slots = 0;
+  std::vector<std::vector<int>> released(static_cast<std::size_t>(parts) + 1), stored(static_cast<std::size_t>(parts));
+  for (int id : statements) {
+    const int p = part_of[static_cast<std::size_t>(id)], last = last_use[static_cast<std::size_t>(id)];
+    if (last == p) continue;
+    stored[static_cast<std::size_t>(p)].push_back(id);
+    released[static_cast<std::size_t>(last)].push_back(id);
+  }
+  for (int p = 0; p < parts; ++p) {
+    for (int id : released[static_cast<std::size_t>(p)]) free_slots.insert(slot[static_cast<std::size_t>(id)]);
+    for (int id : stored[static_cast<std::size_t>(p)]) {
+      int& s = slot[static_cast<std::size_t>(id)];
+      if (free_slots.empty()) {
+        s = slots++;
+      } else {
+        s = *free_slots.begin();
+        free_slots.erase(free_slots.begin());
+      }
+    }
+  }
+
+  const std::vector<std::string> local_names = leaf_and_temporary_names(f, seen);
+  std::vector<std::string> workspace_names(local_names);
+  for (int id : statements)
+    if (slot[static_cast<std::size_t>(id)] >= 0) workspace_names[static_cast<std::size_t>(id)] = fmt::format("w[{}]", slot[static_cast<std::size_t>(id)]);
+
+  SplitStatements out;
+  for (int p = 0; p < parts; ++p) {
+    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, S* w) {{\n", prefix, p,
+                             input_parameters(f, "S"));
+    out.parts += unused_inputs(f);
+    auto name = [&](int id) -> const std::string& {
+      const std::size_t i = static_cast<std::size_t>(id);
+      return part_of[i] == p ? local_names[i] : workspace_names[i];
+    };
+    for (int k = p * per_part; k < std::min(count, (p + 1) * per_part); ++k) {
+      const int id = statements[static_cast<std::size_t>(k)];
+      out.parts += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
+    }
+    for (int id : stored[static_cast<std::size_t>(p)])
+      out.parts += fmt::format("  {} = {};\n", workspace_names[static_cast<std::size_t>(id)], local_names[static_cast<std::size_t>(id)]);
+    out.parts += "}\n\n";
+  }
+  std::string arguments;
+  for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
+  out.body = fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
+                         "  // w carries the {} values that cross a part boundary.\n  S w[{}];\n",
+                         count, parts, slots, std::max(slots, 1));
+  for (int p = 0; p < parts; ++p) out.body += fmt::format("  {}_part{}<S>({}w);\n", prefix, p, arguments);
+  out.body += output_assignments(f, workspace_names);
+  return out;
+}
+
+std::string noinline_macro() {
+  return "// The parts of a split function stay functions of their own (see split_statements).\n"
+         "#ifndef MBGEN_GENERATED_NOINLINE\n#if defined(__GNUC__)\n#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))\n"
+         "#else\n#define MBGEN_GENERATED_NOINLINE\n#endif\n#endif\n\n";
+}
+
+std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
+                            ScalarChoice scalars) {
+  const SplitStatements split = split_statements(f, f.name, kMaxStatementsPerPart);
+  std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\n", header);
+  if (!split.parts.empty()) out += noinline_macro();
+  out += fmt::format("namespace {} {{\n\nnamespace {{\n\n", ns);
+  out += split.parts;
+  out += fmt::format("// {}\n// {}.\ntemplate <typename S>\n", f.doc, describe_operations(count_operations(f)));
+  std::string impl_sig = signature(f, "S");
+  impl_sig.replace(impl_sig.find(f.name), f.name.size(), f.name + "_impl");
+  out += impl_sig + " {\n" + unused_inputs(f) + split.body + "}\n\n}  // namespace\n\n";
+  for (const std::string& s : scalar_types(scalars))
+    out += fmt::format("{} {{ {}_impl<{}>({}); }}\n\n", signature(f, s), f.name, s, call_arguments(f));
+  out += fmt::format("}}  // namespace {}\n", ns);
+  return out;
+}
+
+std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
+                                      const std::string& ns, const std::string& header, ScalarChoice scalars) {
+  if (f.inputs.size() != source.inputs.size() || f.outputs.size() != 1 || source.outputs.size() != 1 ||
+      static_cast<int>(selection.size()) != f.outputs[0].size)
+    throw std::logic_error("emit_selection_definition: " + f.name + " is not a selection of " + source.name);
+  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
+  out += fmt::format("// {}\n// {} computes every entry; this keeps {} of its {}.\n", f.doc, source.name, selection.size(),
+                     source.outputs[0].size);
+  for (const std::string& scalar : scalar_types(scalars)) {
+    out += signature(f, scalar) + " {\n";
+    out += fmt::format("  {} all[{}];\n  {}({}, all);\n", scalar, source.outputs[0].size, source.name, [&] {
+      std::string args;
+      for (const ArraySpec& a : f.inputs) args += (args.empty() ? "" : ", ") + a.name;
+      return args;
+    }());
+    for (std::size_t i = 0; i < selection.size(); ++i) out += fmt::format("  {}[{}] = all[{}];\n", f.outputs[0].name, i, selection[i]);
+    out += "}\n\n";
+  }
+  out += fmt::format("}}  // namespace {}\n", ns);
+  return out;
+}
+
+std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const std::string& ns,
+                                    const std::string& header, ScalarChoice scalars) {
+  const std::size_t n_in = source.inputs.size();
+  if (f.inputs.size() != n_in + 1 || f.outputs.size() != 1 || source.outputs.size() != 1 ||
+      source.outputs[0].size != f.outputs[0].size * f.inputs[n_in].size)
+    throw std::logic_error("emit_product_definition: " + f.name + " is not a product of " + source.name);
+  const int rows = f.outputs[0].size, cols = f.inputs[n_in].size;
+  const std::string& A = source.outputs[0].name;
+  const std::string& x = f.inputs[n_in].name;
+  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
+  out += fmt::format("// {}\n// {} computes {}; this multiplies its structurally nonzero entries by {}.\n", f.doc, source.name, A, x);
+  for (const std::string& scalar : scalar_types(scalars)) {
+    out += signature(f, scalar) + " {\n";
+    std::string args;
+    for (std::size_t i = 0; i < n_in; ++i) args += (i ? ", " : "") + f.inputs[i].name;
+    out += fmt::format("  {} {}[{}];\n  {}({}, {});\n", scalar, A, source.outputs[0].size, source.name, args, A);
+    for (int r = 0; r < rows; ++r) {
+      std::string sum;
+      for (int c = 0; c < cols; ++c) {
+        const int id = source.output_ids[0][static_cast<std::size_t>(r * cols + c)];
+        if (source.graph.is_constant(id, 0)) continue;
+        const std::string term = source.graph.is_constant(id, 1) ? fmt::format("{}[{}]", x, c)
+                                                                 : fmt::format("{}[{}] * {}[{}]", A, r * cols + c, x, c);
+        sum += (sum.empty() ? "" : " + ") + term;
+      }
+      out += fmt::format("  {}[{}] = {};\n", f.outputs[0].name, r, sum.empty() ? scalar + "(0)" : sum);
+    }
+    out += "}\n\n";
+  }
+  out += fmt::format("}}  // namespace {}\n", ns);
+  return out;
+}
+
+}  // namespace mbgen::codegen

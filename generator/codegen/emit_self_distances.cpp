@@ -1,0 +1,257 @@
+// self_distances: traced placement and Jacobian columns, unrolled shape pairs (emit_self_distances.hpp).
+#include "codegen/emit_self_distances.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+#include <set>
+
+#include "codegen/symbolic.hpp"
+#include "mbgen/mbgen.hpp"
+
+namespace mbgen::codegen {
+
+namespace {
+
+using collision::CollisionModel;
+using collision::Compound;
+using collision::Shape;
+
+int num_points(const Shape& s) { return s.kind == Shape::Kind::Point ? 1 : (s.kind == Shape::Kind::Line ? 2 : 3); }
+
+/// Where each placed point lives in P (offsets of 3 numbers), per compound and shape.
+struct Placement {
+  std::vector<int> points;  ///< offset of each core point
+  int bound = -1;           ///< offset of the bounding-sphere centre (-1: no pair needs it)
+};
+
+/// What the straight-line part computes: placed points and Jacobian columns, and where.
+struct Plan {
+  std::map<int, std::vector<Placement>> shapes;  ///< per used compound, per shape
+  std::vector<int> columns;                      ///< velocity columns needed, ascending
+  std::map<int, int> column_slot;                ///< column -> its 6 numbers in J at 6 * slot
+  std::map<int, std::set<int>> support;          ///< per used compound, the columns moving its body
+  int num_p = 0;
+};
+
+std::set<int> supporting_columns(const Model& model, BodyIndex body) {
+  std::set<int> out;
+  for (BodyIndex b = body; b != kWorldBody; b = model.body(b).parent) {
+    const Joint& joint = model.joint(model.body(b).joint);
+    for (int col = 0; col < joint.nv; ++col) out.insert(joint.idx_v + col);
+  }
+  return out;
+}
+
+Plan make_plan(const Model& model, const CollisionModel& scene) {
+  Plan plan;
+  std::set<int> needs_bounds;  // compounds in a pair of more than one shape pair
+  for (const collision::CollisionPair& p : scene.pairs) {
+    const Compound& a = scene.compounds[static_cast<std::size_t>(p.first)];
+    const Compound& b = scene.compounds[static_cast<std::size_t>(p.second)];
+    plan.shapes[p.first];
+    plan.shapes[p.second];
+    if (a.shapes.size() * b.shapes.size() > 1) {
+      needs_bounds.insert(p.first);
+      needs_bounds.insert(p.second);
+    }
+  }
+  std::set<int> columns;
+  for (auto& [c, placements] : plan.shapes) {
+    const Compound& compound = scene.compounds[static_cast<std::size_t>(c)];
+    for (const Shape& s : compound.shapes) {
+      Placement pl;
+      for (int k = 0; k < num_points(s); ++k, plan.num_p += 3) pl.points.push_back(plan.num_p);
+      if (needs_bounds.count(c)) {
+        pl.bound = plan.num_p;
+        plan.num_p += 3;
+      }
+      placements.push_back(pl);
+    }
+    plan.support[c] = supporting_columns(model, compound.body);
+    columns.insert(plan.support[c].begin(), plan.support[c].end());
+  }
+  plan.columns.assign(columns.begin(), columns.end());
+  for (std::size_t k = 0; k < plan.columns.size(); ++k) plan.column_slot[plan.columns[k]] = static_cast<int>(k);
+  return plan;
+}
+
+/// The branch-free part: P (placed points) and J (world joint-Jacobian columns, [linear; angular]
+/// of the motion at the world origin, as data.J), traced from the runtime.
+TracedFunction trace_placement(const Model& model, const CollisionModel& scene, const Plan& plan) {
+  TracedFunction f;
+  f.name = "self_distances";
+  f.inputs = {{"q", model.nq(), ""}};
+  f.outputs = {{"P", plan.num_p, ""}, {"J", 6 * static_cast<int>(plan.columns.size()), ""}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  VecX<Sym> q(model.nq());
+  for (int i = 0; i < model.nq(); ++i) q[i] = Sym::input(0, i);
+  compute_joint_jacobians<Sym>(model, data, q);
+  std::vector<int> p_ids, j_ids;
+  auto place = [&](const SE3<Sym>& X, const Vec3<double>& p) {
+    // The same expression as collision::detail::place: X.act(p cast to the scalar).
+    const Vec3<Sym> w = X.act(p.cast<Sym>());
+    for (int r = 0; r < 3; ++r) p_ids.push_back(w[r].id());
+  };
+  for (const auto& [c, placements] : plan.shapes) {
+    const Compound& compound = scene.compounds[static_cast<std::size_t>(c)];
+    const SE3<Sym>& X = data.X_WB[compound.body];
+    for (std::size_t s = 0; s < placements.size(); ++s) {
+      const Shape& shape = compound.shapes[s];
+      for (int k = 0; k < num_points(shape); ++k) place(X, shape.points[static_cast<std::size_t>(k)]);
+      if (placements[s].bound >= 0) place(X, shape.bound_center);
+    }
+  }
+  for (int col : plan.columns)
+    for (int r = 0; r < 6; ++r) j_ids.push_back(data.J(r, col).id());
+  f.output_ids = {p_ids, j_ids};
+  return f;
+}
+
+const char* kind_name(Shape::Kind k) {
+  return k == Shape::Kind::Point ? "PointSsv" : (k == Shape::Kind::Line ? "LineSsv" : "TriangleSsv");
+}
+
+std::string volume(const Shape& s, const Placement& pl) {
+  std::string args;
+  for (int o : pl.points) args += fmt::format("at(P + {}), ", o);
+  return fmt::format("{}<S>{{{}{}}}", kind_name(s.kind), args, literal(s.radius));
+}
+
+/// ssv_distance for shapes a (volume 1) and b (volume 2): the primitives take the lower kind first
+/// (point < line < triangle), so higher-vs-lower is computed the other way round and reversed,
+/// as collision::detail::shape_distance does.
+std::string shape_call(const Shape& a, const Placement& pa, const Shape& b, const Placement& pb) {
+  if (static_cast<int>(a.kind) <= static_cast<int>(b.kind))
+    return fmt::format("ssv_distance({}, {})", volume(a, pa), volume(b, pb));
+  return fmt::format("reversed(ssv_distance({}, {}))", volume(b, pb), volume(a, pa));
+}
+
+std::string pair_block(const Model& model, const CollisionModel& scene, const Plan& plan, std::size_t k) {
+  const collision::CollisionPair& p = scene.pairs[k];
+  const Compound& a = scene.compounds[static_cast<std::size_t>(p.first)];
+  const Compound& b = scene.compounds[static_cast<std::size_t>(p.second)];
+  const std::vector<Placement>& pa = plan.shapes.at(p.first);
+  const std::vector<Placement>& pb = plan.shapes.at(p.second);
+  std::string out = fmt::format("  {{  // pair {}: {} ({} shapes) - {} ({} shapes)\n", k, a.name, a.shapes.size(), b.name,
+                                b.shapes.size());
+  out += "    ClosestShapes<S> best;\n";
+  for (std::size_t i = 0; i < a.shapes.size(); ++i)
+    for (std::size_t j = 0; j < b.shapes.size(); ++j) {
+      const std::string call = fmt::format("best.take({}, {}, {});", shape_call(a.shapes[i], pa[i], b.shapes[j], pb[j]), i, j);
+      if (i == 0 && j == 0) {
+        out += "    " + call + "\n";  // the first pair is always computed (ClosestShapes::worth)
+      } else {
+        out += fmt::format("    if (best.worth(at(P + {}), {}, at(P + {}), {})) {}\n", pa[i].bound,
+                           literal(a.shapes[i].bound_radius), pb[j].bound, literal(b.shapes[j].bound_radius), call);
+      }
+    }
+  out += fmt::format("    store(best.result, {}, distance, normal, witness);\n", k);
+  // Row k = n^T (J_p2 - J_p1); per column c: n . v_c + w_c . (p x n) for the body's witness p.
+  // Columns moving both bodies keep w_c . ((p2 - p1) x n) (n . v_c cancels).
+  const std::set<int>& s1 = plan.support.at(p.first);
+  const std::set<int>& s2 = plan.support.at(p.second);
+  out += "    const SsvVec3<S> n = best.result.normal;\n";
+  out += "    const SsvVec3<S> p1n = best.result.point1.cross(n), p2n = best.result.point2.cross(n), dn = p2n - p1n;\n";
+  out += "    (void)p1n;\n    (void)p2n;\n    (void)dn;\n";
+  out += fmt::format("    S* row = jacobian + {};\n", k * static_cast<std::size_t>(model.nv()));
+  for (int c = 0; c < model.nv(); ++c) {
+    const bool in1 = s1.count(c) > 0, in2 = s2.count(c) > 0;
+    if (!in1 && !in2) {
+      out += fmt::format("    row[{}] = S(0);\n", c);
+      continue;
+    }
+    const int j = 6 * plan.column_slot.at(c);
+    if (in1 && in2) out += fmt::format("    row[{}] = dot3(dn, J + {});\n", c, j + 3);
+    else if (in2) out += fmt::format("    row[{}] = dot3(n, J + {}) + dot3(p2n, J + {});\n", c, j, j + 3);
+    else out += fmt::format("    row[{}] = -(dot3(n, J + {}) + dot3(p1n, J + {}));\n", c, j, j + 3);
+  }
+  return out + "  }\n";
+}
+
+std::string arguments(const std::string& scalar) {
+  return fmt::format("const {0}* q, {0}* distance, {0}* normal, {0}* witness, {0}* jacobian", scalar);
+}
+
+}  // namespace
+
+SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& scene, const std::string& ns,
+                                     const std::string& header, ScalarChoice scalars) {
+  const Plan plan = make_plan(model, scene);
+  const TracedFunction traced = trace_placement(model, scene, plan);
+  const std::size_t np = scene.pairs.size();
+  int shape_pairs = 0;
+  for (const collision::CollisionPair& p : scene.pairs)
+    shape_pairs += static_cast<int>(scene.compounds[static_cast<std::size_t>(p.first)].shapes.size() *
+                                    scene.compounds[static_cast<std::size_t>(p.second)].shapes.size());
+  const std::string cost = np == 0 ? "nothing (the scene keeps no pair)"
+                                   : fmt::format("straight-line placement and Jacobian columns: {}; then at most {} SSV "
+                                                 "distance calls ({} pair{}; bounding spheres skip the rest)",
+                                                 describe_operations(count_operations(traced)), shape_pairs, np,
+                                                 np == 1 ? "" : "s");
+
+  SelfDistanceCode code;
+  std::string& h = code.declaration;
+  h += fmt::format("\n/// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).\n"
+                   "constexpr int num_distance_pairs = {};\n",
+                   np);
+  h += "/// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.\n";
+  h += fmt::format("inline constexpr const char* distance_pair_names[{}][2] = {{", np == 0 ? 1 : np);
+  if (np == 0) h += "{\"\", \"\"}";
+  for (std::size_t k = 0; k < np; ++k)
+    h += fmt::format("{}{{\"{}\", \"{}\"}}", k ? ", " : "", scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name,
+                     scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name);
+  h += "};\n";
+  h += fmt::format(
+      "\n/// Self-distances of the kept pairs between the bodies' swept-sphere volumes, and their Jacobians\n"
+      "/// (generic twin: collision::compute_distances + compute_distance_jacobians). Per pair k:\n"
+      "/// in  q: [{}] joint positions\n"
+      "/// out distance: [{}] distance[k] = core distance - r1 - r2 (negative when overlapping)\n"
+      "/// out normal: [{} x 3] unit normal from the pair's first body to its second, world\n"
+      "/// out witness: [{} x 6] point on the first body's surface, then on the second's, world\n"
+      "///     (point2 - point1 = distance * normal)\n"
+      "/// out jacobian: [{} x {}, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points\n"
+      "///     moving with their bodies; non-smooth where the closest features switch\n"
+      "/// Cost: {}.\n",
+      model.nq(), np, np, np, np, model.nv(), cost);
+  for (const std::string& s : scalar_types(scalars)) h += fmt::format("void self_distances({});\n", arguments(s));
+
+  std::string body;
+  if (np == 0) {
+    body = "  (void)q;\n  (void)distance;\n  (void)normal;\n  (void)witness;\n  (void)jacobian;\n";
+  } else {
+    body += fmt::format("  S P[{}];  // shapes' points placed in the world\n", plan.num_p);
+    body += fmt::format("  S J[{}];  // world joint-Jacobian columns {{", 6 * plan.columns.size());
+    for (std::size_t k = 0; k < plan.columns.size(); ++k) body += fmt::format("{}{}", k ? ", " : "", plan.columns[k]);
+    body += "}, 6 each\n";
+    body += emit_statements(traced);
+    for (std::size_t k = 0; k < np; ++k) body += pair_block(model, scene, plan, k);
+  }
+
+  std::string& d = code.definition;
+  d = fmt::format("#include \"{}\"\n\n#include <cmath>\n\n#include \"mbgen/collision/closest_shapes.hpp\"\n"
+                  "#include \"mbgen/collision/ssv_distance.hpp\"\n\nnamespace {} {{\n\nnamespace {{\n\n",
+                  header, ns);
+  d += "using mbgen::collision::ClosestShapes;\nusing mbgen::collision::LineSsv;\nusing mbgen::collision::PointSsv;\n"
+       "using mbgen::collision::SsvDistance;\nusing mbgen::collision::SsvVec3;\nusing mbgen::collision::TriangleSsv;\n\n";
+  d += "template <typename S> SsvVec3<S> at(const S* p) { return {p[0], p[1], p[2]}; }\n";
+  d += "template <typename S> S dot3(const SsvVec3<S>& a, const S* b) { return a.x() * b[0] + a.y() * b[1] + a.z() * b[2]; }\n";
+  d += "template <typename S> void store(const SsvDistance<S>& r, int k, S* distance, S* normal, S* witness) {\n"
+       "  distance[k] = r.distance;\n"
+       "  for (int i = 0; i < 3; ++i) {\n"
+       "    normal[3 * k + i] = r.normal[i];\n"
+       "    witness[6 * k + i] = r.point1[i];\n"
+       "    witness[6 * k + 3 + i] = r.point2[i];\n"
+       "  }\n}\n\n";
+  d += fmt::format("// Self-distances and their Jacobians ({}).\n// Cost: {}.\n", ns, cost);
+  d += fmt::format("template <typename S>\nvoid self_distances_impl({}) {{\n", arguments("S"));
+  d += body + "}\n\n}  // namespace\n\n";
+  for (const std::string& s : scalar_types(scalars))
+    d += fmt::format("void self_distances({}) {{ self_distances_impl<{}>(q, distance, normal, witness, jacobian); }}\n\n",
+                     arguments(s), s);
+  d += fmt::format("}}  // namespace {}\n", ns);
+  return code;
+}
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,181 @@
+#include "codegen/trace_dynamics.hpp"
+
+#include <fmt/format.h>
+
+#include "codegen/trace_support.hpp"
+
+namespace mbgen::codegen {
+
+using namespace tracing;
+
+namespace {
+
+void append_pose(std::vector<int>& ids, const SE3<Sym>& X) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) ids.push_back(X.rotation(r, c).id());
+    ids.push_back(X.translation[r].id());
+  }
+}
+
+}  // namespace
+
+TracedFunction trace_forward_dynamics(const Model& model) {
+  TracedFunction f;
+  f.name = "forward_dynamics";
+  f.doc = "Joint accelerations qdd = M(q)^-1 (tau - C(q, v) v - g(q)) (articulated-body algorithm).";
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "tau", "joint forces")};
+  f.outputs = {v_spec(model, "qdd", "joint accelerations")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), tau = inputs(2, model.nv());
+  f.output_ids = {ids_of(aba<Sym>(model, data, q, v, tau))};
+  return f;
+}
+
+namespace {
+/// Symbolic inputs and the O(n) recursion with sub-systems, shared by the two loop functions.
+void trace_loop_recursion(const Model& model, Data<Sym>& data) {
+  const SymVec q = inputs(0, model.nq()), vy = inputs(1, static_cast<int>(data.independent_v.size())), tau = inputs(2, model.nv());
+  forward_dynamics_loops_independent<Sym>(model, data, q, vy, tau);
+}
+}  // namespace
+
+TracedFunction trace_forward_dynamics_loops(const Model& model) {
+  TracedFunction f;
+  f.name = "forward_dynamics";
+  f.doc = "Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with "
+          "each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the "
+          "closure Jacobian's dependent block). q must close the loops and v be the independent velocities.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)")};
+  f.outputs = {y_spec(model, "qdd", "independent accelerations")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  trace_loop_recursion(model, data);
+  std::vector<int> ids;
+  for (int i : data.independent_v) ids.push_back(data.ddq[i].id());
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_full_accelerations(const Model& model) {
+  TracedFunction f;
+  f.name = "full_accelerations";
+  f.doc = "Accelerations of every tree joint of the closed system (the dependent ones from the loops), as "
+          "forward_dynamics computes them.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)")};
+  f.outputs = {v_spec(model, "qdd", "accelerations of every tree joint, joint_names order")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  trace_loop_recursion(model, data);
+  f.output_ids = {ids_of(data.ddq)};
+  return f;
+}
+
+TracedFunction trace_inverse_dynamics(const Model& model) {
+  TracedFunction f;
+  f.name = "inverse_dynamics";
+  f.doc = "Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).";
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "qdd", "joint accelerations")};
+  f.outputs = {v_spec(model, "tau", "joint forces")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), a = inputs(2, model.nv());
+  f.output_ids = {ids_of(rnea<Sym>(model, data, q, v, a))};
+  return f;
+}
+
+TracedFunction trace_mass_matrix(const Model& model) {
+  TracedFunction f;
+  f.name = "mass_matrix";
+  f.doc = "Joint-space mass matrix M(q) (composite-rigid-body algorithm).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"M", model.nv() * model.nv(), fmt::format("[{0} x {0}, row-major] mass matrix", model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq());
+  f.output_ids = {ids_of(crba<Sym>(model, data, q))};
+  return f;
+}
+
+TracedFunction trace_forward_kinematics(const Model& model) {
+  const int nb = model.num_bodies() - 1;
+  TracedFunction f;
+  f.name = "forward_kinematics";
+  f.doc = "Pose of every body in the world, in body_names order.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"X_WB", 12 * nb, fmt::format("[{} x 12] per body the 3x4 matrix [R_WB | p_WB], row-major", nb)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> ids;
+  for (int k = 1; k < model.num_bodies(); ++k) append_pose(ids, data.X_WB[BodyIndex(k)]);
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameIndex>& frames) {
+  const int n = static_cast<int>(frames.size());
+  TracedFunction f;
+  f.name = "frame_poses";
+  f.doc = "Pose of each frame in frame_names, in the world.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
+  update_frame_placements<Sym>(model, data);
+  std::vector<int> ids;
+  for (FrameIndex fr : frames) append_pose(ids, data.X_WF[fr]);
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_frame_jacobians(const Model& model, const std::vector<FrameIndex>& frames) {
+  const int n = static_cast<int>(frames.size());
+  TracedFunction f;
+  f.name = "frame_jacobians";
+  f.doc = "Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular "
+          "velocity], both in world axes (LOCAL_WORLD_ALIGNED).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix", n, model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> ids;
+  Mat6X<Sym> J(6, model.nv());
+  for (FrameIndex fr : frames) {
+    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
+    for (int id : ids_of(J)) ids.push_back(id);
+  }
+  f.output_ids = {ids};
+  return f;
+}
+
+TracedFunction trace_center_of_mass(const Model& model) {
+  TracedFunction f;
+  f.name = "center_of_mass";
+  f.doc = "Centre of mass of the robot in the world.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"com", 3, "[3] centre of mass, world"}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  f.output_ids = {ids_of(center_of_mass<Sym>(model, data, inputs(0, model.nq())))};
+  return f;
+}
+
+TracedFunction trace_centroidal_momentum_matrix(const Model& model) {
+  TracedFunction f;
+  f.name = "centroidal_momentum_matrix";
+  f.doc = "Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about "
+          "the centre of mass], world axes.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"Ag", 6 * model.nv(), fmt::format("[6 x {}, row-major] centroidal momentum matrix", model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  f.output_ids = {ids_of(centroidal_momentum_matrix<Sym>(model, data, inputs(0, model.nq())))};
+  return f;
+}
+
+}  // namespace mbgen::codegen

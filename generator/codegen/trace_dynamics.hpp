@@ -1,0 +1,28 @@
+#pragma once
+// Traces the runtime's generic algorithms with the symbolic scalar: one TracedFunction per
+// emitted function (forward and inverse dynamics, mass matrix, kinematics, Jacobians, CoM,
+// centroidal momentum matrix).
+#include <vector>
+
+#include "codegen/traced_function.hpp"
+#include "mbgen/model.hpp"
+
+namespace mbgen::codegen {
+
+TracedFunction trace_forward_dynamics(const Model& model);
+TracedFunction trace_inverse_dynamics(const Model& model);
+/// A model with loops: forward dynamics in independent coordinates (O(n), sub-systems as
+/// aggregate bodies) and the accelerations of every tree joint.
+TracedFunction trace_forward_dynamics_loops(const Model& model);
+TracedFunction trace_full_accelerations(const Model& model);
+TracedFunction trace_mass_matrix(const Model& model);
+/// All body poses, 12 numbers each: the 3x4 matrix [R_WB | p_WB], row-major.
+TracedFunction trace_forward_kinematics(const Model& model);
+/// Poses (12 numbers each, as above) of the given frames.
+TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameIndex>& frames);
+/// Jacobians (6 x nv row-major each, LocalWorldAligned) of the given frames.
+TracedFunction trace_frame_jacobians(const Model& model, const std::vector<FrameIndex>& frames);
+TracedFunction trace_center_of_mass(const Model& model);
+TracedFunction trace_centroidal_momentum_matrix(const Model& model);
+
+}  // namespace mbgen::codegen

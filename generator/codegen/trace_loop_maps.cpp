@@ -1,0 +1,93 @@
+#include "codegen/trace_loop_maps.hpp"
+
+#include <stdexcept>
+
+#include "codegen/trace_support.hpp"
+
+namespace mbgen::codegen {
+
+using namespace tracing;
+
+int num_dependent(const Model& model) {
+  int n = 0;
+  for (const SubSystem& s : model.subsystems) n += s.rank();
+  return n;
+}
+
+TracedFunction trace_closure_newton_step(const Model& model) {
+  if (model.subsystems.empty()) throw std::logic_error("trace_closure_newton_step: the model has no loops");
+  const int r = num_dependent(model);
+  TracedFunction f;
+  f.name = "closure_newton_step";
+  f.doc = "One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per "
+          "sub-system (runtime: detail::closure_newton_step).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"residual", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)},
+               {"pivots", r, fmt::format("[{}] diagonal of each sub-system's R factor of Phi_z", r)},
+               {"step", r, fmt::format("[{}] Newton step, to subtract from the dependent coordinates", r)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  mbgen::detail::closure_newton_step<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> residual, pivots, step;
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    const SubSystemWork<Sym>& w = data.subsystem[k];
+    const int p = static_cast<int>(sub.independent.size());
+    for (int i = 0; i < sub.rank(); ++i) {
+      residual.push_back(data.Phi[sub.rows[static_cast<std::size_t>(i)]].id());
+      pivots.push_back(w.R(i, i).id());
+      step.push_back(w.rhs(i, p).id());
+    }
+  }
+  f.output_ids = {residual, pivots, step};
+  return f;
+}
+
+TracedFunction trace_velocity_map(const Model& model) {
+  const int ny = num_independent(model);
+  TracedFunction f;
+  f.name = "velocity_map";
+  f.doc = "Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent "
+          "ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).";
+  f.inputs = {closed_q_spec(model)};
+  f.outputs = {{"T", model.nv() * ny, fmt::format("[{} x {}, row-major] velocity map, joint_names_full rows, "
+                                                  "independent_joint_names columns", model.nv(), ny)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  MatX<Sym> T(model.nv(), ny);
+  velocity_map<Sym>(model, data, inputs(0, model.nq()), T);
+  f.output_ids = {ids_of(T)};
+  return f;
+}
+
+TracedFunction trace_full_velocities(const Model& model) {
+  TracedFunction f;
+  f.name = "full_velocities";
+  f.doc = "Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops "
+          "closed.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "vy", "independent velocities")};
+  f.outputs = {v_spec(model, "v", "velocities of every tree joint, joint_names_full order")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  VecX<Sym> v(model.nv());
+  full_velocities<Sym>(model, data, inputs(0, model.nq()), inputs(1, num_independent(model)), v);
+  f.output_ids = {ids_of(v)};
+  return f;
+}
+
+TracedFunction trace_acceleration_bias(const Model& model) {
+  TracedFunction f;
+  f.name = "acceleration_bias";
+  f.doc = "Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent "
+          "coordinates).";
+  f.inputs = {closed_q_spec(model), y_spec(model, "vy", "independent velocities")};
+  f.outputs = {v_spec(model, "g", "acceleration bias of every tree joint, joint_names_full order")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  VecX<Sym> g(model.nv());
+  acceleration_bias<Sym>(model, data, inputs(0, model.nq()), inputs(1, num_independent(model)), g);
+  f.output_ids = {ids_of(g)};
+  return f;
+}
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,25 @@
+#pragma once
+// Traces the maps between the closed system's coordinate sets (runtime: closure_positions.hpp,
+// subsystem_maps.hpp): one Newton step of the closure (the generated closure_positions loops
+// over it), the velocity map T, full velocities T vy and the acceleration bias g.
+#include "codegen/traced_function.hpp"
+#include "mbgen/model.hpp"
+
+namespace mbgen::codegen {
+
+/// Total rank of the sub-systems: the number of dependent coordinates (0 without loops).
+int num_dependent(const Model& model);
+
+/// closure_newton_step(q, residual, pivots, step): at q (nq), per sub-system in order, the kept
+/// closure rows (residual), the diagonal of Phi_z's Givens R factor (pivots) and the Newton step
+/// Phi_z^-1 Phi (step, to subtract from the dependent coordinates in SubSystem::dependent
+/// order); each num_dependent(model) long. Needs a model with loops.
+TracedFunction trace_closure_newton_step(const Model& model);
+/// velocity_map(q, T): T (nv x ny, row-major) with v = T vy.
+TracedFunction trace_velocity_map(const Model& model);
+/// full_velocities(q, vy, v): v = T vy.
+TracedFunction trace_full_velocities(const Model& model);
+/// acceleration_bias(q, vy, g): qdd = T ydd + g.
+TracedFunction trace_acceleration_bias(const Model& model);
+
+}  // namespace mbgen::codegen

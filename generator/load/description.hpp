@@ -1,0 +1,146 @@
+#pragma once
+// Description: everything the loader read about a robot: the tree Model, plus what URDF cannot
+// say (closures, actuated joints, drives) from the YAML extras, and the warnings raised.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbgen/model.hpp"
+
+namespace mbgen::gen {
+
+enum class BaseType { Fixed, Floating };
+
+/// A loop closure as given by the user (loop detection and sub-systems come later).
+struct ClosureSpec {
+  std::string name;
+  std::string type;     ///< revolute, spherical, universal, weld, prismatic (extras) or 6d / 3d (robot.yaml)
+  std::string frame_a;  ///< frame (link, joint or user frame) on one side
+  std::string frame_b;  ///< frame on the other side
+  SE3<double> X_AC;     ///< closure frame in frame_a (identity unless the extras give an origin)
+  SE3<double> X_BC;     ///< closure frame in frame_b
+  Vec3<double> axis = Vec3<double>::UnitZ();  ///< closure joint axis in the closure frame, where it has one
+  std::string source;   ///< file and line it came from
+  int source_line = 0;  ///< the line alone (1-based; 0 when unknown), for error messages
+  /// The model frames the two names resolve to (a moving joint's name resolves to its child
+  /// body's frame). Filled by the loader; invalid only while loading.
+  FrameIndex resolved_a, resolved_b;
+};
+
+/// A harmonic-drive (or other geared) actuator on a joint.
+struct DriveSpec {
+  std::string joint;
+  double gear_ratio = 1.0;
+  double rotor_inertia = 0.0;  ///< rotor inertia about its spin axis, kg m^2
+  std::string model = "armature";  ///< armature (reflected inertia) or body (rotor body with gyroscopic terms)
+};
+
+/// One swept-sphere-volume primitive fixed in a link: a point (sphere), a line (capsule) or a
+/// triangle, swept by a sphere of `radius`. Points are in the link's frame.
+struct SsvPrimitive {
+  enum class Kind { Point, Line, Triangle };
+  Kind kind = Kind::Point;
+  std::vector<Vec3<double>> points;  ///< 1, 2 or 3 points
+  double radius = 0.0;
+  std::string source;  ///< where it was given: the extras' file:line, or the URDF <collision> it models
+};
+
+/// What the generated code must provide (`scene:` of the extras). Kept as given; later issues
+/// (planning, collision) interpret it.
+struct SceneSpec {
+  std::vector<std::string> outputs;         ///< forward_dynamics, mass_matrix, ..., in the order given
+  std::vector<std::string> jacobian_frames; ///< from `jacobians: [frame, ...]`
+  double collision_margin = 0.0;
+  std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
+  int prune_samples = 0;                    ///< 0: not given
+  std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
+  std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
+};
+
+/// Where each URDF element starts (1-based lines), so that later checks can point at it. For an
+/// MJCF file, `link` holds the <body> lines and `joint` the <joint> lines (a ball's three hinges
+/// share their ball's line).
+struct SourceLines {
+  std::map<std::string, int> link, joint;
+  int line_of_link(const std::string& name) const {
+    auto it = link.find(name);
+    return it == link.end() ? 0 : it->second;
+  }
+  int line_of_joint(const std::string& name) const {
+    auto it = joint.find(name);
+    return it == joint.end() ? 0 : it->second;
+  }
+};
+
+/// What assembly found (topology.hpp): the closed pose nearest the zero pose that is well
+/// conditioned, and how far it is from the zero pose.
+struct AssemblyReport {
+  VecX<double> q;                  ///< assembled configuration (nq); empty without closures
+  double max_joint_change = 0;     ///< max |q - q0| over the 1-DoF joints (rad or m)
+  std::string max_change_joint;    ///< the joint that moved most
+  double residual = 0;             ///< max |Phi| at q
+  double sigma_min = 0;            ///< smallest kept singular value of Phi_q at q
+  double sigma_max = 0;            ///< largest singular value of Phi_q at q
+  double dependent_conditioning = 0;  ///< worst 1 / condition number of the sub-systems' Phi_z at q
+  int seeds = 0;                   ///< starting points tried (1: the zero pose sufficed)
+  int iterations = 0;              ///< Levenberg-Marquardt iterations, all seeds
+};
+
+struct Description {
+  Model model;
+  std::string description_file;       ///< as given on the command line
+  std::string extras_file;            ///< empty when there is none
+  BaseType base = BaseType::Fixed;
+  std::vector<ClosureSpec> closures;
+  std::vector<std::string> actuated_joints;  ///< name_mot of robot.yaml, or `independent` hints
+  std::vector<DriveSpec> drives;
+  std::vector<std::string> warnings;
+
+  // Added with the YAML extras (issue 2, items 2 and 4).
+  std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name
+  /// joint_name / joint_type of a parallel_legs robot.yaml: URDF revolute joints that stand for
+  /// another joint (SPHERICAL, UJOINT_XY). The loader replaces each by a chain of revolute
+  /// joints `<joint>_x`, `<joint>_y`(, `<joint>_z`) (topology.hpp).
+  std::map<std::string, std::string> joint_type_overrides;
+  /// Loops (topology.hpp): model.closures and model.subsystems are filled from `closures`
+  /// after an assembly; these say how the pose was found.
+  AssemblyReport assembly;
+  int closed_dof = 0;  ///< DoF of the closed system: nv - total rank of the closure rows
+  std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound (extras, else URDF spheres/cylinders)
+  std::map<std::string, int> collision_geometry_not_modelled;  ///< URDF <collision> kinds with no SSV (box, mesh) -> count
+  std::optional<SceneSpec> scene;
+  SourceLines urdf_lines;  ///< lines of the URDF's <link> and <joint> elements
+};
+
+struct LoadOptions {
+  std::optional<std::string> extras_file;  ///< YAML extras; if absent, a robot.yaml beside the URDF is used
+  std::optional<BaseType> base;            ///< overrides the extras' `base`
+  bool pick_up_robot_yaml = true;
+};
+
+/// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked
+/// (check_values.hpp), the extras applied, parallel_legs joint types turned into chains. Throws
+/// LoadError with file, line, element and fix on bad input. Not yet validated as a whole nor
+/// assembled: model/load_description.hpp does both.
+Description read_description(const std::string& path, const LoadOptions& options = {});
+
+/// Reads an MJCF (MuJoCo XML) file into `d` (load_mjcf.cpp, docs/mjcf.md): the tree model, base,
+/// closures from <equality>, actuated joints from <actuator>, SSVs from collision geoms, and the
+/// lines of <body> (as urdf_lines.link) and <joint> elements. The file's free joint decides the
+/// base unless `base` overrides it (fixed: the free body is welded where the file puts it;
+/// floating: a body welded to the world gets a free joint 'root_joint').
+void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d);
+
+/// True for a path that load_description reads as MJCF (extension .xml, any case).
+bool is_mjcf_path(const std::string& path);
+
+/// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
+void add_collision_ssvs(const std::string& path, Description& d);
+
+/// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);
+/// The same, also reporting where each <link> and <joint> element starts.
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines);
+
+}  // namespace mbgen::gen

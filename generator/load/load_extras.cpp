@@ -1,0 +1,288 @@
+// The YAML extras file, mbgen's own schema (docs/extras.md): what URDF cannot say.
+//   robot, base, closures, independent, drives, ssv, scene
+// Also reads any extras file and tells the two schemas apart by their top-level keys.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+#include "load/extras_support.hpp"
+#include "load/load_error.hpp"
+#include "load/name_match.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+
+using namespace yaml;
+
+const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "independent", "robot", "scene", "ssv"};
+const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
+const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
+const std::vector<std::string> kOutputs = {"center_of_mass",   "centroidal_momentum", "distances", "forward_dynamics",
+                                           "forward_kinematics", "inverse_dynamics",  "jacobians", "mass_matrix"};
+
+bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
+  return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) { return static_cast<bool>(root[k]); });
+}
+
+/// A value from a fixed set, else a LoadError suggesting the closest.
+std::string one_of(const std::string& file, const YAML::Node& node, const std::string& element,
+                   const std::vector<std::string>& allowed) {
+  const std::string value = to_string(file, node, element);
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return value;
+  const std::string hint = did_you_mean(value, allowed);
+  fail(file, node, element, fmt::format("'{}' is not one of {}", value, fmt::join(allowed, ", ")),
+       hint.empty() ? fmt::format("write one of {}", fmt::join(allowed, ", ")) : hint);
+}
+
+/// [[a, b], ...] of frame names, e.g. collision exclude lists.
+std::vector<std::pair<std::string, std::string>> frame_pairs(const std::string& file, const YAML::Node& node,
+                                                             const std::string& element, const Model& model) {
+  require_sequence(file, node, element, "[[torso, pelvis]]");
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string item = fmt::format("{}[{}]", element, i);
+    if (!node[i].IsSequence() || node[i].size() != 2) fail(file, node[i], item, "must be a pair of link names", "write e.g. [torso, pelvis]");
+    resolve_frame(file, node[i][0], item, model);
+    resolve_frame(file, node[i][1], item, model);
+    pairs.emplace_back(node[i][0].Scalar(), node[i][1].Scalar());
+  }
+  return pairs;
+}
+
+void read_closures(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_sequence(x.path, node, "closures", "[{name: rod, type: revolute, parent: crank, child: shank}]");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node& c = node[i];
+    std::string element = fmt::format("closures[{}]", i);
+    require_map(x.path, c, element, "{name: rod, type: revolute, parent: crank, child: shank, axis: [0, 1, 0]}");
+    reject_unknown_keys(x.path, c, element, {"axis", "child", "child_origin", "name", "parent", "parent_origin", "type"});
+    ClosureSpec spec;
+    spec.name = c["name"] ? to_string(x.path, c["name"], element + ".name") : fmt::format("closure_{}", i + 1);
+    element = fmt::format("closure '{}'", spec.name);
+    if (!names.insert(spec.name).second)
+      fail(x.path, c["name"], element, "is defined twice", "give each closure its own name");
+    if (!c["type"]) fail(x.path, c, element, "has no type", fmt::format("add `type:` one of {}", fmt::join(kClosureTypes, ", ")));
+    spec.type = one_of(x.path, c["type"], element + ": type", kClosureTypes);
+    for (const char* side : {"parent", "child"})
+      if (!c[side]) fail(x.path, c, element, fmt::format("has no {}", side), fmt::format("add `{}:` a link or joint name", side));
+    spec.frame_a = to_string(x.path, c["parent"], element + ": parent");
+    spec.frame_b = to_string(x.path, c["child"], element + ": child");
+    spec.resolved_a = resolve_frame(x.path, c["parent"], element + ": parent", d.model);
+    spec.resolved_b = resolve_frame(x.path, c["child"], element + ": child", d.model);
+    if (c["parent_origin"]) spec.X_AC = to_origin(x.path, c["parent_origin"], element + ": parent_origin");
+    if (c["child_origin"]) spec.X_BC = to_origin(x.path, c["child_origin"], element + ": child_origin");
+    if (c["axis"]) {
+      spec.axis = to_vec3(x.path, c["axis"], element + ": axis");
+      if (spec.axis.norm() < 1e-12) fail(x.path, c["axis"], element + ": axis", "is zero", "give a non-zero axis, e.g. [0, 1, 0]");
+      spec.axis.normalize();
+    }
+    spec.source_line = line_of(c);
+    spec.source = fmt::format("{}:{}", x.path, spec.source_line);
+    d.closures.push_back(spec);
+  }
+}
+
+void read_independent(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_sequence(x.path, node, "independent", "[knee_motor, hip_motor]");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    resolve_moving_joint(x.path, node[i], fmt::format("independent[{}]", i), d.model);
+    d.actuated_joints.push_back(node[i].Scalar());
+  }
+}
+
+void read_drives(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_sequence(x.path, node, "drives", "[{joint: hip_yaw_l, gear_ratio: 100, rotor_inertia: 1.2e-4, model: armature}]");
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node& n = node[i];
+    std::string element = fmt::format("drives[{}]", i);
+    require_map(x.path, n, element, "{joint: hip_yaw_l, gear_ratio: 100, rotor_inertia: 1.2e-4, model: armature}");
+    reject_unknown_keys(x.path, n, element, {"gear_ratio", "joint", "model", "rotor_inertia"});
+    if (!n["joint"]) fail(x.path, n, element, "has no joint", "add `joint:` a moving joint's name");
+    DriveSpec drive;
+    const JointIndex joint = resolve_moving_joint(x.path, n["joint"], element + ": joint", d.model);
+    drive.joint = n["joint"].Scalar();
+    if (d.model.joint(joint).nv != 1)
+      fail(x.path, n["joint"], element + ": joint", fmt::format("names '{}', a {} joint", drive.joint, to_string(d.model.joint(joint).type)),
+           "a drive turns one revolute or prismatic joint");
+    element = fmt::format("drive of joint '{}'", drive.joint);
+    if (!seen.insert(drive.joint).second) fail(x.path, n, element, "is given twice", "keep one drive per joint");
+    if (n["gear_ratio"]) drive.gear_ratio = to_number(x.path, n["gear_ratio"], element + ": gear_ratio");
+    if (n["rotor_inertia"]) drive.rotor_inertia = to_number(x.path, n["rotor_inertia"], element + ": rotor_inertia");
+    if (n["model"]) drive.model = one_of(x.path, n["model"], element + ": model", {"armature", "body"});
+    if (drive.gear_ratio == 0)
+      fail(x.path, n["gear_ratio"], element + ": gear_ratio", "is zero", "give the reduction, e.g. 100 (negative reverses the rotor)");
+    if (drive.rotor_inertia < 0)
+      fail(x.path, n["rotor_inertia"], element + ": rotor_inertia", "is negative", "give the rotor's inertia about its spin axis, >= 0 kg m^2");
+    d.drives.push_back(drive);
+  }
+}
+
+/// Puts the drives into the model (rotor.hpp): reflected inertia on the diagonal, or a rotor
+/// body; `scene: rotors` overrides each drive's own `model`. Drives sit on 1-DoF joints only
+/// (resolve_moving_joint saw to that: floating joints are not named in extras).
+void apply_drives(Description& d) {
+  for (DriveSpec& drive : d.drives) {
+    if (d.scene && !d.scene->rotors.empty()) drive.model = d.scene->rotors;
+    Joint& joint = d.model.mutable_joint(*d.model.find_joint(drive.joint));
+    if (drive.model == "body") {
+      joint.rotor_gear_ratio = drive.gear_ratio;
+      joint.rotor_inertia = drive.rotor_inertia;
+    } else {
+      joint.armature = drive.gear_ratio * drive.gear_ratio * drive.rotor_inertia;
+    }
+  }
+}
+
+SsvPrimitive read_primitive(const std::string& file, const YAML::Node& n, const std::string& element) {
+  require_map(file, n, element, "{line: [[0, 0, 0.1], [0, 0, 0.5]], radius: 0.15}");
+  reject_unknown_keys(file, n, element, {"line", "point", "radius", "triangle"});
+  SsvPrimitive p;
+  int kinds = 0;
+  if (n["point"]) {
+    ++kinds;
+    p.kind = SsvPrimitive::Kind::Point;
+    p.points = {to_vec3(file, n["point"], element + ": point")};
+  }
+  for (auto [key, kind, count] : {std::tuple{"line", SsvPrimitive::Kind::Line, 2}, std::tuple{"triangle", SsvPrimitive::Kind::Triangle, 3}}) {
+    if (!n[key]) continue;
+    ++kinds;
+    const YAML::Node& pts = n[key];
+    if (!pts.IsSequence() || static_cast<int>(pts.size()) != count)
+      fail(file, pts, fmt::format("{}: {}", element, key), fmt::format("must be a list of {} points", count),
+           count == 2 ? "write e.g. [[0, 0, 0.1], [0, 0, 0.5]]" : "write e.g. [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0]]");
+    p.kind = kind;
+    p.points.clear();
+    for (int k = 0; k < count; ++k) p.points.push_back(to_vec3(file, pts[k], fmt::format("{}: {}", element, key)));
+  }
+  if (kinds != 1)
+    fail(file, n, element, "must have exactly one of point, line, triangle", "write e.g. {point: [0, 0, 0], radius: 0.06}");
+  if (!n["radius"]) fail(file, n, element, "has no radius", "add `radius:` in metres (0 for a bare point, segment or triangle)");
+  p.radius = to_number(file, n["radius"], element + ": radius");
+  if (p.radius < 0) fail(file, n["radius"], element + ": radius", "is negative", "give a radius >= 0 in metres");
+  return p;
+}
+
+void read_ssv(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_map(x.path, node, "ssv", "{torso: [{line: [[0, 0, 0.1], [0, 0, 0.5]], radius: 0.15}]}");
+  for (const auto& entry : node) {
+    const std::string link = entry.first.Scalar();
+    const std::string element = fmt::format("ssv of '{}'", link);
+    resolve_frame(x.path, entry.first, "ssv", d.model);
+    require_sequence(x.path, entry.second, element, "[{point: [0, 0, 0], radius: 0.06}]");
+    std::vector<SsvPrimitive>& compound = d.ssv[link];
+    compound.clear();  // the extras' compound replaces what the URDF's <collision> elements gave
+    for (std::size_t i = 0; i < entry.second.size(); ++i) {
+      compound.push_back(read_primitive(x.path, entry.second[i], fmt::format("{}[{}]", element, i)));
+      compound.back().source = fmt::format("{}:{}", x.path, line_of(entry.second[i]));
+    }
+  }
+}
+
+void read_outputs(const ExtrasFile& x, const YAML::Node& node, Description& d, SceneSpec& scene) {
+  require_sequence(x.path, node, "scene: outputs", "[forward_dynamics, mass_matrix, jacobians: [foot_l]]");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string element = fmt::format("scene: outputs[{}]", i);
+    const YAML::Node& n = node[i];
+    if (n.IsMap()) {  // `jacobians: [frame, ...]`
+      reject_unknown_keys(x.path, n, element, {"jacobians"});
+      require_sequence(x.path, n["jacobians"], element + ": jacobians", "[foot_l, foot_r]");
+      for (std::size_t k = 0; k < n["jacobians"].size(); ++k) {
+        resolve_frame(x.path, n["jacobians"][k], element + ": jacobians", d.model);
+        scene.jacobian_frames.push_back(n["jacobians"][k].Scalar());
+      }
+      scene.outputs.push_back("jacobians");
+    } else {
+      scene.outputs.push_back(one_of(x.path, n, element, kOutputs));
+    }
+  }
+}
+
+void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
+  reject_unknown_keys(x.path, node, "scene", {"collision", "outputs", "rotors", "scalar"});
+  SceneSpec scene;
+  if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
+  if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
+  if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body"});
+  if (const YAML::Node& c = node["collision"]) {
+    require_map(x.path, c, "scene: collision", "{margin: 0.05, exclude: [[torso, pelvis]]}");
+    reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "include", "margin", "prune_samples"});
+    if (c["margin"]) scene.collision_margin = to_number(x.path, c["margin"], "scene: collision: margin");
+    if (scene.collision_margin < 0) fail(x.path, c["margin"], "scene: collision: margin", "is negative", "give a distance >= 0 in metres");
+    if (c["exclude"]) scene.collision_exclude = frame_pairs(x.path, c["exclude"], "scene: collision: exclude", d.model);
+    if (c["include"]) scene.collision_include = frame_pairs(x.path, c["include"], "scene: collision: include", d.model);
+    if (c["prune_samples"]) {
+      const double n = to_number(x.path, c["prune_samples"], "scene: collision: prune_samples");
+      if (n < 0 || n != static_cast<int>(n))
+        fail(x.path, c["prune_samples"], "scene: collision: prune_samples", "must be a whole number >= 0", "write e.g. 20000");
+      scene.prune_samples = static_cast<int>(n);
+    }
+  }
+  d.scene = scene;
+}
+
+}  // namespace
+
+ExtrasFile read_extras(const std::string& path) {
+  ExtrasFile x;
+  x.path = path;
+  try {
+    x.root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw LoadError(path, 0, "", "cannot open the extras file", "check the path given to --extras");
+  } catch (const YAML::Exception& e) {
+    throw LoadError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "", fmt::format("malformed YAML: {}", e.msg),
+                    "repair the YAML (indentation, an unclosed bracket or quote, a missing ': ' are the usual causes)");
+  }
+  if (x.root.IsNull()) return x;  // an empty file says nothing
+  require_map(path, x.root, "", "`base: floating` on its own line");
+  const bool mbgen = has_any(x.root, kMbgenKeys), legs = has_any(x.root, kParallelLegsKeys);
+  if (mbgen && legs)
+    fail(path, x.root, "", "mixes the keys of the two schemas (robot/base/closures/... and closed_loop/type/name_mot/...)",
+         "write one schema per file (see docs/extras.md)");
+  x.schema = legs ? ExtrasFile::Schema::ParallelLegs : ExtrasFile::Schema::Mbgen;
+  // Unknown keys are caught here, against the schema chosen (and suggested from both).
+  const std::vector<std::string>& keys = legs ? kParallelLegsKeys : kMbgenKeys;
+  std::set<std::string> seen;
+  for (const auto& entry : x.root) {
+    const std::string key = entry.first.Scalar();
+    // yaml-cpp keeps one of two equal keys silently; a second `base:` is a mistake to report.
+    if (!seen.insert(key).second)
+      fail(path, entry.first, fmt::format("key '{}'", key), "is given twice", "keep one of them");
+    if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+    std::vector<std::string> all = kMbgenKeys;
+    all.insert(all.end(), kParallelLegsKeys.begin(), kParallelLegsKeys.end());
+    const std::string hint = did_you_mean(key, all);
+    fail(path, entry.first, fmt::format("key '{}'", key), "is not a known top-level key",
+         (hint.empty() ? "" : hint + " ") + fmt::format("(known keys: {})", fmt::join(keys, ", ")));
+  }
+  return x;
+}
+
+std::optional<BaseType> extras_base(const ExtrasFile& x) {
+  if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["base"]) return std::nullopt;
+  return one_of(x.path, x.root["base"], "base", {"fixed", "floating"}) == "floating" ? BaseType::Floating : BaseType::Fixed;
+}
+
+void apply_mbgen_extras(const ExtrasFile& x, Description& d) {
+  if (x.root.IsNull()) return;
+  try {
+    const YAML::Node& root = x.root;
+    if (root["robot"]) d.robot_name = to_string(x.path, root["robot"], "robot");
+    if (root["closures"]) read_closures(x, root["closures"], d);
+    if (root["independent"]) read_independent(x, root["independent"], d);
+    if (root["drives"]) read_drives(x, root["drives"], d);
+    if (root["ssv"]) read_ssv(x, root["ssv"], d);
+    if (root["scene"]) read_scene(x, root["scene"], d);
+    apply_drives(d);
+  } catch (const YAML::Exception& e) {  // what a typed read above missed
+    throw LoadError(x.path, e.mark.is_null() ? 0 : e.mark.line + 1, "", fmt::format("unexpected YAML: {}", e.msg),
+                    "compare with the schema in docs/extras.md");
+  }
+}
+
+}  // namespace mbgen::gen

@@ -1,0 +1,363 @@
+// URDF -> Model. The graph is built from the joint list, never from urdfdom's tree pointers
+// (urdfdom keeps one parent per link and silently drops a second one). Fixed joints are merged:
+// the child link's inertia is lumped into the moving body it is welded to, and its frame kept.
+#include <Eigen/Geometry>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <console_bridge/console.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "load/description.hpp"
+#include "load/load_error.hpp"
+#include "load/check_values.hpp"
+#include "load/parse_urdf.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+
+/// Captures what urdfdom says through console_bridge instead of letting it print raw.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  CapturedLog() { console_bridge::useOutputHandler(this); }
+  ~CapturedLog() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages.push_back(text);
+  }
+  std::vector<std::string> messages;
+};
+
+/// Rotation entries within 1e-14 of 0 or +-1 are made exact: a quarter turn written in decimal
+/// (rpy="1.570796326794897 0 0") leaves 6e-17 where a 0 is meant. The change is below double
+/// round-off of any dynamics quantity, and it lets generated code drop the structural zeros.
+double snap_unit(double x) {
+  for (double target : {0.0, 1.0, -1.0})
+    if (std::abs(x - target) < 1e-14) return target;
+  return x;
+}
+
+SE3<double> to_se3(const urdf::Pose& pose) {
+  SE3<double> X;
+  double x, y, z, w;
+  pose.rotation.getQuaternion(x, y, z, w);
+  X.rotation = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix().unaryExpr(&snap_unit);
+  X.translation = Vec3<double>(pose.position.x, pose.position.y, pose.position.z);
+  return X;
+}
+
+Inertia<double> to_inertia(const urdf::Link& link) {
+  Inertia<double> I;
+  if (!link.inertial) return I;
+  const urdf::Inertial& in = *link.inertial;
+  SE3<double> X_LC = to_se3(in.origin);
+  Mat3<double> I_C;
+  I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  I.mass = in.mass;
+  I.com = X_LC.translation;
+  I.inertia_com = X_LC.rotation * I_C * X_LC.rotation.transpose();
+  return I;
+}
+
+/// Document order of the <joint> elements and the line of each link and joint element.
+struct XmlIndex {
+  std::vector<std::string> joint_order, link_order;
+  std::map<std::string, int> link_line, joint_line;
+  std::vector<std::string> joints_without_limit;  ///< revolute/prismatic joints with no <limit>
+  /// revolute/prismatic joints whose <limit> gives neither lower nor upper: URDF's defaults
+  /// [0, 0] would lock them, which is never what such files mean (parallel_legs has 150 of them).
+  std::vector<std::string> joints_without_range;
+  std::string urdf_text;  ///< the text handed to urdfdom (with the <limit> elements it insists on)
+};
+
+/// tinyxml2's "Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=4: XMLElement
+/// name=inertial" as "mismatched element (XMLElement name=inertial)": the line is given apart.
+std::string readable_xml_error(const tinyxml2::XMLDocument& doc) {
+  std::string name = doc.ErrorName();
+  if (name.rfind("XML_ERROR_", 0) == 0) name = name.substr(10);
+  for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string full = doc.ErrorStr();
+  const std::size_t colon = full.find(": ");
+  return colon == std::string::npos ? name : fmt::format("{} ({})", name, full.substr(colon + 2));
+}
+
+/// Indexes the XML and, because urdfdom rejects a revolute or prismatic joint without <limit>
+/// (Drake and MuJoCo accept it as unbounded), gives such joints a zero limit, marked unbounded later.
+XmlIndex index_xml(const std::string& path, const std::string& text) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", readable_xml_error(doc)),
+                    "repair the XML (an unclosed tag or stray character is the usual cause)");
+  }
+  XmlIndex index;
+  tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) {
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    std::string what = root ? fmt::format("the root element is <{}>, not <robot>", root->Name()) : "no <robot> root element";
+    throw LoadError(path, root ? root->GetLineNum() : 1, "", fmt::format("not a URDF: {}", what),
+                    "give a URDF file (one <robot name=...> element), or an MJCF file with the .xml extension; SDF is not read yet");
+  }
+  for (tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const char* name = e->Attribute("name");
+    if (!name) continue;
+    if (std::string(e->Name()) == "link") {
+      index.link_order.push_back(name);
+      index.link_line.emplace(name, e->GetLineNum());
+    }
+    if (std::string(e->Name()) == "joint") {
+      index.joint_order.push_back(name);
+      index.joint_line.emplace(name, e->GetLineNum());
+      const char* type = e->Attribute("type");
+      const bool needs_limit = type && (std::string(type) == "revolute" || std::string(type) == "prismatic");
+      const tinyxml2::XMLElement* given = e->FirstChildElement("limit");
+      if (needs_limit && given && !given->Attribute("lower") && !given->Attribute("upper"))
+        index.joints_without_range.push_back(name);
+      if (needs_limit && !given) {
+        index.joints_without_limit.push_back(name);
+        tinyxml2::XMLElement* limit = doc.NewElement("limit");
+        limit->SetAttribute("effort", 0);
+        limit->SetAttribute("velocity", 0);
+        e->InsertEndChild(limit);
+      }
+    }
+  }
+  if (index.joints_without_limit.empty()) {
+    index.urdf_text = text;
+  } else {
+    tinyxml2::XMLPrinter printer;
+    doc.Print(&printer);
+    index.urdf_text = printer.CStr();
+  }
+  return index;
+}
+
+struct Builder {
+  const std::string& path;
+  const urdf::ModelInterface& urdf;
+  const XmlIndex& xml;
+  BaseType base;
+  std::vector<std::string>& warnings;
+  Model model;
+  std::map<std::string, std::vector<urdf::JointConstSharedPtr>> children_of;  // in document order
+
+  int line_of_joint(const std::string& name) const {
+    auto it = xml.joint_line.find(name);
+    return it == xml.joint_line.end() ? 0 : it->second;
+  }
+  int line_of_link(const std::string& name) const {
+    auto it = xml.link_line.find(name);
+    return it == xml.link_line.end() ? 0 : it->second;
+  }
+
+  /// Attaches link `link_name`, whose frame sits at X_BL in body `body`, and everything below it.
+  void attach(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL, bool is_body_frame) {
+    const urdf::Link& link = *urdf.getLink(link_name);
+    if (!is_body_frame) {
+      if (body != kWorldBody) {
+        Body& b = model.mutable_body(body);
+        b.inertia = b.inertia + to_inertia(link).transformed(X_BL);
+      }
+    }
+    model.add_frame(Frame{link_name, is_body_frame ? FrameKind::Body : FrameKind::Link, body, X_BL});
+    attach_children(link_name, body, X_BL);
+  }
+
+  /// Attaches the joints below link `link_name`, whose frame sits at X_BL in body `body`.
+  void attach_children(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL) {
+    for (const urdf::JointConstSharedPtr& joint : children_of[link_name]) {
+      const SE3<double> X_BJ = X_BL * to_se3(joint->parent_to_joint_origin_transform);
+      const urdf::Link& child = *urdf.getLink(joint->child_link_name);
+      if (joint->type == urdf::Joint::FIXED) {
+        model.add_frame(Frame{joint->name, FrameKind::Joint, body, X_BJ});
+        attach(child.name, body, X_BJ, false);
+        continue;
+      }
+      Joint j;
+      j.name = joint->name;
+      j.X_PJ = X_BJ;
+      const Vec3<double> axis(joint->axis.x, joint->axis.y, joint->axis.z);
+      switch (joint->type) {
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS: j.type = JointType::Revolute; break;
+        case urdf::Joint::PRISMATIC: j.type = JointType::Prismatic; break;
+        case urdf::Joint::FLOATING: j.type = JointType::Floating; break;
+        default:
+          throw LoadError(path, line_of_joint(joint->name), fmt::format("joint '{}'", joint->name),
+                          "joint type 'planar' is not supported",
+                          "model it as two prismatic joints and one revolute joint through intermediate links");
+      }
+      if (j.type == JointType::Floating) {
+        j.X_PJ = X_BL;  // q of a floating joint is the child's pose in the parent link's frame
+      } else {
+        if (axis.norm() < 1e-12)
+          throw LoadError(path, line_of_joint(joint->name), fmt::format("joint '{}'", joint->name),
+                          "joint axis is zero", "give a non-zero <axis xyz=\"...\"/>, e.g. xyz=\"0 0 1\"");
+        j.axis = axis.normalized();
+      }
+      const bool limit_added = std::find(xml.joints_without_limit.begin(), xml.joints_without_limit.end(),
+                                         joint->name) != xml.joints_without_limit.end();
+      if (limit_added)
+        warnings.push_back(fmt::format("joint '{}' has no <limit>: loaded as unbounded", joint->name));
+      const bool no_range = std::find(xml.joints_without_range.begin(), xml.joints_without_range.end(),
+                                      joint->name) != xml.joints_without_range.end();
+      if (joint->limits && !limit_added && !no_range && joint->type != urdf::Joint::CONTINUOUS &&
+          j.type != JointType::Floating) {
+        j.bounded = true;
+        j.lower = joint->limits->lower;
+        j.upper = joint->limits->upper;
+      }
+      if (joint->limits) {
+        j.velocity_limit = joint->limits->velocity;
+        j.effort_limit = joint->limits->effort;
+      }
+      if (joint->dynamics) {
+        j.damping = joint->dynamics->damping;
+        j.friction = joint->dynamics->friction;
+      }
+      if (joint->mimic)
+        warnings.push_back(fmt::format("joint '{}' mimics '{}': the coupling is ignored, it is loaded as an independent joint",
+                                       joint->name, joint->mimic->joint_name));
+      BodyIndex child_body = model.add_body(body, j, child.name, to_inertia(child));
+      attach(child.name, child_body, SE3<double>::Identity(), true);
+    }
+  }
+};
+
+/// Checks what urdfdom accepts but dynamics cannot use, on the raw per-link and per-joint
+/// values, so that each message names the URDF element and its line.
+void check_urdf_values(const std::string& path, const urdf::ModelInterface& urdf, const XmlIndex& xml,
+                       std::vector<std::string>& warnings) {
+  for (const std::string& link_name : xml.link_order) {
+    urdf::LinkConstSharedPtr link = urdf.getLink(link_name);
+    if (!link || !link->inertial) continue;
+    const urdf::Inertial& in = *link->inertial;
+    Mat3<double> I_C;
+    I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+    check_link_inertia(path, xml.link_line.at(link_name), link_name, in.mass, I_C, warnings);
+  }
+  for (const std::string& joint_name : xml.joint_order) {
+    urdf::JointConstSharedPtr joint = urdf.getJoint(joint_name);
+    if (!joint || !joint->limits) continue;
+    if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::PRISMATIC) continue;
+    if (std::find(xml.joints_without_limit.begin(), xml.joints_without_limit.end(), joint_name) !=
+        xml.joints_without_limit.end())
+      continue;
+    check_joint_limits(path, xml.joint_line.at(joint_name), joint_name, joint->limits->lower, joint->limits->upper);
+  }
+}
+
+}  // namespace
+
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings) {
+  return load_urdf_model(path, base, warnings, nullptr);
+}
+
+namespace {
+XmlIndex read_and_index(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return index_xml(path, buffer.str());
+}
+
+urdf::ModelInterfaceSharedPtr parse_indexed(const std::string& path, const XmlIndex& xml) {
+  CapturedLog log;
+  urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(xml.urdf_text);
+  if (!urdf) {
+    std::string why = log.messages.empty() ? "urdfdom rejected the description" : log.messages.back();
+    throw LoadError(path, 0, "", fmt::format("invalid URDF: {}", why),
+                    "correct the element named above (see the URDF specification)");
+  }
+  return urdf;
+}
+}  // namespace
+
+urdf::ModelInterfaceSharedPtr parse_urdf_file(const std::string& path) { return parse_indexed(path, read_and_index(path)); }
+
+Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines) {
+  const XmlIndex xml = read_and_index(path);
+  urdf::ModelInterfaceSharedPtr urdf = parse_indexed(path, xml);
+
+  if (lines) {
+    lines->link = xml.link_line;
+    lines->joint = xml.joint_line;
+  }
+  check_urdf_values(path, *urdf, xml, warnings);
+  if (!xml.joints_without_range.empty())
+    warnings.push_back(fmt::format(
+        "{} joint(s) have a <limit> without lower and upper: loaded as unbounded rather than locked at URDF's "
+        "default [0, 0] ({})",
+        xml.joints_without_range.size(), fmt::join(xml.joints_without_range, ", ")));
+
+  Builder builder{path, *urdf, xml, base, warnings, Model{}, {}};
+  builder.model.name = urdf->getName();
+  // The joint list, in document order, is the graph. A link with two parent joints is a loop
+  // that URDF cannot express: say so instead of dropping one as urdfdom does.
+  std::map<std::string, std::string> parent_joint_of;
+  for (const std::string& joint_name : xml.joint_order) {
+    urdf::JointConstSharedPtr joint = urdf->getJoint(joint_name);
+    if (!joint) continue;
+    auto [it, inserted] = parent_joint_of.emplace(joint->child_link_name, joint->name);
+    if (!inserted)
+      throw LoadError(path, builder.line_of_joint(joint->name), fmt::format("link '{}'", joint->child_link_name),
+                      fmt::format("has two parent joints, '{}' and '{}'", it->second, joint->name),
+                      "URDF describes a tree: keep one joint and declare the other as a closure in the YAML extras");
+    builder.children_of[joint->parent_link_name].push_back(joint);
+  }
+  const std::string root = urdf->getRoot()->name;
+  // A massless root link named "world" is the world itself (a common URDF idiom).
+  const bool world_root = root == "world" && !urdf->getRoot()->inertial;
+  if (world_root) {
+    if (base == BaseType::Floating) {
+      // A floating base replaces the fixed joint(s) that weld the robot to "world". A moving
+      // joint from "world" stays what it is: say so, since the robot is then not free-floating
+      // there, and refuse if nothing floats at all (a silent fixed base would be nonsense).
+      int replaced = 0;
+      std::vector<std::string> moving;
+      for (urdf::JointConstSharedPtr& joint : builder.children_of[root]) {
+        if (joint->type != urdf::Joint::FIXED) {
+          moving.push_back(joint->name);
+          continue;
+        }
+        ++replaced;
+        auto floating = std::make_shared<urdf::Joint>(*joint);
+        floating->type = urdf::Joint::FLOATING;
+        warnings.push_back(
+            fmt::format("floating base: fixed joint '{}' from 'world' replaced by a floating joint", joint->name));
+        joint = floating;
+      }
+      if (replaced == 0)
+        throw LoadError(path, builder.line_of_link(root), "link 'world'",
+                        fmt::format("a floating base was asked for, but the robot hangs from 'world' only through "
+                                    "moving joint(s) ({}), so nothing would float",
+                                    fmt::join(moving, ", ")),
+                        "load it with a fixed base (--fixed / `base: fixed`), or attach the base link to 'world' "
+                        "with a fixed joint that mbgen can replace");
+      if (!moving.empty())
+        warnings.push_back(fmt::format("floating base: joint(s) {} from 'world' are moving joints and stay attached to "
+                                       "the world",
+                                       fmt::join(moving, ", ")));
+    }
+    builder.model.add_frame(Frame{root, FrameKind::Body, kWorldBody, SE3<double>::Identity()});
+    builder.attach_children(root, kWorldBody, SE3<double>::Identity());
+  } else if (base == BaseType::Floating) {
+    Joint free;
+    free.name = "root_joint";
+    free.type = JointType::Floating;
+    BodyIndex b = builder.model.add_body(kWorldBody, free, root, to_inertia(*urdf->getRoot()));
+    builder.attach(root, b, SE3<double>::Identity(), true);
+  } else {
+    builder.attach(root, kWorldBody, SE3<double>::Identity(), false);
+  }
+  return std::move(builder.model);
+}
+
+}  // namespace mbgen::gen

@@ -1,0 +1,50 @@
+#pragma once
+// The MJCF body tree as read (load_mjcf.cpp), for the readers that run after the mbgen Model is
+// built: collision geoms (mjcf_geoms.cpp), equality constraints and actuators (mjcf_equality.cpp).
+#include <map>
+#include <string>
+#include <vector>
+
+#include "load/mjcf_support.hpp"
+
+namespace mbgen::gen::mjcf {
+
+struct TreeBody {
+  std::string name;
+  const tinyxml2::XMLElement* xml = nullptr;  ///< <worldbody> for the world
+  int parent = -1;                            ///< index in Tree::bodies; -1 for the world
+  std::string childclass;                     ///< the class its own elements default to
+  SE3<double> X_WB0;                          ///< world pose of the MJCF body frame at MuJoCo's qpos0
+  BodyIndex body;                             ///< the mbgen body it moves with (merged or not)
+  SE3<double> X_FB;                           ///< pose of the MJCF body frame in that mbgen body's frame
+  FrameIndex frame;                           ///< the Frame named after it
+};
+
+struct Site {
+  int body = 0;       ///< index in Tree::bodies
+  SE3<double> X_BS;   ///< in the MJCF body frame
+  FrameIndex frame;
+};
+
+struct Tree {
+  std::string path;
+  Compiler compiler;
+  const Defaults* defaults = nullptr;
+  const tinyxml2::XMLElement* root = nullptr;  ///< <mujoco>
+  std::vector<TreeBody> bodies;                ///< [0] is the world
+  std::map<std::string, int> body_index;
+  std::map<std::string, Site> sites;
+  /// MJCF joint name -> the mbgen joints it became (one, or three for a ball); "" for a free joint.
+  std::map<std::string, std::vector<std::string>> joints;
+
+  /// An element of body b (or of <equality>, <actuator>: b = -1) with its class resolved.
+  Element element(const tinyxml2::XMLElement* e, int b) const;
+};
+
+/// Swept-sphere volumes for the colliding sphere, capsule and cylinder geoms (mjcf_geoms.cpp).
+void add_mjcf_geoms(const Tree& tree, Description& d);
+/// <equality> -> closures, <actuator> -> actuated joints (mjcf_equality.cpp).
+void add_mjcf_equalities(const Tree& tree, Description& d);
+void add_mjcf_actuators(const Tree& tree, Description& d);
+
+}  // namespace mbgen::gen::mjcf

@@ -1,0 +1,60 @@
+// read_description: URDF (or MJCF, by the .xml extension) plus extras into one Description, as
+// written (model/ validates it and builds the topology). Order matters: the extras' `base` decides how the tree is built, and the extras' names are
+// resolved against the built tree.
+#include <cctype>
+#include <filesystem>
+
+#include "load/description.hpp"
+#include "load/extras_support.hpp"
+#include "load/joint_type_overrides.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+/// The extras file to use: the one given, else a robot.yaml lying beside the URDF.
+std::optional<std::string> find_extras(const std::string& path, const LoadOptions& options) {
+  if (options.extras_file) return options.extras_file;
+  if (!options.pick_up_robot_yaml) return std::nullopt;
+  const std::filesystem::path beside = std::filesystem::path(path).parent_path() / "robot.yaml";
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(beside, ec)) return beside.string();
+  return std::nullopt;
+}
+}  // namespace
+
+bool is_mjcf_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".xml";
+}
+
+Description read_description(const std::string& path, const LoadOptions& options) {
+  Description d;
+  d.description_file = path;
+  std::optional<ExtrasFile> extras;
+  if (auto file = find_extras(path, options)) {
+    extras = read_extras(*file);
+    d.extras_file = *file;
+  }
+  if (is_mjcf_path(path)) {
+    // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
+    std::optional<BaseType> base = options.base;
+    if (!base && extras) base = extras_base(*extras);
+    load_mjcf(path, base, d);
+  } else {
+    d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
+    d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
+    d.robot_name = d.model.name;
+    add_collision_ssvs(path, d);
+  }
+  if (extras) {
+    if (extras->schema == ExtrasFile::Schema::ParallelLegs)
+      apply_parallel_legs(*extras, d);
+    else
+      apply_mbgen_extras(*extras, d);
+  }
+  apply_joint_type_overrides(d);  // before validation: the chains' joints must move mass too
+  return d;
+}
+
+}  // namespace mbgen::gen

@@ -1,0 +1,76 @@
+// Closures as given (ClosureSpec) into the Model (LoopClosure), and the topology stage in order.
+#include <fmt/format.h>
+
+#include "mbgen/algorithm/closure.hpp"
+#include "load/load_error.hpp"
+#include "model/topology.hpp"
+
+namespace mbgen::gen {
+
+namespace {
+
+ClosureType closure_type(const Description& d, const ClosureSpec& spec) {
+  if (spec.type == "weld" || spec.type == "6d") return ClosureType::Weld;
+  if (spec.type == "spherical" || spec.type == "3d") return ClosureType::Point;
+  if (spec.type == "revolute") return ClosureType::Revolute;
+  if (spec.type == "prismatic") return ClosureType::Prismatic;
+  if (spec.type == "universal") return ClosureType::Universal;
+  throw LoadError(d.extras_file, spec.source_line, fmt::format("closure '{}'", spec.name),
+                  fmt::format("has type '{}', which the loop builder does not know", spec.type),
+                  "use revolute, prismatic, universal, spherical or weld (6d / 3d in robot.yaml)");
+}
+
+}  // namespace
+
+void add_closures_to_model(Description& d) {
+  Model& model = d.model;
+  model.closures.clear();
+  int offset = 0;
+  for (const ClosureSpec& spec : d.closures) {
+    LoopClosure c;
+    c.name = spec.name;
+    c.type = closure_type(d, spec);
+    const Frame& fa = model.frame(spec.resolved_a);
+    const Frame& fb = model.frame(spec.resolved_b);
+    c.body_a = fa.body;
+    c.body_b = fb.body;
+    c.X_ACa = fa.X_BF * spec.X_AC;
+    c.X_BCb = fb.X_BF * spec.X_BC;
+    c.axis = spec.axis.normalized();
+    c.axis_b = closure_axis_basis(c.axis).col(0);
+    c.row_offset = offset;
+    offset += c.rows();
+    model.closures.push_back(c);
+  }
+}
+
+std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure) {
+  const BodyIndex top = common_ancestor(model, closure.body_a, closure.body_b);
+  std::vector<BodyIndex> path, down;
+  for (BodyIndex b = closure.body_a; b != top; b = model.body(b).parent) path.push_back(b);
+  path.push_back(top);
+  for (BodyIndex b = closure.body_b; b != top; b = model.body(b).parent) down.push_back(b);
+  path.insert(path.end(), down.rbegin(), down.rend());
+  return path;
+}
+
+std::string coordinate_name(const Model& model, int v_index) {
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    if (v_index < joint.idx_v || v_index >= joint.idx_v + joint.nv) continue;
+    return joint.nv == 1 ? joint.name : fmt::format("{}[{}]", joint.name, v_index - joint.idx_v);
+  }
+  return fmt::format("v[{}]", v_index);
+}
+
+void build_topology(Description& d) {
+  if (d.closures.empty()) {
+    d.closed_dof = d.model.nv();
+    return;
+  }
+  add_closures_to_model(d);
+  assemble_closures(d);
+  find_subsystems(d);
+}
+
+}  // namespace mbgen::gen
