@@ -1,9 +1,10 @@
 # mbgen_add_robot(TARGET <target> DESCRIPTION <urdf>
 #                 [EXTRAS <yaml>] [NAME <namespace>] [SCALAR double|float|both]
-#                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUT_DIR <dir>])
+#                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUT_DIR <dir>]
+#                 [FLAVOUR cpp|c | TEMPLATES <dir>])
 #
 # Generates a robot's unrolled C++ at build time and adds the static library <target> whose
-# public include directory holds <NAME>.hpp. Shaped like protobuf_generate: the outputs follow
+# public include directory holds its header (<NAME>.hpp; <NAME>.h in the c flavour). Shaped like protobuf_generate: the outputs follow
 # from the arguments alone, and they are regenerated when the description, the extras or the
 # generator change. The generator is ${MBGEN_EXECUTABLE} when set (cross builds: point it at a
 # host build of mbgen), else the mbgen target of this build or of the installed package.
@@ -11,6 +12,10 @@
 #   NAME        C++ namespace and file prefix (default: <target>)
 #   SCALAR      scalar types emitted (default: the extras' scene `scalar:`, else both)
 #   OUTPUT_DIR  default: ${CMAKE_CURRENT_BINARY_DIR}/mbgen/<NAME>
+#   FLAVOUR     the installed templates to use (docs/templates.md): cpp (default; namespace
+#               <NAME>, overloads per scalar) or c (a C99 header, <NAME>_<function>_<scalar>)
+#   TEMPLATES   a folder of your own templates instead (a copy of a flavour, edited); the file
+#               names come from its header_file.fmt and source_file.fmt
 
 # The functions every generation emits, one source file each (<NAME>_<function>.cpp).
 # self_distances is emitted for every robot (empty, with num_distance_pairs = 0, when the
@@ -21,7 +26,8 @@ set(MBGEN_GENERATED_FUNCTIONS
     self_distances)
 
 function(mbgen_add_robot)
-  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR" "FRAMES" ${ARGN})
+  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES" "FRAMES"
+                        ${ARGN})
   if(NOT MB_TARGET OR NOT MB_DESCRIPTION)
     message(FATAL_ERROR "mbgen_add_robot: TARGET and DESCRIPTION are required")
   endif()
@@ -62,6 +68,32 @@ function(mbgen_add_robot)
     list(APPEND arguments --frames ${frames})
   endif()
 
+  if(MB_FLAVOUR AND MB_TEMPLATES)
+    message(FATAL_ERROR "mbgen_add_robot: FLAVOUR and TEMPLATES exclude each other")
+  endif()
+  if(MB_TEMPLATES)
+    get_filename_component(templates ${MB_TEMPLATES} ABSOLUTE)
+    list(APPEND arguments --templates ${templates})
+  else()
+    if(NOT MB_FLAVOUR)
+      set(MB_FLAVOUR cpp)
+    endif()
+    set(templates ${MBGEN_TEMPLATES_DIR}/${MB_FLAVOUR})
+    if(NOT MB_FLAVOUR STREQUAL "cpp")
+      list(APPEND arguments --flavour ${MB_FLAVOUR})
+    endif()
+  endif()
+  if(NOT EXISTS ${templates}/header_file.fmt OR NOT EXISTS ${templates}/source_file.fmt)
+    message(FATAL_ERROR "mbgen_add_robot: ${templates} is not a template folder (no header_file.fmt, source_file.fmt)")
+  endif()
+  file(GLOB template_files ${templates}/*.fmt)
+  list(APPEND inputs ${template_files})
+  # The file names, as mbgen makes them: the first line of the name templates.
+  file(STRINGS ${templates}/header_file.fmt header_name LIMIT_COUNT 1)
+  file(STRINGS ${templates}/source_file.fmt source_name LIMIT_COUNT 1)
+  string(REPLACE "{robot}" "${MB_NAME}" header_name "${header_name}")
+  string(REPLACE "{robot}" "${MB_NAME}" source_name "${source_name}")
+
   if(MBGEN_EXECUTABLE)
     set(generator ${MBGEN_EXECUTABLE})
     list(APPEND inputs ${MBGEN_EXECUTABLE})
@@ -75,10 +107,11 @@ function(mbgen_add_robot)
     message(FATAL_ERROR "mbgen_add_robot: no generator: set MBGEN_EXECUTABLE or find_package(mbgen)")
   endif()
 
-  set(header ${MB_OUTPUT_DIR}/${MB_NAME}.hpp)
+  set(header ${MB_OUTPUT_DIR}/${header_name})
   set(sources)
   foreach(function IN LISTS MBGEN_GENERATED_FUNCTIONS)
-    list(APPEND sources ${MB_OUTPUT_DIR}/${MB_NAME}_${function}.cpp)
+    string(REPLACE "{function}" "${function}" source "${source_name}")
+    list(APPEND sources ${MB_OUTPUT_DIR}/${source})
   endforeach()
   add_custom_command(
     OUTPUT ${header} ${sources}

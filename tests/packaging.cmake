@@ -15,6 +15,9 @@ endfunction()
 mbgen_add_firmware_test(iiwa14 ${MBGEN_SHARED_ROBOTS}/iiwa14/iiwa14_primitive_collision.urdf --fixed)
 mbgen_add_firmware_test(lola ${PROJECT_SOURCE_DIR}/robots/lola/lola.urdf
                         --extras ${PROJECT_SOURCE_DIR}/robots/lola/lola.yaml)
+# The c flavour (docs/templates.md): its C99 header and C++ sources, for the same target.
+mbgen_add_firmware_test(ankle_2dof_c ${PROJECT_SOURCE_DIR}/robots/mechanisms/ankle_2dof.urdf
+                        --extras ${PROJECT_SOURCE_DIR}/robots/mechanisms/ankle_2dof.yaml --flavour c)
 
 # Install: `cmake --install` into a fresh prefix, then a separate project (tests/consumer) finds
 # the package, generates tests/data/tiny_arm.urdf with the installed mbgen, builds and runs.

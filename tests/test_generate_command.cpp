@@ -28,6 +28,16 @@ int generate(const fs::path& out, const std::string& name, const std::string& mo
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// Runs `mbgen generate` like generate(), returning the exit status and what it printed on stderr.
+std::pair<int, std::string> generate_with_errors(const fs::path& out, const std::string& more) {
+  const fs::path log = fs::temp_directory_path() / "mbgen_test_generate_stderr.txt";
+  const std::string cmd = std::string(MBGEN_BINARY) + " generate " +
+                          mbgen::test::shared_robot("iiwa14/iiwa14_primitive_collision.urdf") + " --out " + out.string() +
+                          " --name arm " + more + " --quiet 2>" + log.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read(log)};
+}
+
 fs::path fresh_dir(const std::string& leaf) {
   const fs::path dir = fs::temp_directory_path() / ("mbgen_test_generate_" + leaf);
   fs::remove_all(dir);
@@ -70,6 +80,70 @@ TEST(GenerateCommand, TheScenesScalarUnlessTheCommandLineSaysOtherwise) {
   header = read(dir / "arm.hpp");
   EXPECT_NE(header.find("void forward_dynamics(const double* q"), std::string::npos);
   EXPECT_NE(header.find("void forward_dynamics(const float* q"), std::string::npos);
+}
+
+// --templates: a user's edited copy of a flavour shapes the output, and the banner names the
+// templates' digest (they shape the output as much as the description does).
+TEST(GenerateCommand, UserTemplatesShapeTheOutput) {
+  const fs::path templates = fresh_dir("user_templates");
+  fs::copy(fs::path(MBGEN_SOURCE_DIR) / "templates" / "cpp", templates);
+  { std::ofstream(templates / "prototype.fmt") << "[[nodiscard]] int {public_name}({parameters});  // {scalar}\n"; }
+  { std::ofstream(templates / "entry_point.fmt") << "int {public_name}({parameters}) {{ {function}_impl<{scalar}>({arguments}); return 0; }}\n\n"; }
+  const fs::path plain = fresh_dir("plain"), mine = fresh_dir("mine");
+  ASSERT_EQ(generate(plain, "arm"), 0);
+  ASSERT_EQ(generate(mine, "arm", "--templates " + templates.string()), 0);
+  const std::string header = read(mine / "arm.hpp"), source = read(mine / "arm_mass_matrix.cpp");
+  EXPECT_NE(header.find("[[nodiscard]] int mass_matrix(const double* q, double* M);  // double"), std::string::npos);
+  EXPECT_NE(source.find("int mass_matrix(const double* q, double* M) { mass_matrix_impl<double>(q, M); return 0; }"),
+            std::string::npos);
+  EXPECT_EQ(read(plain / "arm.hpp").find("[[nodiscard]]"), std::string::npos);
+  EXPECT_EQ(read(plain / "arm.hpp").find("//   templates (sha256"), std::string::npos);
+  EXPECT_NE(header.find("//   templates (sha256 "), std::string::npos);
+  // Only what the templates frame changed: the statements are the same.
+  const std::string plain_source = read(plain / "arm_mass_matrix.cpp");
+  const auto body = [](const std::string& s) { return s.substr(s.find("template <typename S>")); };
+  EXPECT_EQ(body(source).substr(0, body(source).find("}  // namespace")),
+            body(plain_source).substr(0, body(plain_source).find("}  // namespace")));
+}
+
+TEST(GenerateCommand, BrokenTemplateStopsTheRunBeforeAnythingIsWritten) {
+  const fs::path templates = fresh_dir("broken_templates");
+  fs::copy(fs::path(MBGEN_SOURCE_DIR) / "templates" / "cpp", templates);
+  { std::ofstream(templates / "function_source.fmt") << "{banner}\n#include \"{header}\"\n{robto}\n"; }
+  const fs::path out = fresh_dir("broken_out");
+  const auto [status, errors] = generate_with_errors(out, "--templates " + templates.string());
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(errors.find((templates / "function_source.fmt").string() + ":3"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("{robto}"), std::string::npos) << errors;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(GenerateCommand, FlavourC) {
+  const fs::path out = fresh_dir("flavour_c");
+  ASSERT_EQ(generate(out, "arm", "--flavour c"), 0);
+  const std::string header = read(out / "arm.h");
+  EXPECT_FALSE(fs::exists(out / "arm.hpp"));
+  EXPECT_NE(header.find("void arm_mass_matrix_double(const double* q, double* M);"), std::string::npos);
+  EXPECT_NE(header.find("extern \"C\" {"), std::string::npos);
+  EXPECT_NE(read(out / "arm_mass_matrix.cpp").find("extern \"C\" void arm_mass_matrix_double("), std::string::npos);
+}
+
+TEST(GenerateCommand, UnknownFlavourNamesTheOnesThereAre) {
+  const fs::path out = fresh_dir("flavour_unknown");
+  const auto [status, errors] = generate_with_errors(out, "--flavour fortran");
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(errors.find("flavour 'fortran'"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("c, cpp"), std::string::npos) << errors;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(GenerateCommand, FlavourAndTemplatesExcludeEachOther) {
+  const fs::path out = fresh_dir("flavour_and_templates");
+  const auto [status, errors] =
+      generate_with_errors(out, "--flavour c --templates " + (fs::path(MBGEN_SOURCE_DIR) / "templates" / "c").string());
+  EXPECT_NE(status, 0);
+  EXPECT_NE(errors.find("excludes"), std::string::npos) << errors;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "codegen/generate_robot.hpp"
 #include "codegen/output_files.hpp"
+#include "codegen/templates.hpp"
 #include "model/load_description.hpp"
 #include "load/load_error.hpp"
 
@@ -19,6 +20,7 @@ namespace {
 
 struct GenerateOptions {
   std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
+  std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
   bool floating = false, fixed = false, quiet = false;
 };
@@ -26,6 +28,9 @@ struct GenerateOptions {
 int run_generate(const GenerateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   try {
+    // The templates first: a broken one stops the run before anything is loaded or written.
+    const codegen::TemplateSet templates =
+        codegen::TemplateSet::load(o.templates.empty() ? codegen::installed_templates_directory(o.flavour) : o.templates);
     gen::LoadOptions load;
     if (!o.extras.empty()) load.extras_file = o.extras;
     if (o.floating) load.base = gen::BaseType::Floating;
@@ -46,17 +51,20 @@ int run_generate(const GenerateOptions& o) {
     if (!d.extras_file.empty())
       options.inputs.push_back({std::filesystem::path(d.extras_file).filename().string(),
                                 codegen::sha256_of_file(d.extras_file)});
+    // A user's templates shape the output as much as the inputs do: the banner names their digest.
+    if (!o.templates.empty()) options.inputs.push_back({"templates", templates.digest()});
 
     std::vector<std::string> notes;
     options.notes = &notes;
-    const std::vector<codegen::GeneratedFile> files = codegen::generate_robot(d, options);
+    const std::vector<codegen::GeneratedFile> files = codegen::generate_robot(d, options, templates);
     const codegen::WriteReport report = codegen::write_generated_files(o.out, files);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string header = templates.render("header_file", {{"robot", options.name}});
     if (!o.quiet) {
       for (const std::string& w : d.warnings) std::cerr << "warning: " << w << "\n";
       for (const std::string& note : notes) (note.rfind("warning: ", 0) == 0 ? std::cerr : std::cout) << note << "\n";
-      std::cout << fmt::format("mbgen: {} (nq {}, nv {}) -> {}/{}.hpp: {} files written, {} unchanged, {:.2f} s\n",
-                               options.name, d.model.nq(), d.model.nv(), o.out, options.name, report.written.size(),
+      std::cout << fmt::format("mbgen: {} (nq {}, nv {}) -> {}/{}: {} files written, {} unchanged, {:.2f} s\n",
+                               options.name, d.model.nq(), d.model.nv(), o.out, header, report.written.size(),
                                report.unchanged.size(), seconds);
     }
     return 0;
@@ -83,6 +91,14 @@ void add_generate_command(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"double", "float", "both"}));
   cmd->add_option("--frames", options->frames, "frames for frame_poses/frame_jacobians (default: scene, else leaf bodies)")
       ->delimiter(',');
+  auto* flavour = cmd->add_option("--flavour", options->flavour,
+                                  "output flavour, from mbgen's templates: cpp (namespace, overloads) or c (C99 header, "
+                                  "extern \"C\" functions <name>_<function>_<scalar>); default cpp");
+  cmd->add_option("--templates", options->templates,
+                  "a folder of templates to frame the output with (a copy of share/mbgen/templates/<flavour>, edited; "
+                  "docs/templates.md)")
+      ->check(CLI::ExistingDirectory)
+      ->excludes(flavour);
   auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
   cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");

@@ -63,55 +63,8 @@ const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_posi
 
 }  // namespace
 
-std::string emit_closure_positions_declaration(ScalarChoice scalars) {
-  std::string out = R"(
-/// What closure_positions ended with.
-enum class ClosureStatus : int {
-  converged = 0,      ///< max |Phi| below the tolerance
-  not_converged = 1,  ///< iteration cap reached, or a non-finite residual (q holds the last finite iterate)
-  singular = 2,       ///< a linkage at a dead point, or closer to one than the tolerance can tell: z is not a function of y there
-};
-template <typename S> struct ClosureResult {
-  ClosureStatus status;
-  int iterations;   ///< Newton steps taken
-  S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
-  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
-  S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
-};
-/// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
-template <typename S> struct ClosureOptions {
-  S tolerance;           ///< max |Phi| over the kept rows
-  int max_iterations;
-  S max_step;            ///< steps scaled down to at most this in their largest entry (rad or m)
-  S singular_tolerance;  ///< pivot ratio below this, at any step: singular
-  S dead_point_tolerance;  ///< relative pivot ratio below this at the closed pose: singular
-};
-/// double: the runtime's defaults. float: residuals are known to ~1e-7 m here (unit round-off
-/// times the loops' size), so 2e-6; regular poses of the shipped and parallel_legs models have
-/// pivot ratios above 1e-3 (robot_delta's ~4e-3, wl16_like's down to ~1.5e-3), so 1e-3 stops
-/// Newton where no step can be trusted. A dead point itself shows only in relative terms in
-/// float: Newton stops a residual r <= 2e-6 short of it, where the pivot ratio squared is ~2 h r
-/// (h the linkage's curvature), ~2e-3 for the slider-crank, no lower than some regular poses of
-/// other robots. Each sub-system's ratio over its ratio at the assembled pose (a residual
-/// D >= 5e-3 from any dead point) cancels h: below sqrt(tolerance / D) the converged pose is
-/// within the tolerance's reach of a dead point, status singular; sqrt(1e-12 / 5e-3) = 1.4e-5,
-/// sqrt(2e-6 / 5e-3) = 2e-2 (the runtime's ClosureOptions::dead_point_tolerance says more).
-inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5, 1.4e-5};
-inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f, 2e-2f};
-/// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
-/// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
-/// allocation. Call it after every change of the independent coordinates (a simulation step):
-/// forward_dynamics and the maps need a closed q, and a status other than converged means they
-/// must not be used there.
-)";
-  for (const std::string& s : scalar_types(scalars))
-    out += fmt::format("ClosureResult<{0}> closure_positions({0}* q, const ClosureOptions<{0}>& options = closure_options_{0});\n", s);
-  return out;
-}
-
-std::string emit_closure_positions_definition(const Model& model, const std::string& ns, const std::string& header,
-                                              ScalarChoice scalars) {
-  std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\nnamespace {} {{\n\nnamespace {{\n\n", header, ns);
+std::string emit_closure_positions_definition(const Model& model, const EmitContext& ctx) {
+  std::string out;
   if (model.subsystems.empty()) {
     out += "// No loops: every configuration is closed.\n"
            "template <typename S> ClosureResult<S> closure_positions_impl(S*, const ClosureOptions<S>&) {\n"
@@ -120,7 +73,7 @@ std::string emit_closure_positions_definition(const Model& model, const std::str
     const TracedFunction step = trace_closure_newton_step(model);
     out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
     const SplitStatements split = split_statements(step, "closure_newton_step", kMaxStatementsPerPart);
-    if (!split.parts.empty()) out += noinline_macro();
+    if (!split.parts.empty()) out += ctx.templates.render("noinline_macro", {});
     out += split.parts;
     out += "template <typename S> void closure_newton_step(const S* q, S* residual, S* pivots, S* step) {\n";
     out += split.body + "}\n\n";
@@ -141,11 +94,15 @@ std::string emit_closure_positions_definition(const Model& model, const std::str
       out += fmt::format("{}S({:.1e})", k ? ", " : "", model.subsystems[k].nominal_pivot_ratio);
     out += "};\n\n" + std::string(kNewtonLoop);
   }
-  out += "\n}  // namespace\n\n";
-  for (const std::string& s : scalar_types(scalars))
-    out += fmt::format("ClosureResult<{0}> closure_positions({0}* q, const ClosureOptions<{0}>& options) {{ return closure_positions_impl<{0}>(q, options); }}\n\n", s);
-  out += fmt::format("}}  // namespace {}\n", ns);
-  return out;
+  std::string entry_points;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    entry_points += ctx.templates.render(
+        "closure_entry_point", {{"public_name", ctx.public_name("closure_positions", s)}, {"scalar", s}, {"robot", ctx.robot}});
+  return ctx.templates.render("closure_positions_source", {{"banner", ctx.banner},
+                                                           {"header", ctx.header},
+                                                           {"robot", ctx.robot},
+                                                           {"implementation", out},
+                                                           {"entry_points", entry_points}});
 }
 
 }  // namespace mbgen::codegen

@@ -11,12 +11,10 @@
 
 namespace mbgen::codegen {
 
-/// Header part: ClosureStatus, ClosureResult, ClosureOptions with per-scalar defaults, and the
-/// closure_positions declarations (every robot has them: without loops they return at once).
-std::string emit_closure_positions_declaration(ScalarChoice scalars);
-
-/// The .cpp body (without banner) of closure_positions for `model` in namespace `ns`.
-std::string emit_closure_positions_definition(const Model& model, const std::string& ns, const std::string& header,
-                                              ScalarChoice scalars);
+/// closure_positions_source.fmt for `model`: closure_positions_impl<S> (C++ on the
+/// ClosureStatus, ClosureResult and ClosureOptions the template declares or the header does)
+/// and the entry points (closure_entry_point.fmt). Every robot has it: without loops it returns
+/// at once.
+std::string emit_closure_positions_definition(const Model& model, const EmitContext& ctx);
 
 }  // namespace mbgen::codegen

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <set>
 #include <stdexcept>
 
@@ -32,12 +33,6 @@ std::string input_parameters(const TracedFunction& f, const std::string& scalar)
   std::string args;
   for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
   return args;
-}
-
-std::string signature(const TracedFunction& f, const std::string& scalar) {
-  std::string args = input_parameters(f, scalar);
-  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, a.name);
-  return fmt::format("void {}({})", f.name, args);
 }
 
 std::string call_arguments(const TracedFunction& f) {
@@ -91,12 +86,38 @@ std::string describe_operations(const OpCount& c) {
                      c.max > 0 ? fmt::format(", {} max (selects)", c.max) : std::string());
 }
 
-std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars) {
-  std::string out = fmt::format("/// {}\n", f.doc);
-  for (const ArraySpec& a : f.inputs) out += fmt::format("/// in  {}: {}\n", a.name, a.doc);
-  for (const ArraySpec& a : f.outputs) out += fmt::format("/// out {}: {}\n", a.name, a.doc);
-  out += fmt::format("/// Cost: {}.\n", describe_operations(count_operations(f)));
-  for (const std::string& s : scalar_types(scalars)) out += signature(f, s) + ";\n";
+std::string parameters(const TracedFunction& f, const std::string& scalar) {
+  std::string args = input_parameters(f, scalar);
+  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, a.name);
+  return args;
+}
+
+std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx) {
+  std::string arguments, prototypes;
+  for (const ArraySpec& a : f.inputs) arguments += ctx.templates.render("input_doc", {{"name", a.name}, {"doc", a.doc}});
+  for (const ArraySpec& a : f.outputs) arguments += ctx.templates.render("output_doc", {{"name", a.name}, {"doc", a.doc}});
+  for (const std::string& s : scalar_types(ctx.scalars))
+    prototypes += ctx.templates.render("prototype", {{"public_name", ctx.public_name(f.name, s)},
+                                                     {"parameters", parameters(f, s)},
+                                                     {"scalar", s},
+                                                     {"function", f.name},
+                                                     {"robot", ctx.robot}});
+  return ctx.templates.render("function_declaration", {{"doc", f.doc},
+                                                       {"cost", describe_operations(count_operations(f))},
+                                                       {"arguments", arguments},
+                                                       {"prototypes", prototypes}});
+}
+
+std::string emit_entry_points(const std::string& function, const std::string& arguments,
+                              const std::function<std::string(const std::string&)>& parameters_for, const EmitContext& ctx) {
+  std::string out;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    out += ctx.templates.render("entry_point", {{"public_name", ctx.public_name(function, s)},
+                                                {"parameters", parameters_for(s)},
+                                                {"function", function},
+                                                {"scalar", s},
+                                                {"arguments", arguments},
+                                                {"robot", ctx.robot}});
   return out;
 }
 
@@ -251,53 +272,59 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
   return out;
 }
 
-std::string noinline_macro() {
-  return "// The parts of a split function stay functions of their own (see split_statements).\n"
-         "#ifndef MBGEN_GENERATED_NOINLINE\n#if defined(__GNUC__)\n#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))\n"
-         "#else\n#define MBGEN_GENERATED_NOINLINE\n#endif\n#endif\n\n";
+std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
+  const SplitStatements split = split_statements(f, f.name, kMaxStatementsPerPart);
+  const std::string entry_points =
+      emit_entry_points(f.name, call_arguments(f), [&](const std::string& s) { return parameters(f, s); }, ctx);
+  return ctx.templates.render("function_source",
+                              {{"banner", ctx.banner},
+                               {"header", ctx.header},
+                               {"robot", ctx.robot},
+                               {"function", f.name},
+                               {"doc", f.doc},
+                               {"cost", describe_operations(count_operations(f))},
+                               {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
+                               {"parts", split.parts},
+                               {"impl_parameters", parameters(f, "S")},
+                               {"body", unused_inputs(f) + split.body},
+                               {"entry_points", entry_points}});
 }
 
-std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
-                            ScalarChoice scalars) {
-  const SplitStatements split = split_statements(f, f.name, kMaxStatementsPerPart);
-  std::string out = fmt::format("#include \"{}\"\n\n#include <cmath>\n\n", header);
-  if (!split.parts.empty()) out += noinline_macro();
-  out += fmt::format("namespace {} {{\n\nnamespace {{\n\n", ns);
-  out += split.parts;
-  out += fmt::format("// {}\n// {}.\ntemplate <typename S>\n", f.doc, describe_operations(count_operations(f)));
-  std::string impl_sig = signature(f, "S");
-  impl_sig.replace(impl_sig.find(f.name), f.name.size(), f.name + "_impl");
-  out += impl_sig + " {\n" + unused_inputs(f) + split.body + "}\n\n}  // namespace\n\n";
-  for (const std::string& s : scalar_types(scalars))
-    out += fmt::format("{} {{ {}_impl<{}>({}); }}\n\n", signature(f, s), f.name, s, call_arguments(f));
-  out += fmt::format("}}  // namespace {}\n", ns);
-  return out;
+namespace {
+std::string input_names(const TracedFunction& f, std::size_t count) {
+  std::string args;
+  for (std::size_t i = 0; i < count; ++i) args += (i ? ", " : "") + f.inputs[i].name;
+  return args;
 }
+}  // namespace
 
 std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
-                                      const std::string& ns, const std::string& header, ScalarChoice scalars) {
+                                      const EmitContext& ctx) {
   if (f.inputs.size() != source.inputs.size() || f.outputs.size() != 1 || source.outputs.size() != 1 ||
       static_cast<int>(selection.size()) != f.outputs[0].size)
     throw std::logic_error("emit_selection_definition: " + f.name + " is not a selection of " + source.name);
-  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
-  out += fmt::format("// {}\n// {} computes every entry; this keeps {} of its {}.\n", f.doc, source.name, selection.size(),
-                     source.outputs[0].size);
-  for (const std::string& scalar : scalar_types(scalars)) {
-    out += signature(f, scalar) + " {\n";
-    out += fmt::format("  {} all[{}];\n  {}({}, all);\n", scalar, source.outputs[0].size, source.name, [&] {
-      std::string args;
-      for (const ArraySpec& a : f.inputs) args += (args.empty() ? "" : ", ") + a.name;
-      return args;
-    }());
-    for (std::size_t i = 0; i < selection.size(); ++i) out += fmt::format("  {}[{}] = all[{}];\n", f.outputs[0].name, i, selection[i]);
-    out += "}\n\n";
-  }
-  out += fmt::format("}}  // namespace {}\n", ns);
-  return out;
+  std::string copies;
+  for (std::size_t i = 0; i < selection.size(); ++i) copies += fmt::format("  {}[{}] = all[{}];\n", f.outputs[0].name, i, selection[i]);
+  std::string definitions;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    definitions += ctx.templates.render("selection_definition", {{"public_name", ctx.public_name(f.name, s)},
+                                                                 {"parameters", parameters(f, s)},
+                                                                 {"scalar", s},
+                                                                 {"callee", ctx.public_name(source.name, s)},
+                                                                 {"size", std::to_string(source.outputs[0].size)},
+                                                                 {"arguments", input_names(f, f.inputs.size())},
+                                                                 {"copies", copies}});
+  return ctx.templates.render("selection_source", {{"banner", ctx.banner},
+                                                   {"header", ctx.header},
+                                                   {"robot", ctx.robot},
+                                                   {"doc", f.doc},
+                                                   {"source_function", source.name},
+                                                   {"kept", std::to_string(selection.size())},
+                                                   {"size", std::to_string(source.outputs[0].size)},
+                                                   {"definitions", definitions}});
 }
 
-std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const std::string& ns,
-                                    const std::string& header, ScalarChoice scalars) {
+std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const EmitContext& ctx) {
   const std::size_t n_in = source.inputs.size();
   if (f.inputs.size() != n_in + 1 || f.outputs.size() != 1 || source.outputs.size() != 1 ||
       source.outputs[0].size != f.outputs[0].size * f.inputs[n_in].size)
@@ -305,13 +332,9 @@ std::string emit_product_definition(const TracedFunction& f, const TracedFunctio
   const int rows = f.outputs[0].size, cols = f.inputs[n_in].size;
   const std::string& A = source.outputs[0].name;
   const std::string& x = f.inputs[n_in].name;
-  std::string out = fmt::format("#include \"{}\"\n\nnamespace {} {{\n\n", header, ns);
-  out += fmt::format("// {}\n// {} computes {}; this multiplies its structurally nonzero entries by {}.\n", f.doc, source.name, A, x);
-  for (const std::string& scalar : scalar_types(scalars)) {
-    out += signature(f, scalar) + " {\n";
-    std::string args;
-    for (std::size_t i = 0; i < n_in; ++i) args += (i ? ", " : "") + f.inputs[i].name;
-    out += fmt::format("  {} {}[{}];\n  {}({}, {});\n", scalar, A, source.outputs[0].size, source.name, args, A);
+  std::string definitions;
+  for (const std::string& scalar : scalar_types(ctx.scalars)) {
+    std::string statements;
     for (int r = 0; r < rows; ++r) {
       std::string sum;
       for (int c = 0; c < cols; ++c) {
@@ -321,12 +344,25 @@ std::string emit_product_definition(const TracedFunction& f, const TracedFunctio
                                                                  : fmt::format("{}[{}] * {}[{}]", A, r * cols + c, x, c);
         sum += (sum.empty() ? "" : " + ") + term;
       }
-      out += fmt::format("  {}[{}] = {};\n", f.outputs[0].name, r, sum.empty() ? scalar + "(0)" : sum);
+      statements += fmt::format("  {}[{}] = {};\n", f.outputs[0].name, r, sum.empty() ? scalar + "(0)" : sum);
     }
-    out += "}\n\n";
+    definitions += ctx.templates.render("product_definition", {{"public_name", ctx.public_name(f.name, scalar)},
+                                                               {"parameters", parameters(f, scalar)},
+                                                               {"scalar", scalar},
+                                                               {"callee", ctx.public_name(source.name, scalar)},
+                                                               {"matrix", A},
+                                                               {"size", std::to_string(source.outputs[0].size)},
+                                                               {"arguments", input_names(f, n_in)},
+                                                               {"rows", statements}});
   }
-  out += fmt::format("}}  // namespace {}\n", ns);
-  return out;
+  return ctx.templates.render("product_source", {{"banner", ctx.banner},
+                                                 {"header", ctx.header},
+                                                 {"robot", ctx.robot},
+                                                 {"doc", f.doc},
+                                                 {"source_function", source.name},
+                                                 {"matrix", A},
+                                                 {"vector", x},
+                                                 {"definitions", definitions}});
 }
 
 }  // namespace mbgen::codegen

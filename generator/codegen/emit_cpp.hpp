@@ -2,22 +2,29 @@
 // Prints traced functions as straight-line C++: one template body per function (instantiated for
 // float and double by thin wrappers), temporaries _tN numbered in topological order, constants
 // inlined in shortest round-trip form, and the operation count in the doc comment.
+// The files' frame (includes, namespaces, entry points, doc comments) comes from the templates
+// (EmitContext, templates/<flavour>/); this file computes what goes in it.
+#include <functional>
 #include <string>
 
+#include "codegen/emit_context.hpp"
 #include "codegen/traced_function.hpp"
 
 namespace mbgen::codegen {
 
-enum class ScalarChoice { Double, Float, Both };
-
-/// `S` wrappers wanted by the choice.
-std::vector<std::string> scalar_types(ScalarChoice choice);
-
 /// "12 operations: 5 additions, ..." for the doc comment.
 std::string describe_operations(const OpCount& count);
 
-/// The declaration(s) for the header: doc comment with argument sizes and op count.
-std::string emit_declaration(const TracedFunction& f, ScalarChoice scalars);
+/// f's parameter list for `scalar`: `const S* in..., S* out...`.
+std::string parameters(const TracedFunction& f, const std::string& scalar);
+
+/// function_declaration.fmt for f: doc comment with argument sizes and op count, the prototypes.
+std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx);
+
+/// entry_point.fmt per scalar: `function`'s public entry points calling <function>_impl<scalar>
+/// with `arguments`, their parameter lists given per scalar.
+std::string emit_entry_points(const std::string& function, const std::string& arguments,
+                              const std::function<std::string(const std::string&)>& parameters_for, const EmitContext& ctx);
 
 /// The straight-line statements of f's body: `const S _tN = ...;` in topological order, then one
 /// assignment per output element (`name[i] = ...;`), two-space indented. emit_definition wraps
@@ -41,29 +48,24 @@ struct SplitStatements {
 };
 SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements);
 
-/// Defines MBGEN_GENERATED_NOINLINE (GCC and Clang: noinline; else nothing), for files with parts.
-std::string noinline_macro();
-
 /// `S(value)` in shortest round-trip form.
 std::string literal(double value);
 
-/// A .cpp body (without banner) defining the function in namespace `ns`; includes `header`.
-std::string emit_definition(const TracedFunction& f, const std::string& ns, const std::string& header,
-                            ScalarChoice scalars);
+/// function_source.fmt for f: its source file, banner included.
+std::string emit_definition(const TracedFunction& f, const EmitContext& ctx);
 
-/// A .cpp body defining `f` as a selection of `source`'s single output (same inputs): it calls
+/// selection_source.fmt: the source file defining `f` as a selection of `source`'s single output (same inputs): it calls
 /// `source` into a local array and copies the entries `selection` (one per output element of f).
 /// The closed system's forward_dynamics is full_accelerations read at the independent
 /// coordinates: one copy of the unrolled code, not two.
 std::string emit_selection_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& selection,
-                                      const std::string& ns, const std::string& header, ScalarChoice scalars);
+                                      const EmitContext& ctx);
 
-/// A .cpp body defining `f` (inputs: source's inputs, then a vector x; one output y) as the
+/// product_source.fmt: the source file defining `f` (inputs: source's inputs, then a vector x; one output y) as the
 /// product y = A x of `source`'s single output A (row-major, f's output size x x's size): it
 /// calls `source` into a local array and sums only A's entries that are not structural zeros
 /// (an entry that is the constant 1 adds x itself). full_velocities is velocity_map times vy:
 /// one copy of the unrolled maps, not two.
-std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const std::string& ns,
-                                    const std::string& header, ScalarChoice scalars);
+std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const EmitContext& ctx);
 
 }  // namespace mbgen::codegen

@@ -176,8 +176,7 @@ std::string arguments(const std::string& scalar) {
 
 }  // namespace
 
-SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& scene, const std::string& ns,
-                                     const std::string& header, ScalarChoice scalars) {
+SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& scene, const EmitContext& ctx) {
   const Plan plan = make_plan(model, scene);
   const TracedFunction traced = trace_placement(model, scene, plan);
   const std::size_t np = scene.pairs.size();
@@ -191,31 +190,18 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
                                                  describe_operations(count_operations(traced)), shape_pairs, np,
                                                  np == 1 ? "" : "s");
 
-  SelfDistanceCode code;
-  std::string& h = code.declaration;
-  h += fmt::format("\n/// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).\n"
-                   "constexpr int num_distance_pairs = {};\n",
-                   np);
-  h += "/// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.\n";
-  h += fmt::format("inline constexpr const char* distance_pair_names[{}][2] = {{", np == 0 ? 1 : np);
-  if (np == 0) h += "{\"\", \"\"}";
+  // C++ and C have no empty arrays: one empty row when there is no pair.
+  std::string pair_names = np == 0 ? "{\"\", \"\"}" : "";
   for (std::size_t k = 0; k < np; ++k)
-    h += fmt::format("{}{{\"{}\", \"{}\"}}", k ? ", " : "", scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name,
-                     scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name);
-  h += "};\n";
-  h += fmt::format(
-      "\n/// Self-distances of the kept pairs between the bodies' swept-sphere volumes, and their Jacobians\n"
-      "/// (generic twin: collision::compute_distances + compute_distance_jacobians). Per pair k:\n"
-      "/// in  q: [{}] joint positions\n"
-      "/// out distance: [{}] distance[k] = core distance - r1 - r2 (negative when overlapping)\n"
-      "/// out normal: [{} x 3] unit normal from the pair's first body to its second, world\n"
-      "/// out witness: [{} x 6] point on the first body's surface, then on the second's, world\n"
-      "///     (point2 - point1 = distance * normal)\n"
-      "/// out jacobian: [{} x {}, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points\n"
-      "///     moving with their bodies; non-smooth where the closest features switch\n"
-      "/// Cost: {}.\n",
-      model.nq(), np, np, np, np, model.nv(), cost);
-  for (const std::string& s : scalar_types(scalars)) h += fmt::format("void self_distances({});\n", arguments(s));
+    pair_names += fmt::format("{}{{\"{}\", \"{}\"}}", k ? ", " : "", scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name,
+                              scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name);
+  std::string prototypes;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    prototypes += ctx.templates.render("prototype", {{"public_name", ctx.public_name("self_distances", s)},
+                                                     {"parameters", arguments(s)},
+                                                     {"scalar", s},
+                                                     {"function", "self_distances"},
+                                                     {"robot", ctx.robot}});
 
   std::string body;
   if (np == 0) {
@@ -229,28 +215,21 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
     for (std::size_t k = 0; k < np; ++k) body += pair_block(model, scene, plan, k);
   }
 
-  std::string& d = code.definition;
-  d = fmt::format("#include \"{}\"\n\n#include <cmath>\n\n#include \"mbgen/collision/closest_shapes.hpp\"\n"
-                  "#include \"mbgen/collision/ssv_distance.hpp\"\n\nnamespace {} {{\n\nnamespace {{\n\n",
-                  header, ns);
-  d += "using mbgen::collision::ClosestShapes;\nusing mbgen::collision::LineSsv;\nusing mbgen::collision::PointSsv;\n"
-       "using mbgen::collision::SsvDistance;\nusing mbgen::collision::SsvVec3;\nusing mbgen::collision::TriangleSsv;\n\n";
-  d += "template <typename S> SsvVec3<S> at(const S* p) { return {p[0], p[1], p[2]}; }\n";
-  d += "template <typename S> S dot3(const SsvVec3<S>& a, const S* b) { return a.x() * b[0] + a.y() * b[1] + a.z() * b[2]; }\n";
-  d += "template <typename S> void store(const SsvDistance<S>& r, int k, S* distance, S* normal, S* witness) {\n"
-       "  distance[k] = r.distance;\n"
-       "  for (int i = 0; i < 3; ++i) {\n"
-       "    normal[3 * k + i] = r.normal[i];\n"
-       "    witness[6 * k + i] = r.point1[i];\n"
-       "    witness[6 * k + 3 + i] = r.point2[i];\n"
-       "  }\n}\n\n";
-  d += fmt::format("// Self-distances and their Jacobians ({}).\n// Cost: {}.\n", ns, cost);
-  d += fmt::format("template <typename S>\nvoid self_distances_impl({}) {{\n", arguments("S"));
-  d += body + "}\n\n}  // namespace\n\n";
-  for (const std::string& s : scalar_types(scalars))
-    d += fmt::format("void self_distances({}) {{ self_distances_impl<{}>(q, distance, normal, witness, jacobian); }}\n\n",
-                     arguments(s), s);
-  d += fmt::format("}}  // namespace {}\n", ns);
+  SelfDistanceCode code;
+  code.header_fields = {{"num_distance_pairs", std::to_string(np)},
+                        {"distance_pair_rows", std::to_string(np == 0 ? 1 : np)},
+                        {"distance_pair_names", pair_names},
+                        {"distance_cost", cost},
+                        {"distance_prototypes", prototypes}};
+  code.source = ctx.templates.render(
+      "self_distances_source",
+      {{"banner", ctx.banner},
+       {"header", ctx.header},
+       {"robot", ctx.robot},
+       {"cost", cost},
+       {"impl_parameters", arguments("S")},
+       {"body", body},
+       {"entry_points", emit_entry_points("self_distances", "q, distance, normal, witness, jacobian", arguments, ctx)}});
   return code;
 }
 

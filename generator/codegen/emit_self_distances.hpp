@@ -20,13 +20,14 @@
 namespace mbgen::codegen {
 
 struct SelfDistanceCode {
-  std::string declaration;  ///< for NAME.hpp: num_distance_pairs, distance_pair_names, the prototypes
-  std::string definition;   ///< NAME_self_distances.cpp without its banner
+  /// header.fmt's num_distance_pairs, distance_pair_rows, distance_pair_names, distance_cost and
+  /// distance_prototypes.
+  TemplateFields header_fields;
+  std::string source;  ///< self_distances_source.fmt rendered: the source file
 };
 
 /// Always emits the function, with num_distance_pairs = 0 and an empty body when the scene keeps
 /// no pair (so that the generated file set does not depend on the description).
-SelfDistanceCode emit_self_distances(const Model& model, const collision::CollisionModel& scene, const std::string& ns,
-                                     const std::string& header, ScalarChoice scalars);
+SelfDistanceCode emit_self_distances(const Model& model, const collision::CollisionModel& scene, const EmitContext& ctx);
 
 }  // namespace mbgen::codegen

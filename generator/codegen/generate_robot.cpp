@@ -24,43 +24,22 @@ namespace mbgen::codegen {
 
 namespace {
 
-std::string banner(const CodegenOptions& options) {
-  std::string out = fmt::format("{} {} from", kBannerFirstLine, MBGEN_VERSION);
-  for (const InputFile& in : options.inputs) out += fmt::format("\n//   {} (sha256 {})", in.name, in.sha256);
-  out += "\n// Do not edit: regenerate with `mbgen generate`.\n";
-  return out;
+std::string banner(const CodegenOptions& options, const TemplateSet& templates) {
+  std::string inputs;
+  for (const InputFile& in : options.inputs) inputs += templates.render("banner_input", {{"file", in.name}, {"sha256", in.sha256}});
+  return templates.render("banner", {{"version", MBGEN_VERSION}, {"inputs", inputs}});
 }
 
-std::string string_array(const std::string& name, const std::vector<std::string>& items) {
-  std::string out = fmt::format("inline constexpr const char* {}[] = {{", name);
+/// Quoted, comma-separated C string literals: "a", "b".
+std::string quoted_list(const std::vector<std::string>& items) {
+  std::string out;
   for (std::size_t i = 0; i < items.size(); ++i) {
     std::string escaped;
     for (char c : items[i]) escaped += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
     out += fmt::format("{}\"{}\"", i ? ", " : "", escaped);
   }
-  return out + "};\n";
+  return out;
 }
-
-const char* kConventions = R"(// Conventions (the same as mbgen's runtime):
-//  - arrays are plain C arrays; matrices are row-major;
-//  - q has nq entries, v, qdd and tau have nv, in joint_names order;
-//  - a floating base comes first: q = [x y z qx qy qz qw] (base position in the world, unit quaternion
-//    world-from-base, Hamilton, scalar last), v = [v_B w_B] (the base's linear velocity and angular
-//    velocity, both in base coordinates); its tau entries are the wrench on the base in base
-//    coordinates, and its qdd entries the derivative of v (a spatial, not classical, acceleration);
-//  - spatial vectors are [linear; angular]; gravity is (0, 0, -9.81) in the world;
-//  - no function allocates, throws or keeps state: all may run concurrently.
-//  - a robot with kinematic loops (has_loops): forward_dynamics and full_accelerations are those
-//    of the closed system: q is every tree joint's position with the loops closed
-//    (closure_positions), v the independent velocities (ny, independent_joint_names order), tau
-//    every tree joint's force (nv; forces on dependent joints act through the loops);
-//    forward_dynamics returns the independent accelerations (ny), full_accelerations every tree
-//    joint's (nv, joint_names_full order). The maps between the two coordinate sets:
-//    closure_positions (positions), velocity_map / full_velocities / independent_velocities
-//    (v = T vy and back), acceleration_bias (qdd = T ydd + g). The other functions are the
-//    spanning tree's (its inverse dynamics carries no closure forces). Without loops ny = nv,
-//    T is the identity and closure_positions returns at once.
-)";
 
 }  // namespace
 
@@ -87,10 +66,11 @@ std::vector<std::string> default_frames(const Model& model) {
   return frames;
 }
 
-std::vector<GeneratedFile> generate_robot(const gen::Description& description, const CodegenOptions& options) {
+std::vector<GeneratedFile> generate_robot(const gen::Description& description, const CodegenOptions& options,
+                                          const TemplateSet& templates) {
   const Model& model = description.model;
-  const std::string& ns = options.name;
-  const std::string header = ns + ".hpp";
+  const EmitContext ctx{templates, options.name, templates.render("header_file", {{"robot", options.name}}),
+                        banner(options, templates), options.scalars};
 
   std::vector<std::string> frame_names = options.frames.empty() ? default_frames(model) : options.frames;
   std::vector<FrameIndex> frames;
@@ -135,63 +115,65 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                            scene.decisions.size(), gen::sampling_summary(scene), scene.seconds));
     for (const std::string& w : scene.warnings) options.notes->push_back("warning: " + w);
   }
-  const SelfDistanceCode distances = emit_self_distances(model, scene.model, ns, header, options.scalars);
-
-  const std::string top = banner(options);
-  std::vector<GeneratedFile> files;
+  const SelfDistanceCode distances = emit_self_distances(model, scene.model, ctx);
 
   std::vector<std::string> body_names;
   for (int k = 1; k < model.num_bodies(); ++k) body_names.push_back(model.body(BodyIndex(k)).name);
-  std::string h = top + "#pragma once\n\n" + kConventions + fmt::format("\nnamespace {} {{\n\n", ns);
-  h += fmt::format("constexpr int nq = {};\nconstexpr int nv = {};\nconstexpr int num_bodies = {};\n", model.nq(),
-                   model.nv(), model.num_bodies() - 1);
-  h += fmt::format("constexpr int num_frames = {};\nconstexpr bool floating_base = {};\n", frames.size(),
-                   model.floating_base() ? "true" : "false");
-  h += string_array("joint_names", model.joint_names());
-  h += "// Every tree joint, the order of q, v, tau and of full_accelerations (the same as joint_names).\n";
-  h += "inline constexpr const auto& joint_names_full = joint_names;\n";
   // The closed system's coordinates: every tree coordinate not dependent in a loop (all of them
   // for a tree), in v order. forward_dynamics takes and returns these.
   const std::vector<int> independent = Data<double>(model).independent_v;
   std::vector<std::string> independent_names;
   for (int v : independent) independent_names.push_back(gen::coordinate_name(model, v));
-  h += fmt::format("constexpr int ny = {};  // independent coordinates (nv for a robot without loops)\n", independent.size());
-  h += fmt::format("constexpr bool has_loops = {};\n", loops ? "true" : "false");
-  h += string_array("independent_joint_names", independent_names);
-  h += "// The v index of each independent coordinate (ascending).\n";
-  h += fmt::format("inline constexpr int independent_v_index[] = {{{}}};\n", fmt::join(independent, ", "));
-  h += string_array("body_names", body_names);
-  if (!frame_names.empty()) h += string_array("frame_names", frame_names);
-  for (const TracedFunction& f : functions) h += "\n" + emit_declaration(f, options.scalars);
-  h += "\n/// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on\n"
-       "/// velocities that keep the loops closed.\n"
-       "template <typename S> inline void independent_velocities(const S* v, S* vy) {\n"
-       "  for (int i = 0; i < ny; ++i) vy[i] = v[independent_v_index[i]];\n}\n";
-  h += emit_closure_positions_declaration(options.scalars);
-  h += distances.declaration;
-  h += fmt::format("\n}}  // namespace {}\n", ns);
-  files.push_back({header, h});
+  std::string declarations, scalar_declarations;
+  for (const TracedFunction& f : functions) declarations += emit_declaration(f, ctx);
+  for (const std::string& s : scalar_types(options.scalars))
+    scalar_declarations += templates.render("scalar_declarations",
+                                            {{"robot", ctx.robot},
+                                             {"scalar", s},
+                                             {"closure_positions", ctx.public_name("closure_positions", s)},
+                                             {"independent_velocities", ctx.public_name("independent_velocities", s)}});
+  TemplateFields header_fields = {
+      {"banner", ctx.banner},
+      {"robot", ctx.robot},
+      {"nq", std::to_string(model.nq())},
+      {"nv", std::to_string(model.nv())},
+      {"num_bodies", std::to_string(model.num_bodies() - 1)},
+      {"num_frames", std::to_string(frames.size())},
+      {"floating_base", model.floating_base() ? "true" : "false"},
+      {"joint_names", quoted_list(model.joint_names())},
+      {"ny", std::to_string(independent.size())},
+      {"has_loops", loops ? "true" : "false"},
+      {"independent_joint_names", quoted_list(independent_names)},
+      {"independent_v_index", fmt::format("{}", fmt::join(independent, ", "))},
+      {"body_names", quoted_list(body_names)},
+      {"frame_names", frame_names.empty() ? std::string()
+                                          : templates.render("frame_names", {{"robot", ctx.robot}, {"names", quoted_list(frame_names)}})},
+      {"declarations", declarations},
+      {"scalar_declarations", scalar_declarations}};
+  header_fields.insert(header_fields.end(), distances.header_fields.begin(), distances.header_fields.end());
+
+  std::vector<GeneratedFile> files;
+  files.push_back({ctx.header, templates.render("header", header_fields)});
   for (const TracedFunction& f : functions) {
-    std::string definition;
+    std::string source;
     // One copy of the unrolled dynamics: with loops, forward_dynamics is full_accelerations
     // (functions[1]) read at the independent coordinates; without, full_accelerations is
     // forward_dynamics (functions[0]) whole.
     if (loops && f.name == "forward_dynamics") {
-      definition = emit_selection_definition(f, functions[1], Data<double>(model).independent_v, ns, header, options.scalars);
+      source = emit_selection_definition(f, functions[1], independent, ctx);
     } else if (!loops && f.name == "full_accelerations") {
       std::vector<int> all(static_cast<std::size_t>(model.nv()));
       for (int i = 0; i < model.nv(); ++i) all[static_cast<std::size_t>(i)] = i;
-      definition = emit_selection_definition(f, functions[0], all, ns, header, options.scalars);
+      source = emit_selection_definition(f, functions[0], all, ctx);
     } else if (f.name == "full_velocities") {
       const auto map = std::find_if(functions.begin(), functions.end(), [](const TracedFunction& g) { return g.name == "velocity_map"; });
-      definition = emit_product_definition(f, *map, ns, header, options.scalars);
+      source = emit_product_definition(f, *map, ctx);
     } else
-      definition = emit_definition(f, ns, header, options.scalars);
-    files.push_back({fmt::format("{}_{}.cpp", ns, f.name), top + "\n" + definition});
+      source = emit_definition(f, ctx);
+    files.push_back({ctx.source_file(f.name), source});
   }
-  files.push_back({fmt::format("{}_closure_positions.cpp", ns),
-                   top + "\n" + emit_closure_positions_definition(model, ns, header, options.scalars)});
-  files.push_back({fmt::format("{}_self_distances.cpp", ns), top + "\n" + distances.definition});
+  files.push_back({ctx.source_file("closure_positions"), emit_closure_positions_definition(model, ctx)});
+  files.push_back({ctx.source_file("self_distances"), distances.source});
   return files;
 }
 

@@ -23,16 +23,17 @@ std::string read_all(const fs::path& path) {
 }
 }  // namespace
 
-std::string sha256_of_file(const std::string& path) {
-  const std::string bytes = read_all(path);
+std::string sha256_hex(const std::string& bytes) {
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int length = 0;
   if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1)
-    throw std::runtime_error(fmt::format("{}: SHA-256 failed", path));
+    throw std::runtime_error("SHA-256 failed (OpenSSL EVP_Digest)");
   std::string hex;
   for (unsigned int i = 0; i < length; ++i) hex += fmt::format("{:02x}", digest[i]);
   return hex;
 }
+
+std::string sha256_of_file(const std::string& path) { return sha256_hex(read_all(path)); }
 
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files) {
   const fs::path dir(directory);

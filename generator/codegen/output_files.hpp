@@ -17,6 +17,9 @@ struct WriteReport {
 /// file, if one exists that mbgen did not write; then nothing is written at all.
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files);
 
+/// Hex SHA-256 of `bytes` (OpenSSL).
+std::string sha256_hex(const std::string& bytes);
+
 /// Hex SHA-256 of a file's bytes (OpenSSL); throws std::runtime_error if it cannot be read.
 std::string sha256_of_file(const std::string& path);
 

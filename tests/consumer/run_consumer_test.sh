@@ -15,7 +15,8 @@ prefix=$work_dir/prefix
 rm -rf "$work_dir"
 mkdir -p "$work_dir"
 cmake --install "$build_dir" --prefix "$prefix" >"$work_dir/install.log"
-for installed in bin/mbgen include/mbgen/mbgen.hpp lib/cmake/mbgen/mbgenConfig.cmake \
+for installed in bin/mbgen share/mbgen/templates/cpp/header.fmt share/mbgen/templates/c/header.fmt \
+                 include/mbgen/mbgen.hpp lib/cmake/mbgen/mbgenConfig.cmake \
                  lib/cmake/mbgen/mbgenConfigVersion.cmake lib/cmake/mbgen/mbgen_add_robot.cmake; do
   if [[ ! -e $prefix/$installed ]]; then
     echo "FAIL: cmake --install did not install $installed (log: $work_dir/install.log)" >&2
@@ -34,3 +35,4 @@ if ! grep -q "mbgen generator: $prefix/bin/mbgen" "$work_dir/configure.log"; the
 fi
 cmake --build "$work_dir/build" -j2 >"$work_dir/build.log" || { cat "$work_dir/build.log"; exit 1; }
 "$work_dir/build/consumer"
+"$work_dir/build/consumer_c"

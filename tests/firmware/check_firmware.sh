@@ -17,7 +17,7 @@ fi
 mbgen=$1 runtime_include=$2 work_dir=$3 name=$4 description=$5
 shift 5
 
-for tool in arm-none-eabi-g++ arm-none-eabi-nm; do
+for tool in arm-none-eabi-g++ arm-none-eabi-gcc arm-none-eabi-nm; do
   if ! command -v "$tool" >/dev/null; then
     echo "SKIPPED: $tool not found (Debian: apt-get install gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib," \
          "or run scripts/install_deps.sh); the firmware check runs in CI." >&2
@@ -55,6 +55,16 @@ jobs=$(nproc 2>/dev/null || echo 2)
 if ! find "$work_dir/src" -name '*.cpp' -print0 | sort -z | xargs -0 -n1 -P"$jobs" bash -c 'compile_one "$0"'; then
   echo "firmware check: $name does not compile for the Cortex-M7 (errors above)." >&2
   exit 1
+fi
+
+# The c flavour (--flavour c): its header must be plain C99 for the firmware's C compiler too.
+if [[ -f "$work_dir/src/$name.h" ]]; then
+  echo "#include \"$name.h\"" > "$work_dir/obj/c_header_check.c"
+  if ! arm-none-eabi-gcc -mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -std=c99 -pedantic -Wall -Wextra -Werror \
+      -fsyntax-only -I"$work_dir/src" "$work_dir/obj/c_header_check.c"; then
+    echo "firmware check: $name.h is not C99 for arm-none-eabi-gcc (errors above)." >&2
+    exit 1
+  fi
 fi
 
 # Heap and C++ runtime: malloc/free (and friends), operator new/delete (mangled _Znw/_Zna/_Zdl/_Zda),
