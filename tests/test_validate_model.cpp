@@ -67,7 +67,7 @@ TEST(Validate, JointMovingNoMass) {
   urdf_error("massless_joint.urdf", 10, "joint 'wrist'", "moves no mass or inertia");
 }
 
-TEST(Validate, ZeroJointAxis) { urdf_error("zero_axis.urdf", 4, "joint 'hinge'", "joint axis is zero"); }
+TEST(Validate, ZeroJointAxis) { urdf_error("zero_axis.urdf", 6, "joint 'hinge'", "joint axis is zero"); }
 
 TEST(Validate, LowerLimitAboveUpper) {
   urdf_error("lower_above_upper.urdf", 4, "joint 'hinge'", "lower limit 1.5 is above upper limit -1.5");

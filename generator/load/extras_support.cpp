@@ -9,19 +9,17 @@
 
 #include "load/load_error.hpp"
 #include "load/name_match.hpp"
+#include "load/parse_numbers.hpp"
 
 namespace mbgen::gen {
 
 namespace {
-/// A plain number: yaml-cpp would also read "1e" or "0x10" through its stream conversion.
+/// A plain number (parse_numbers): yaml-cpp would also read "1e", "0x10" or ".nan".
 bool parse_number(const std::string& text, double& value) {
-  try {
-    std::size_t used = 0;
-    value = std::stod(text, &used);
-    return used == text.size() && std::isfinite(value);
-  } catch (const std::exception&) {
-    return false;
-  }
+  const ParsedNumbers parsed = parse_numbers(text);
+  if (!parsed.problem.empty() || parsed.values.size() != 1) return false;
+  value = parsed.values[0];
+  return true;
 }
 
 std::string with_suggestion(const std::string& fix, const std::string& suggestion) {

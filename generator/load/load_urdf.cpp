@@ -19,6 +19,7 @@
 #include "load/load_error.hpp"
 #include "load/check_values.hpp"
 #include "load/parse_urdf.hpp"
+#include "load/urdf_numbers.hpp"
 
 namespace mbgen::gen {
 
@@ -104,6 +105,7 @@ XmlIndex index_xml(const std::string& path, const std::string& text) {
     throw LoadError(path, root ? root->GetLineNum() : 1, "", fmt::format("not a URDF: {}", what),
                     "give a URDF file (one <robot name=...> element), or an MJCF file with the .xml extension; SDF is not read yet");
   }
+  check_urdf_numbers(path, *robot);
   for (tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const char* name = e->Attribute("name");
     if (!name) continue;
@@ -196,10 +198,7 @@ struct Builder {
       if (j.type == JointType::Floating) {
         j.X_PJ = X_BL;  // q of a floating joint is the child's pose in the parent link's frame
       } else {
-        if (axis.norm() < 1e-12)
-          throw LoadError(path, line_of_joint(joint->name), fmt::format("joint '{}'", joint->name),
-                          "joint axis is zero", "give a non-zero <axis xyz=\"...\"/>, e.g. xyz=\"0 0 1\"");
-        j.axis = axis.normalized();
+        j.axis = axis.normalized();  // not zero: check_urdf_numbers refused that
       }
       const bool limit_added = std::find(xml.joints_without_limit.begin(), xml.joints_without_limit.end(),
                                          joint->name) != xml.joints_without_limit.end();

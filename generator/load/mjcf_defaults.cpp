@@ -12,6 +12,7 @@
 
 #include "load/load_error.hpp"
 #include "load/mjcf_support.hpp"
+#include "load/parse_numbers.hpp"
 
 namespace mbgen::gen::mjcf {
 
@@ -83,16 +84,11 @@ std::string Element::string(const std::string& name, const std::string& fallback
 std::optional<std::vector<double>> Element::numbers(const std::string& name, int n) const {
   const std::optional<std::string> text = attribute(name);
   if (!text) return std::nullopt;
-  std::vector<double> values;
-  std::istringstream in(*text);
-  std::string token;
-  while (in >> token) {
-    char* end = nullptr;
-    const double x = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0' || !std::isfinite(x))
-      fail(fmt::format("{}=\"{}\" is not a list of numbers", name, *text), "write plain decimal numbers separated by spaces");
-    values.push_back(x);
-  }
+  const ParsedNumbers parsed = parse_numbers(*text);
+  if (!parsed.problem.empty())
+    fail(fmt::format("{}=\"{}\" is not a list of numbers: {}", name, *text, parsed.problem),
+         "write plain decimal numbers separated by spaces");
+  const std::vector<double>& values = parsed.values;
   if (n > 0 && static_cast<int>(values.size()) != n)
     fail(fmt::format("{}=\"{}\" has {} number(s), {} expected", name, *text, values.size(), n),
          fmt::format("give exactly {} numbers", n));
