@@ -197,4 +197,20 @@ TEST(Inspect, Version) {
 }
 
 }  // namespace
+// An indefinite inertia is refused with the opt-in named; with it, the note says what changed.
+TEST(InspectCommand, RepairInertiaOnRequest) {
+  const std::string file = kData + "/inertia/indefinite_antenna.urdf";
+  const Outcome refused = run_mbgen("inspect " + quote(file));
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("indefinite_antenna.urdf:9: error: link 'antenna': inertia is not positive semi-definite"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("--repair-inertia"), std::string::npos) << refused.err;
+  const Outcome repaired = run_mbgen("inspect --repair-inertia " + quote(file));
+  EXPECT_EQ(repaired.status, 0) << repaired.err;
+  EXPECT_NE(repaired.out.find("notes (1):\n  - link 'antenna' (line 9): inertia repaired (--repair-inertia)"),
+            std::string::npos)
+      << repaired.out;
+}
+
 }  // namespace mbgen

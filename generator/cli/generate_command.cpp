@@ -22,7 +22,7 @@ struct GenerateOptions {
   std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
-  bool floating = false, fixed = false, quiet = false;
+  bool floating = false, fixed = false, quiet = false, repair_inertia = false;
 };
 
 int run_generate(const GenerateOptions& o) {
@@ -35,6 +35,7 @@ int run_generate(const GenerateOptions& o) {
     if (!o.extras.empty()) load.extras_file = o.extras;
     if (o.floating) load.base = gen::BaseType::Floating;
     if (o.fixed) load.base = gen::BaseType::Fixed;
+    load.repair_inertia = o.repair_inertia;
     const gen::Description d = gen::load_description(o.description, load);
 
     codegen::CodegenOptions options;
@@ -62,6 +63,7 @@ int run_generate(const GenerateOptions& o) {
     const std::string header = templates.render("header_file", {{"robot", options.name}});
     if (!o.quiet) {
       for (const std::string& w : d.warnings) std::cerr << "warning: " << w << "\n";
+      for (const std::string& n : d.notes) std::cout << "note: " << n << "\n";
       for (const std::string& note : notes) (note.rfind("warning: ", 0) == 0 ? std::cerr : std::cout) << note << "\n";
       std::cout << fmt::format("mbgen: {} (nq {}, nv {}) -> {}/{}: {} files written, {} unchanged, {:.2f} s\n",
                                options.name, d.model.nq(), d.model.nv(), o.out, header, report.written.size(),
@@ -101,6 +103,8 @@ void add_generate_command(CLI::App& app, int& status) {
       ->excludes(flavour);
   auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
   cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
+  cmd->add_flag("--repair-inertia", options->repair_inertia,
+                "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_generate(*options); });
 }

@@ -29,7 +29,7 @@ using Json = nlohmann::ordered_json;  // keys in the order written: a stable, re
 struct InspectOptions {
   std::string description;
   std::string extras;
-  bool floating = false, fixed = false, json = false;
+  bool floating = false, fixed = false, json = false, repair_inertia = false;
   int samples = -1;  ///< collision pruning samples; -1: the scene's prune_samples or the default
 };
 
@@ -168,6 +168,10 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   if (collision) print_collision_scene(*collision, out);
   std::vector<std::string> warnings = d.warnings;
   if (collision) warnings.insert(warnings.end(), collision->warnings.begin(), collision->warnings.end());
+  if (!d.notes.empty()) {  // values changed on loading (round-off zeroed, inertias repaired)
+    out << fmt::format("\nnotes ({}):\n", d.notes.size());
+    for (const std::string& n : d.notes) out << "  - " << n << "\n";
+  }
   out << fmt::format("\nwarnings ({}):\n", warnings.size());
   for (const std::string& w : warnings) out << "  - " << w << "\n";
   out << fmt::format("\nverdict: OK: '{}' loads ({} DoF, {} closure(s), closed-system DoF {}, {} warning(s))\n",
@@ -304,6 +308,7 @@ Json to_json(const Description& d) {
               {"ssv", ssv},
               {"scene", scene},
               {"warnings", d.warnings},
+              {"notes", d.notes},
               {"ok", true}};
 }
 
@@ -312,6 +317,7 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
   if (!options.extras.empty()) load.extras_file = options.extras;
   if (options.floating) load.base = BaseType::Floating;
   if (options.fixed) load.base = BaseType::Fixed;
+  load.repair_inertia = options.repair_inertia;
   try {
     const Description d = gen::load_description(options.description, load);
     std::optional<gen::CollisionScene> collision;
@@ -350,6 +356,8 @@ void add_inspect_command(CLI::App& app, int& status) {
   CLI::Option* fixed = inspect->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)");
   floating->excludes(fixed);
   inspect->add_flag("--json", options->json, "print one JSON object instead of the report");
+  inspect->add_flag("--repair-inertia", options->repair_inertia,
+                    "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
   inspect->add_option("--samples", options->samples,
                       "configurations sampled to prune collision pairs (default: the scene's prune_samples, else 10000)")
       ->check(CLI::NonNegativeNumber);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "load/check_values.hpp"
 #include "mbgen/model.hpp"
 
 namespace mbgen::gen {
@@ -96,6 +97,9 @@ struct Description {
   std::vector<std::string> actuated_joints;  ///< name_mot of robot.yaml, or `independent` hints
   std::vector<DriveSpec> drives;
   std::vector<std::string> warnings;
+  /// Values the loader changed that were not wrong enough to refuse: inertia round-off treated as
+  /// zero, inertias repaired on request (LoadOptions::repair_inertia). `inspect` prints them.
+  std::vector<std::string> notes;
 
   // Added with the YAML extras (issue 2, items 2 and 4).
   std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name
@@ -117,6 +121,9 @@ struct LoadOptions {
   std::optional<std::string> extras_file;  ///< YAML extras; if absent, a robot.yaml beside the URDF is used
   std::optional<BaseType> base;            ///< overrides the extras' `base`
   bool pick_up_robot_yaml = true;
+  /// Replace inertias that no rigid body has by the nearest valid ones, with a note each
+  /// (ValueReport::repair_inertia; `--repair-inertia`), instead of refusing them.
+  bool repair_inertia = false;
 };
 
 /// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked
@@ -130,7 +137,7 @@ Description read_description(const std::string& path, const LoadOptions& options
 /// lines of <body> (as urdf_lines.link) and <joint> elements. The file's free joint decides the
 /// base unless `base` overrides it (fixed: the free body is welded where the file puts it;
 /// floating: a body welded to the world gets a free joint 'root_joint').
-void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d);
+void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d, bool repair_inertia = false);
 
 /// True for a path that load_description reads as MJCF (extension .xml, any case).
 bool is_mjcf_path(const std::string& path);
@@ -141,6 +148,6 @@ void add_collision_ssvs(const std::string& path, Description& d);
 /// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);
 /// The same, also reporting where each <link> and <joint> element starts.
-Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines);
+Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines);
 
 }  // namespace mbgen::gen

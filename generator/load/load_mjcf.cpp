@@ -58,6 +58,7 @@ struct Builder {
   Description& d;
   std::optional<BaseType> base_override;
   int unnamed = 0;
+  bool repair_inertia = false;
 
   const std::string& path() const { return tree.path; }
 
@@ -91,7 +92,8 @@ struct Builder {
     }
     Inertia<double> inertia;
     inertia.mass = x.number("mass", 0);
-    check_link_inertia(path(), in->GetLineNum(), tree.bodies[b].name, inertia.mass, I, d.warnings);
+    ValueReport report{d.warnings, d.notes, repair_inertia};
+    I = check_link_inertia(path(), in->GetLineNum(), tree.bodies[b].name, inertia.mass, I, report);
     inertia.com = X_BI.translation;
     inertia.inertia_com = X_BI.rotation * I * X_BI.rotation.transpose();
     return inertia;
@@ -329,7 +331,7 @@ struct Builder {
 }  // namespace
 }  // namespace mjcf
 
-void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d) {
+void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d, bool repair_inertia) {
   std::ifstream in(path);
   if (!in) throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
   std::stringstream buffer;
@@ -367,7 +369,7 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
   tree.bodies.push_back(world);
   tree.body_index["world"] = 0;
   tree.bodies[0].frame = d.model.add_frame(Frame{"world", FrameKind::Body, kWorldBody, SE3<double>::Identity()});
-  mjcf::Builder builder{tree, d, base, 0};
+  mjcf::Builder builder{tree, d, base, 0, repair_inertia};
   if (world.xml) {
     for (const tinyxml2::XMLElement* e = world.xml->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string kind = e->Name();

@@ -231,15 +231,19 @@ struct Builder {
 
 /// Checks what urdfdom accepts but dynamics cannot use, on the raw per-link and per-joint
 /// values, so that each message names the URDF element and its line.
-void check_urdf_values(const std::string& path, const urdf::ModelInterface& urdf, const XmlIndex& xml,
-                       std::vector<std::string>& warnings) {
+void check_urdf_values(const std::string& path, urdf::ModelInterface& urdf, const XmlIndex& xml, ValueReport& report) {
   for (const std::string& link_name : xml.link_order) {
-    urdf::LinkConstSharedPtr link = urdf.getLink(link_name);
-    if (!link || !link->inertial) continue;
-    const urdf::Inertial& in = *link->inertial;
+    const auto found = urdf.links_.find(link_name);
+    if (found == urdf.links_.end() || !found->second->inertial) continue;
+    urdf::Inertial& in = *found->second->inertial;
     Mat3<double> I_C;
     I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-    check_link_inertia(path, xml.link_line.at(link_name), link_name, in.mass, I_C, warnings);
+    // The inertia to use (round-off zeroed, or repaired on request) replaces urdfdom's values.
+    const Mat3<double> used = check_link_inertia(path, xml.link_line.at(link_name), link_name, in.mass, I_C, report);
+    if (used != I_C) {
+      in.ixx = used(0, 0), in.iyy = used(1, 1), in.izz = used(2, 2);
+      in.ixy = used(0, 1), in.ixz = used(0, 2), in.iyz = used(1, 2);
+    }
   }
   for (const std::string& joint_name : xml.joint_order) {
     urdf::JointConstSharedPtr joint = urdf.getJoint(joint_name);
@@ -255,7 +259,9 @@ void check_urdf_values(const std::string& path, const urdf::ModelInterface& urdf
 }  // namespace
 
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings) {
-  return load_urdf_model(path, base, warnings, nullptr);
+  std::vector<std::string> notes;
+  ValueReport report{warnings, notes};
+  return load_urdf_model(path, base, report, nullptr);
 }
 
 namespace {
@@ -281,7 +287,8 @@ urdf::ModelInterfaceSharedPtr parse_indexed(const std::string& path, const XmlIn
 
 urdf::ModelInterfaceSharedPtr parse_urdf_file(const std::string& path) { return parse_indexed(path, read_and_index(path)); }
 
-Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings, SourceLines* lines) {
+Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines) {
+  std::vector<std::string>& warnings = report.warnings;
   const XmlIndex xml = read_and_index(path);
   urdf::ModelInterfaceSharedPtr urdf = parse_indexed(path, xml);
 
@@ -289,7 +296,7 @@ Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::s
     lines->link = xml.link_line;
     lines->joint = xml.joint_line;
   }
-  check_urdf_values(path, *urdf, xml, warnings);
+  check_urdf_values(path, *urdf, xml, report);
   if (!xml.joints_without_range.empty())
     warnings.push_back(fmt::format(
         "{} joint(s) have a <limit> without lower and upper: loaded as unbounded rather than locked at URDF's "

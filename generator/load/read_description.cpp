@@ -40,10 +40,11 @@ Description read_description(const std::string& path, const LoadOptions& options
     // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
     if (!base && extras) base = extras_base(*extras);
-    load_mjcf(path, base, d);
+    load_mjcf(path, base, d, options.repair_inertia);
   } else {
     d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
-    d.model = load_urdf_model(path, d.base, d.warnings, &d.urdf_lines);
+    ValueReport report{d.warnings, d.notes, options.repair_inertia};
+    d.model = load_urdf_model(path, d.base, report, &d.urdf_lines);
     d.robot_name = d.model.name;
     add_collision_ssvs(path, d);
   }
