@@ -2,6 +2,9 @@
 // problem. The inputs are the tiny files in tests/data/bad/.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "load/load_error.hpp"
 #include "test_support.hpp"
 
@@ -64,7 +67,26 @@ TEST(Validate, InertiaNotPositiveSemiDefinite) {
 }
 
 TEST(Validate, JointMovingNoMass) {
-  urdf_error("massless_joint.urdf", 10, "joint 'wrist'", "moves no mass or inertia");
+  const std::string text = urdf_error("massless_joint.urdf", 10, "joint 'wrist'", "moves no mass or inertia");
+  EXPECT_NE(text.find("drives: [{joint: wrist, gear_ratio: 1, rotor_inertia: 1e-6}]"), std::string::npos) << text;
+}
+
+// The fix works: the drive's armature (or rotor body) makes the wrist's row of M regular.
+TEST(Validate, JointMovingNoMassLoadsWithADrive) {
+  for (const char* model : {"armature", "body"}) {
+    gen::LoadOptions options;
+    options.pick_up_robot_yaml = false;
+    const std::string extras = testing::TempDir() + "massless_wrist_" + model + ".yaml";
+    std::ifstream in(kData + "/extras/massless_wrist_drive.yaml");
+    std::stringstream yaml;
+    yaml << in.rdbuf();
+    std::string text = yaml.str();
+    text.replace(text.find("rotor_inertia: 1e-6}"), 20, std::string("rotor_inertia: 1e-6, model: ") + model + "}");
+    std::ofstream(extras) << text;
+    options.extras_file = extras;
+    const gen::Description d = gen::load_description(kBad + "massless_joint.urdf", options);
+    EXPECT_EQ(d.model.nv(), 2) << model;
+  }
 }
 
 TEST(Validate, ZeroJointAxis) { urdf_error("zero_axis.urdf", 6, "joint 'hinge'", "joint axis is zero"); }

@@ -42,15 +42,20 @@ void check_joints_move_mass(const Description& d) {
     const Joint& joint = model.joint(Model::joint_of(BodyIndex(b)));
     Eigen::MatrixXd S(6, joint.nv);
     for (int k = 0; k < joint.nv; ++k) S.col(k) = joint_subspace_column<double>(joint, k).vector();
-    const Eigen::MatrixXd M_jj = S.transpose() * Ic[b] * S;
+    Eigen::MatrixXd M_jj = S.transpose() * Ic[b] * S;
+    // A drive's reflected inertia regularises the joint's row of M (rotor.hpp): armature on the
+    // diagonal, or a rotor body spinning N times faster.
+    if (joint.nv == 1) M_jj(0, 0) += joint.armature + joint.rotor_gear_ratio * joint.rotor_gear_ratio * joint.rotor_inertia;
     const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M_jj, Eigen::EigenvaluesOnly).eigenvalues()[0];
     if (smallest > kSingularTolerance) continue;
     throw LoadError(d.description_file, d.urdf_lines.line_of_joint(joint.name), fmt::format("joint '{}'", joint.name),
                     fmt::format("moves no mass or inertia (body '{}' and the bodies below it have none along the "
                                 "joint's motion at q = 0): the mass matrix would be singular",
                                 model.body(BodyIndex(b)).name),
-        "give the child link (or a link below it) an <inertial> with non-zero mass and inertia, or make the "
-        "joint fixed");
+        fmt::format("give the child link (or a link below it) an <inertial> with non-zero mass and inertia; or give "
+                    "the joint a drive whose rotor inertia regularises M (extras: `drives: [{{joint: {}, gear_ratio: "
+                    "1, rotor_inertia: 1e-6}}]`); or make the joint fixed",
+                    joint.name));
   }
 }
 
