@@ -55,6 +55,17 @@ std::string yaml_error(const std::string& name, int line, const std::string& ele
 
 TEST(Validate, MalformedXml) { urdf_error("malformed.urdf", 4, "", "malformed XML: mismatched element"); }
 
+// Hostile nesting (a generated file gone wrong): tinyxml2's depth limit, said as such.
+TEST(Validate, NestingDeeperThanTheXmlReadersLimit) {
+  const std::string path = testing::TempDir() + "mbgen_deep.urdf";
+  std::string text = "<?xml version=\"1.0\"?>\n<robot name=\"deep\"><link name=\"a\">";
+  for (int i = 0; i < 10000; ++i) text += "<x>";
+  for (int i = 0; i < 10000; ++i) text += "</x>";
+  std::ofstream(path) << text << "</link></robot>\n";
+  const std::string message = expect_error(path, "", {path, 2, "", "malformed XML: element depth exceeded"});
+  EXPECT_NE(message.find("limit of 100 levels"), std::string::npos) << message;
+}
+
 // An MJCF body under the .urdf extension: the extension decides the reader (.xml is MJCF).
 TEST(Validate, NotAUrdf) { urdf_error("not_urdf.urdf", 1, "", "not a URDF: the root element is <mujoco>"); }
 

@@ -20,6 +20,7 @@
 #include "load/load_error.hpp"
 #include "load/check_values.hpp"
 #include "load/mjcf_tree.hpp"
+#include "load/xml_error.hpp"
 
 namespace mbgen::gen {
 
@@ -339,8 +340,7 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
   const std::string text = buffer.str();
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
-    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", mjcf::readable_xml_error(doc)),
-                    "repair the XML (an unclosed tag or stray character is the usual cause)");
+    throw xml_parse_error(path, doc);
   const tinyxml2::XMLElement* root = doc.FirstChildElement("mujoco");
   if (!root) {
     const tinyxml2::XMLElement* r = doc.RootElement();

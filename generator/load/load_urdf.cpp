@@ -20,6 +20,7 @@
 #include "load/check_values.hpp"
 #include "load/parse_urdf.hpp"
 #include "load/urdf_numbers.hpp"
+#include "load/xml_error.hpp"
 
 namespace mbgen::gen {
 
@@ -78,24 +79,12 @@ struct XmlIndex {
   std::string urdf_text;  ///< the text handed to urdfdom (with the <limit> elements it insists on)
 };
 
-/// tinyxml2's "Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=4: XMLElement
-/// name=inertial" as "mismatched element (XMLElement name=inertial)": the line is given apart.
-std::string readable_xml_error(const tinyxml2::XMLDocument& doc) {
-  std::string name = doc.ErrorName();
-  if (name.rfind("XML_ERROR_", 0) == 0) name = name.substr(10);
-  for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const std::string full = doc.ErrorStr();
-  const std::size_t colon = full.find(": ");
-  return colon == std::string::npos ? name : fmt::format("{} ({})", name, full.substr(colon + 2));
-}
-
 /// Indexes the XML and, because urdfdom rejects a revolute or prismatic joint without <limit>
 /// (Drake and MuJoCo accept it as unbounded), gives such joints a zero limit, marked unbounded later.
 XmlIndex index_xml(const std::string& path, const std::string& text) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
-    throw LoadError(path, doc.ErrorLineNum(), "", fmt::format("malformed XML: {}", readable_xml_error(doc)),
-                    "repair the XML (an unclosed tag or stray character is the usual cause)");
+    throw xml_parse_error(path, doc);
   }
   XmlIndex index;
   tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");

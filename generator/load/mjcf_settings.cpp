@@ -22,13 +22,6 @@ void check_attributes(const Element& e, const std::set<std::string>& known) {
              "remove it, or model its effect another way (see docs/mjcf.md)");
 }
 
-std::string readable_xml_error(const tinyxml2::XMLDocument& doc) {
-  std::string name = doc.ErrorName();
-  if (name.rfind("XML_ERROR_", 0) == 0) name = name.substr(10);
-  for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return name;
-}
-
 Compiler read_compiler(const std::string& path, const tinyxml2::XMLElement* root, const Defaults& defaults) {
   Compiler c;
   for (const tinyxml2::XMLElement* e = root->FirstChildElement("compiler"); e; e = e->NextSiblingElement("compiler")) {

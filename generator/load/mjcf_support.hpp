@@ -73,8 +73,6 @@ void check_top_level(const std::string& path, const tinyxml2::XMLElement* root);
                                 const std::string& fix);
 /// Fails on an attribute outside `known`: whatever mbgen does not read might change the dynamics.
 void check_attributes(const Element& e, const std::set<std::string>& known);
-/// tinyxml2's error name as words ("mismatched element").
-std::string readable_xml_error(const tinyxml2::XMLDocument& doc);
 
 /// Rotation given by whichever of quat, axisangle, euler, xyaxes, zaxis the element has (identity
 /// if none; two of them is an error, as in MuJoCo). See mjcf_orientation.cpp.
