@@ -100,6 +100,21 @@ TEST(Validate, JointMovingNoMassLoadsWithADrive) {
   }
 }
 
+// A joint naming a missing link: said with the line of the <parent> and a suggestion (urdfdom's
+// own message had no line, and on this error it leaks the half-built model: a fuzzer finding).
+TEST(Validate, JointNamesAMissingLink) {
+  const std::string text = urdf_error("missing_link.urdf", 5, "joint 'hinge'", "its parent link 'base' is not a link of the robot");
+  EXPECT_NE(text.find("did you mean 'bawe'?"), std::string::npos) << text;
+}
+
+TEST(Validate, SecondRootLink) {
+  urdf_error("two_roots.urdf", 11, "link 'camera'", "is a second root: no joint has it as child, nor 'base' (line 3)");
+}
+
+TEST(Validate, LinkDefinedTwice) {
+  urdf_error("duplicate_link.urdf", 11, "link 'arm'", "is defined twice (first on line 8)");
+}
+
 TEST(Validate, ZeroJointAxis) { urdf_error("zero_axis.urdf", 6, "joint 'hinge'", "joint axis is zero"); }
 
 TEST(Validate, LowerLimitAboveUpper) {

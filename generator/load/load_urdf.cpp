@@ -17,6 +17,7 @@
 
 #include "load/description.hpp"
 #include "load/load_error.hpp"
+#include "load/name_match.hpp"
 #include "load/check_values.hpp"
 #include "load/parse_urdf.hpp"
 #include "load/urdf_numbers.hpp"
@@ -79,6 +80,54 @@ struct XmlIndex {
   std::string urdf_text;  ///< the text handed to urdfdom (with the <limit> elements it insists on)
 };
 
+/// The tree's references, checked before urdfdom builds it (its messages carry no line, and on
+/// these errors it leaks the half-built model): names are unique, every joint's <parent> and
+/// <child> name a link, and exactly one link is no joint's child (the root).
+void check_references(const std::string& path, const tinyxml2::XMLElement& robot, const XmlIndex& index) {
+  std::map<std::string, int> seen;
+  std::map<std::string, std::string> parent_joint;  // child link -> a joint that has it as child
+  for (const tinyxml2::XMLElement* e = robot.FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string kind = e->Name();
+    if (kind != "link" && kind != "joint") continue;
+    const char* name = e->Attribute("name");
+    if (!name || !*name)
+      throw LoadError(path, e->GetLineNum(), fmt::format("<{}>", kind), "has no name", "give it a name=\"...\"");
+    const auto [previous, fresh] = seen.emplace(kind + " " + name, e->GetLineNum());
+    if (!fresh)
+      throw LoadError(path, e->GetLineNum(), fmt::format("{} '{}'", kind, name),
+                      fmt::format("is defined twice (first on line {})", previous->second),
+                      fmt::format("rename one of the two {}s", kind));
+    if (kind != "joint") continue;
+    for (const char* end : {"parent", "child"}) {
+      const tinyxml2::XMLElement* ref = e->FirstChildElement(end);
+      const char* link = ref ? ref->Attribute("link") : nullptr;
+      if (!link)
+        throw LoadError(path, e->GetLineNum(), fmt::format("joint '{}'", name), fmt::format("has no <{} link=\"...\"/>", end),
+                        fmt::format("name the joint's {} link", end));
+      if (!index.link_line.count(link)) {
+        const std::string suggestion = did_you_mean(link, index.link_order);
+        throw LoadError(path, ref->GetLineNum(), fmt::format("joint '{}'", name),
+                        fmt::format("its {} link '{}' is not a link of the robot", end, link),
+                        suggestion.empty() ? fmt::format("add <link name=\"{}\"/> or correct the name", link)
+                                           : fmt::format("{} (or add <link name=\"{}\"/>)", suggestion, link));
+      }
+      if (std::string(end) == "child") parent_joint.emplace(link, name);
+    }
+  }
+  std::vector<std::string> roots;
+  for (const std::string& link : index.link_order)
+    if (!parent_joint.count(link)) roots.push_back(link);
+  if (roots.empty() && !index.link_order.empty())
+    throw LoadError(path, robot.GetLineNum(), fmt::format("robot '{}'", robot.Attribute("name") ? robot.Attribute("name") : ""),
+                    "has no root link: every link is some joint's child, so the joints form a loop",
+                    "URDF describes a tree: remove one joint of the loop and declare it as a closure in the YAML extras");
+  if (roots.size() > 1)
+    throw LoadError(path, index.link_line.at(roots[1]), fmt::format("link '{}'", roots[1]),
+                    fmt::format("is a second root: no joint has it as child, nor '{}' (line {})", roots[0],
+                                index.link_line.at(roots[0])),
+                    "connect it to the robot with a joint (a fixed one if it does not move), or remove it");
+}
+
 /// Indexes the XML and, because urdfdom rejects a revolute or prismatic joint without <limit>
 /// (Drake and MuJoCo accept it as unbounded), gives such joints a zero limit, marked unbounded later.
 XmlIndex index_xml(const std::string& path, const std::string& text) {
@@ -119,6 +168,7 @@ XmlIndex index_xml(const std::string& path, const std::string& text) {
       }
     }
   }
+  check_references(path, *robot, index);
   if (index.joints_without_limit.empty()) {
     index.urdf_text = text;
   } else {
