@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev libmujoco-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
   gnuplot-nox python3 valgrind
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

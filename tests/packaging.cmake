@@ -52,3 +52,8 @@ add_test(NAME layout.stages COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/check_lay
 add_test(NAME layout.stages_catches_upward_include
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_layout_planted.sh ${PROJECT_SOURCE_DIR}
                  ${CMAKE_CURRENT_BINARY_DIR}/layout_planted)
+
+# The fuzz targets (fuzz/README.md), a few seconds each: built with clang in a tree of their own.
+add_test(NAME fuzz.smoke COMMAND bash ${PROJECT_SOURCE_DIR}/fuzz/run_fuzzers.sh ${CMAKE_CURRENT_BINARY_DIR}/fuzz-build 5)
+set_tests_properties(fuzz.smoke PROPERTIES PROCESSORS 2 TIMEOUT 900
+                     ENVIRONMENT "MBGEN_SHARED_ROBOTS=${MBGEN_SHARED_ROBOTS};MBGEN_FUZZ_SEED=1")

@@ -18,6 +18,9 @@
 // poses, test_topology) to the recursion, so 1e-2 relative (1e3 * 1e-5 of the tree bound).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <type_traits>
 
@@ -275,6 +278,32 @@ TEST_F(GeneratedTest, FloatWithinDerivedBound) { compare<float>(1e-4, 100); }
 TEST_F(GeneratedTest, ClosedSystemDoubleEqualsGeneric) { compare_closed<double>(1e-12, 20); }
 
 TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(gen_ns::has_loops ? 1e-2 : 1e-4, 20); }
+
+// Non-finite input gives non-finite output where the output depends on it, and the closure
+// says not_converged: a NaN never turns into a plausible number (docs/reliability.md).
+TEST_F(GeneratedTest, NonFiniteInputsGiveNonFiniteOutputs) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const double bad : {nan, std::numeric_limits<double>::infinity()}) {
+    std::vector<double> q(gen_ns::nq, 0.0), v(gen_ns::ny, 0.1), tau(gen_ns::nv, 0.2), qdd(gen_ns::ny);
+    if (gen_ns::floating_base) q[6] = 1;
+    ASSERT_EQ(gen_ns::closure_positions(q.data()).status, gen_ns::ClosureStatus::converged);
+    // A joint force: the joint's own acceleration depends on it (M^-1 has a positive diagonal).
+    for (int i = 0; i < gen_ns::ny; ++i) {
+      std::vector<double> t = tau;
+      t[static_cast<std::size_t>(gen_ns::independent_v_index[i])] = bad;
+      gen_ns::forward_dynamics(q.data(), v.data(), t.data(), qdd.data());
+      EXPECT_FALSE(std::isfinite(qdd[static_cast<std::size_t>(i)])) << "tau of " << gen_ns::independent_joint_names[i];
+    }
+    // A position: the pose of the first body depends on its joint's first coordinate.
+    std::vector<double> X(12 * gen_ns::num_bodies), q_bad = q;
+    q_bad[0] = bad;
+    gen_ns::forward_kinematics(q_bad.data(), X.data());
+    EXPECT_FALSE(std::all_of(X.begin(), X.begin() + 12, [](double x) { return std::isfinite(x); }));
+    // The closure: a non-finite coordinate is no closed pose (loops), or nothing to close.
+    const auto result = gen_ns::closure_positions(q_bad.data());
+    EXPECT_EQ(result.status, gen_ns::has_loops ? gen_ns::ClosureStatus::not_converged : gen_ns::ClosureStatus::converged);
+  }
+}
 
 TEST_F(GeneratedTest, NoAllocation) {
   std::vector<double> q(gen_ns::nq, 0.1), v(gen_ns::nv, 0.2), out(36 * gen_ns::nv * (gen_ns::num_bodies + gen_ns::num_frames + 1));
