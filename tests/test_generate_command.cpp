@@ -146,4 +146,31 @@ TEST(GenerateCommand, FlavourAndTemplatesExcludeEachOther) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A description too large to unroll stops at the bound with the function named, and writes
+// nothing (a 5,000-link chain would otherwise fill the memory: docs/reliability.md).
+TEST(GenerateCommand, TooLargeToUnrollIsAnErrorNotAnOutOfMemory) {
+  const fs::path urdf = fs::temp_directory_path() / "mbgen_test_chain300.urdf";
+  {
+    std::ofstream out(urdf);
+    out << "<?xml version=\"1.0\"?>\n<robot name=\"chain\">\n<link name=\"l0\"/>\n";
+    for (int i = 1; i < 300; ++i)
+      out << "<joint name=\"j" << i << "\" type=\"continuous\"><parent link=\"l" << i - 1 << "\"/><child link=\"l" << i
+          << "\"/><origin xyz=\"0 0 0.1\"/><axis xyz=\"0 1 0\"/></joint>\n<link name=\"l" << i
+          << "\"><inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" "
+             "izz=\"0.01\"/></inertial></link>\n";
+    out << "</robot>\n";
+  }
+  const fs::path out = fresh_dir("too_large");
+  const fs::path log = fs::temp_directory_path() / "mbgen_test_too_large.txt";
+  const std::string cmd = std::string(MBGEN_BINARY) + " generate " + urdf.string() + " --out " + out.string() +
+                          " --max-operations 100000 --quiet 2>" + log.string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+  const std::string errors = read(log);
+  EXPECT_NE(errors.find("function 'mass_matrix': needs more than 100000 operations unrolled (nv 299)"), std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("--max-operations"), std::string::npos) << errors;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace

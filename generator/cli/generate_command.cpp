@@ -23,6 +23,7 @@ struct GenerateOptions {
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
   bool floating = false, fixed = false, quiet = false, repair_inertia = false;
+  long max_operations = codegen::kDefaultGraphLimit;
 };
 
 int run_generate(const GenerateOptions& o) {
@@ -46,6 +47,7 @@ int run_generate(const GenerateOptions& o) {
                       : scalar == "float" ? codegen::ScalarChoice::Float
                                           : codegen::ScalarChoice::Both;
     options.frames = o.frames;
+    options.max_operations = o.max_operations;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
                               codegen::sha256_of_file(d.description_file)});
@@ -105,6 +107,10 @@ void add_generate_command(CLI::App& app, int& status) {
   cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
   cmd->add_flag("--repair-inertia", options->repair_inertia,
                 "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
+  cmd->add_option("--max-operations", options->max_operations,
+                  "largest traced function, in operations, before generation stops with an error (default 10000000; "
+                  "a 5,000-link chain stops at its mass matrix after 20 s and 1.8 GB)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_generate(*options); });
 }

@@ -24,10 +24,19 @@ std::size_t ExpressionGraph::KeyHash::operator()(const Key& k) const {
   return static_cast<std::size_t>(h);
 }
 
+namespace {
+thread_local long g_graph_limit = kDefaultGraphLimit;
+}  // namespace
+
+GraphLimit::GraphLimit(long max_nodes) : previous_(g_graph_limit) { g_graph_limit = max_nodes; }
+GraphLimit::~GraphLimit() { g_graph_limit = previous_; }
+long GraphLimit::current() { return g_graph_limit; }
+
 int ExpressionGraph::intern(const Node& n) {
   Key key{n.op, n.a, n.b, n.input, n.index, n.op == Op::Constant ? bits_of(n.value) : 0};
   auto it = index_.find(key);
   if (it != index_.end()) return it->second;
+  if (static_cast<long>(nodes_.size()) >= g_graph_limit) throw GraphLimitExceeded(g_graph_limit);
   nodes_.push_back(n);
   if (n.op == Op::Constant && n.value == 0) nodes_.back().value = 0.0;
   const int id = static_cast<int>(nodes_.size()) - 1;

@@ -3,6 +3,7 @@
 // one node: common-subexpression elimination by construction) with constant folding of the
 // operations whose result is exact (x*0, x*1, x+0, x-x, -(-x), constant (op) constant).
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -26,6 +27,32 @@ struct OpCount {
   int add = 0, mul = 0, div = 0, neg = 0, trig = 0, sqrt = 0, max = 0;
   int total() const { return add + mul + div + neg + trig + sqrt + max; }
 };
+
+/// Thrown when a graph would grow past its limit (GraphLimit): a description too large to unroll.
+struct GraphLimitExceeded : std::runtime_error {
+  explicit GraphLimitExceeded(long limit)
+      : std::runtime_error("expression graph limit exceeded"), limit(limit) {}
+  long limit;
+};
+
+/// The most nodes a graph may hold while this lives on the thread (default kDefaultGraphLimit):
+/// an unrolled function grows with the model (the mass matrix with nv^2), and a 5,000-link
+/// description would fill the memory before anything is written.
+class GraphLimit {
+ public:
+  explicit GraphLimit(long max_nodes);
+  ~GraphLimit();
+  GraphLimit(const GraphLimit&) = delete;
+  GraphLimit& operator=(const GraphLimit&) = delete;
+  static long current();
+
+ private:
+  long previous_;
+};
+
+/// 10 million nodes (~100 bytes each while tracing): over 100 times the largest function of the
+/// shipped and shared robots (wl16_like's full_accelerations, 78,045 operations).
+inline constexpr long kDefaultGraphLimit = 10'000'000;
 
 class ExpressionGraph {
  public:

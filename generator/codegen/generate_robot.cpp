@@ -90,21 +90,37 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   tree.closures.clear();
   tree.subsystems.clear();
   const bool loops = !model.subsystems.empty();
+  // Each function's graph is bounded (options.max_operations): past it, a LoadError names the
+  // function, instead of the memory filling up on a description too large to unroll.
+  const GraphLimit limit(options.max_operations);
+  auto traced = [&](const std::string& name, auto&& trace) {
+    try {
+      return trace();
+    } catch (const GraphLimitExceeded& e) {
+      throw gen::LoadError(description.description_file, 0, fmt::format("function '{}'", name),
+                           fmt::format("needs more than {} operations unrolled (nv {}): too large to generate", e.limit,
+                                       model.nv()),
+                           "generate less (a scene with fewer outputs or a reduced model), or raise the limit with "
+                           "--max-operations (about 100 bytes of memory per node while generating)");
+    }
+  };
   std::vector<TracedFunction> functions;
-  functions.push_back(loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree));
-  functions.push_back(trace_full_accelerations(model));
-  functions.push_back(trace_velocity_map(model));
-  functions.push_back(trace_full_velocities(model));
-  functions.push_back(trace_acceleration_bias(model));
-  functions.push_back(trace_inverse_dynamics(tree));
-  functions.push_back(trace_mass_matrix(tree));
-  functions.push_back(trace_forward_kinematics(tree));
+  functions.push_back(traced("forward_dynamics", [&] {
+    return loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree);
+  }));
+  functions.push_back(traced("full_accelerations", [&] { return trace_full_accelerations(model); }));
+  functions.push_back(traced("velocity_map", [&] { return trace_velocity_map(model); }));
+  functions.push_back(traced("full_velocities", [&] { return trace_full_velocities(model); }));
+  functions.push_back(traced("acceleration_bias", [&] { return trace_acceleration_bias(model); }));
+  functions.push_back(traced("inverse_dynamics", [&] { return trace_inverse_dynamics(tree); }));
+  functions.push_back(traced("mass_matrix", [&] { return trace_mass_matrix(tree); }));
+  functions.push_back(traced("forward_kinematics", [&] { return trace_forward_kinematics(tree); }));
   if (!frames.empty()) {
-    functions.push_back(trace_frame_poses(tree, frames));
-    functions.push_back(trace_frame_jacobians(tree, frames));
+    functions.push_back(traced("frame_poses", [&] { return trace_frame_poses(tree, frames); }));
+    functions.push_back(traced("frame_jacobians", [&] { return trace_frame_jacobians(tree, frames); }));
   }
-  functions.push_back(trace_center_of_mass(tree));
-  functions.push_back(trace_centroidal_momentum_matrix(tree));
+  functions.push_back(traced("center_of_mass", [&] { return trace_center_of_mass(tree); }));
+  functions.push_back(traced("centroidal_momentum_matrix", [&] { return trace_centroidal_momentum_matrix(tree); }));
 
   // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
   // seeded, so the output stays deterministic).
@@ -115,7 +131,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                            scene.decisions.size(), gen::sampling_summary(scene), scene.seconds));
     for (const std::string& w : scene.warnings) options.notes->push_back("warning: " + w);
   }
-  const SelfDistanceCode distances = emit_self_distances(model, scene.model, ctx);
+  const SelfDistanceCode distances = traced("self_distances", [&] { return emit_self_distances(model, scene.model, ctx); });
 
   std::vector<std::string> body_names;
   for (int k = 1; k < model.num_bodies(); ++k) body_names.push_back(model.body(BodyIndex(k)).name);
@@ -172,7 +188,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       source = emit_definition(f, ctx);
     files.push_back({ctx.source_file(f.name), source});
   }
-  files.push_back({ctx.source_file("closure_positions"), emit_closure_positions_definition(model, ctx)});
+  files.push_back({ctx.source_file("closure_positions"),
+                   traced("closure_positions", [&] { return emit_closure_positions_definition(model, ctx); })});
   files.push_back({ctx.source_file("self_distances"), distances.source});
   return files;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "codegen/emit_cpp.hpp"
+#include "codegen/expression_graph.hpp"
 #include "codegen/templates.hpp"
 #include "load/description.hpp"
 
@@ -24,6 +25,8 @@ struct CodegenOptions {
   /// If set, receives lines for the user that are not part of the output: the collision
   /// pruning's sampling summary and time, and its warnings (prefixed "warning: ").
   std::vector<std::string>* notes = nullptr;
+  /// Nodes a traced function's expression graph may have (GraphLimit): past it, a LoadError.
+  long max_operations = kDefaultGraphLimit;
 };
 
 struct GeneratedFile {
