@@ -30,7 +30,10 @@ int generate(const fs::path& out, const std::string& name, const std::string& mo
 
 /// Runs `mbgen generate` like generate(), returning the exit status and what it printed on stderr.
 std::pair<int, std::string> generate_with_errors(const fs::path& out, const std::string& more) {
-  const fs::path log = fs::temp_directory_path() / "mbgen_test_generate_stderr.txt";
+  // One file per test: ctest runs this binary's tests in parallel processes.
+  const fs::path log = fs::temp_directory_path() /
+                       (std::string("mbgen_test_generate_stderr_") +
+                        ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".txt");
   const std::string cmd = std::string(MBGEN_BINARY) + " generate " +
                           mbgen::test::shared_robot("iiwa14/iiwa14_primitive_collision.urdf") + " --out " + out.string() +
                           " --name arm " + more + " --quiet 2>" + log.string();
