@@ -2401,7 +2401,7 @@ template <typename S> ClosureResult<S> closure_positions_impl(S* q, const Closur
       if (std::fabs(residual[i]) > result.residual) result.residual = std::fabs(residual[i]);
     }
     // Smallest / largest |R_ii| per sub-system, the worst of them, and the worst of them relative
-    // to the sub-system's ratio at the assembled pose; NaN (0 / 0) counts as singular.
+    // to the sub-system's ratio at the assembled pose; NaN (all pivots 0, or NaN) counts as singular.
     result.pivot_ratio = S(1);
     result.relative_pivot_ratio = S(1);
     for (int k = 0; k < num_subsystems; ++k) {
@@ -2411,7 +2411,7 @@ template <typename S> ClosureResult<S> closure_positions_impl(S* q, const Closur
         if (i == subsystem_begin[k] || !(p >= smallest)) smallest = p;
         if (p > largest) largest = p;
       }
-      const S ratio = smallest / largest;
+      const S ratio = largest > S(0) ? smallest / largest : S(NAN);  // all pivots 0 or NaN: NaN, no 0 / 0
       if (!(ratio >= result.pivot_ratio)) result.pivot_ratio = ratio;
       const S relative = ratio / nominal_pivot_ratio<S>[k];
       if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative;

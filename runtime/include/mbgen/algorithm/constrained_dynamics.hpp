@@ -43,25 +43,36 @@ template <typename S> struct ConstrainedDynamicsWorkspace {
   VecX<S> g;               ///< nv acceleration bias (acceleration_bias)
 };
 
-template <typename S>
-ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model) {
+namespace detail {
+/// The kept constraint rows of all sub-systems, ascending.
+inline std::vector<int> kept_closure_rows(const Model& model) {
+  std::vector<int> rows;
   for (const SubSystem& s : model.subsystems) rows.insert(rows.end(), s.rows.begin(), s.rows.end());
   std::sort(rows.begin(), rows.end());
-  const int n = model.nv(), r = static_cast<int>(rows.size()), ny = static_cast<int>(Data<S>(model).independent_v.size());
+  return rows;
+}
+}  // namespace detail
+
+// The factorisations are sized in place: Eigen's LLT(Index) leaves its status member unset, so
+// assigning a temporary one would read it (UndefinedBehaviorSanitizer: an invalid enum value).
+template <typename S>
+ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model)
+    : rows(detail::kept_closure_rows(model)),
+      kkt_lu(model.nv() + static_cast<int>(rows.size())),
+      Mr_llt(static_cast<Eigen::Index>(Data<S>(model).independent_v.size())) {
+  const int n = model.nv(), r = static_cast<int>(rows.size()), y = static_cast<int>(Mr_llt.rows());
   K = MatX<S>::Zero(n + r, n + r);
   rhs = VecX<S>::Zero(n + r);
   solution = VecX<S>::Zero(n + r);
-  kkt_lu = Eigen::PartialPivLU<MatX<S>>(n + r);
   qdd = VecX<S>::Zero(n);
   lambda = VecX<S>::Zero(r);
   bias = VecX<S>::Zero(n);
-  MG = MatX<S>::Zero(n, ny);
-  Mr = MatX<S>::Zero(ny, ny);
+  MG = MatX<S>::Zero(n, y);
+  Mr = MatX<S>::Zero(y, y);
   force = VecX<S>::Zero(n);
-  rhs_y = VecX<S>::Zero(ny);
-  ydd = VecX<S>::Zero(ny);
-  Mr_llt = Eigen::LLT<MatX<S>>(ny);
-  G = MatX<S>::Zero(n, ny);
+  rhs_y = VecX<S>::Zero(y);
+  ydd = VecX<S>::Zero(y);
+  G = MatX<S>::Zero(n, y);
   g = VecX<S>::Zero(n);
 }
 
