@@ -1,0 +1,174 @@
+#pragma once
+// The robot's functions, as the simulator (and the controller, and the study) consume them
+// (DESIGN.md, "Backends"). A backend is any type with these members, S its Scalar; the
+// generator emits one per robot (NAME::Backend, forwarding to the generated functions), and
+// here are the runtime's, over a Model:
+//
+//   using Scalar = S;
+//   int nq(), nv(), ny(); bool floating_base();   a floating base is q[0..7), v[0..6)
+//   const int* independent_v_index();             ny v indices, ascending
+//   int num_contacts(); double contact_radius(k); const char* contact_name(k)
+//   double total_mass(); const double* gravity(); world, 3 entries
+//   void accelerations(q, v, tau, qdd)            every tree joint's (nv) at (q, v), forces tau (nv)
+//   int closure_positions(q)                      closes the loops in place: 0 converged,
+//                                                 1 not converged, 2 singular (dead point)
+//   void full_velocities(q, vy, v)                v = T vy
+//   void velocity_map(q, T)                       nv x ny, row-major
+//   void inverse_dynamics(q, v, qdd, tau)         the spanning tree's (no closure forces)
+//   void mass_matrix(q, M)                        the tree's, nv x nv
+//   void center_of_mass(q, com)
+//   void contact_points(q, p, J)                  algorithm/contact_points.hpp: per sphere its
+//                                                 centre (3) and a 6 x nv Jacobian block
+//
+// All arrays are raw pointers (the generated API's form); no call allocates after construction.
+// Backends differ only in how `accelerations` obtains qdd:
+//   GenericBackend      the O(n) recursion with sub-systems (what the generator traces): it reads
+//                       the independent velocities of v and returns T ydd + g;
+//   KktBackend          the O(n^3) full-coordinate reference with Lagrange multipliers and
+//                       Baumgarte gains: it reads all of v, so a drifting state is pulled back;
+//   IndependentBackend  the O(n^3) reference in independent coordinates (G^T M G ydd = ...).
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mbgen/algorithm/center_of_mass.hpp"
+#include "mbgen/algorithm/constrained_dynamics.hpp"
+#include "mbgen/algorithm/contact_points.hpp"
+#include "mbgen/algorithm/loop_forward_dynamics.hpp"
+#include "mbgen/algorithm/subsystem_maps.hpp"
+
+namespace mbgen::sim {
+
+namespace detail {
+
+template <typename S> using ConstMap = Eigen::Map<const VecX<S>>;
+template <typename S> using RowMajorMap = Eigen::Map<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+
+/// What the three runtime backends share: the model, its work memory, the contact spheres and
+/// every member of the concept except `accelerations`.
+template <typename S> class ModelBackend {
+ public:
+  using Scalar = S;
+
+  /// Throws std::invalid_argument for a model the simulator's state layout cannot hold: a
+  /// floating joint anywhere but first, or a contact sphere on the world.
+  ModelBackend(const Model& model, std::vector<ContactSphere> contacts, ClosureOptions closure)
+      : model_(model), data_(model), contacts_(std::move(contacts)), closure_(closure), vy_(VecX<S>::Zero(0)) {
+    for (int j = 1; j < model.num_joints(); ++j)
+      if (model.joint(JointIndex(j)).type == JointType::Floating && model.joint(JointIndex(j)).idx_q != 0)
+        throw std::invalid_argument("sim backend: joint '" + model.joint(JointIndex(j)).name +
+                                    "' is floating but not the first joint; the simulator's state keeps a floating base at q[0..7)");
+    for (const ContactSphere& c : contacts_)
+      if (!c.body.valid() || c.body == kWorldBody || c.body.value() >= model.num_bodies())
+        throw std::invalid_argument("sim backend: contact sphere '" + c.name + "' is not on a moving body of '" + model.name + "'");
+    vy_ = VecX<S>::Zero(static_cast<int>(data_.independent_v.size()));
+    gravity_[0] = model.gravity.x(), gravity_[1] = model.gravity.y(), gravity_[2] = model.gravity.z();
+  }
+
+  int nq() const { return model_.nq(); }
+  int nv() const { return model_.nv(); }
+  int ny() const { return static_cast<int>(data_.independent_v.size()); }
+  bool floating_base() const { return model_.floating_base(); }
+  const int* independent_v_index() const { return data_.independent_v.data(); }
+  int num_contacts() const { return static_cast<int>(contacts_.size()); }
+  double contact_radius(int k) const { return contacts_[static_cast<std::size_t>(k)].radius; }
+  const char* contact_name(int k) const { return contacts_[static_cast<std::size_t>(k)].name.c_str(); }
+  double total_mass() const { return model_.total_mass(); }
+  const double* gravity() const { return gravity_; }
+  const Model& model() const { return model_; }
+  const std::vector<ContactSphere>& contacts() const { return contacts_; }
+  ClosureOptions& closure_options() { return closure_; }
+
+  int closure_positions(S* q) {
+    Eigen::Map<VecX<S>> qm(q, nq());
+    return static_cast<int>(mbgen::closure_positions<S>(model_, data_, qm, closure_).status);
+  }
+  void full_velocities(const S* q, const S* vy, S* v) {
+    Eigen::Map<VecX<S>> out(v, nv());
+    mbgen::full_velocities<S>(model_, data_, ConstMap<S>(q, nq()), ConstMap<S>(vy, ny()), out);
+  }
+  void velocity_map(const S* q, S* T) { mbgen::velocity_map<S>(model_, data_, ConstMap<S>(q, nq()), RowMajorMap<S>(T, nv(), ny())); }
+  // rnea and crba ignore the closures: they are the tree's, as the generated ones are.
+  void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) {
+    Eigen::Map<VecX<S>>(tau, nv()) = rnea<S>(model_, data_, ConstMap<S>(q, nq()), ConstMap<S>(v, nv()), ConstMap<S>(qdd, nv()));
+  }
+  void mass_matrix(const S* q, S* M) { RowMajorMap<S>(M, nv(), nv()) = crba<S>(model_, data_, ConstMap<S>(q, nq())); }
+  void center_of_mass(const S* q, S* com) {
+    const Vec3<S>& c = mbgen::center_of_mass<S>(model_, data_, ConstMap<S>(q, nq()));
+    for (int i = 0; i < 3; ++i) com[i] = c[i];
+  }
+  void contact_points(const S* q, S* p, S* J) { mbgen::contact_points<S>(model_, data_, contacts_, ConstMap<S>(q, nq()), p, J); }
+
+ protected:
+  void gather_independent(const S* v) {
+    for (int i = 0; i < ny(); ++i) vy_[i] = v[data_.independent_v[static_cast<std::size_t>(i)]];
+  }
+
+  const Model& model_;
+  Data<S> data_;
+  std::vector<ContactSphere> contacts_;
+  ClosureOptions closure_;
+  VecX<S> vy_;
+  double gravity_[3] = {0, 0, 0};
+};
+
+}  // namespace detail
+
+/// The O(n) articulated-body recursion with sub-systems as aggregate bodies: the generic twin of
+/// the generated backend (same algorithm, interpreted).
+template <typename S> class GenericBackend : public detail::ModelBackend<S> {
+ public:
+  explicit GenericBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = {})
+      : detail::ModelBackend<S>(model, std::move(contacts), closure) {}
+
+  void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
+    const int nq = this->nq(), nv = this->nv();
+    if (this->model_.subsystems.empty()) {
+      Eigen::Map<VecX<S>>(qdd, nv) = aba<S>(this->model_, this->data_, detail::ConstMap<S>(q, nq), detail::ConstMap<S>(v, nv),
+                                           detail::ConstMap<S>(tau, nv));
+      return;
+    }
+    this->gather_independent(v);
+    forward_dynamics_loops_independent<S>(this->model_, this->data_, detail::ConstMap<S>(q, nq), this->vy_, detail::ConstMap<S>(tau, nv));
+    Eigen::Map<VecX<S>>(qdd, nv) = this->data_.ddq;
+  }
+};
+
+/// The O(n^3) full-coordinate reference: [M Phi^T; Phi 0] with Lagrange multipliers and
+/// Baumgarte stabilisation (constrained_dynamics.hpp). Uses every entry of v.
+template <typename S> class KktBackend : public detail::ModelBackend<S> {
+ public:
+  explicit KktBackend(const Model& model, BaumgarteGains gains = {}, std::vector<ContactSphere> contacts = {},
+                      ClosureOptions closure = {})
+      : detail::ModelBackend<S>(model, std::move(contacts), closure), gains_(gains), ws_(model) {}
+
+  void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
+    const int nq = this->nq(), nv = this->nv();
+    Eigen::Map<VecX<S>>(qdd, nv) = forward_dynamics_kkt<S>(this->model_, this->data_, ws_, detail::ConstMap<S>(q, nq),
+                                                           detail::ConstMap<S>(v, nv), detail::ConstMap<S>(tau, nv), gains_);
+  }
+  BaumgarteGains& gains() { return gains_; }
+
+ private:
+  BaumgarteGains gains_;
+  ConstrainedDynamicsWorkspace<S> ws_;
+};
+
+/// The O(n^3) reference in independent coordinates: G^T M G ydd = G^T (tau - C - g - M g_acc).
+template <typename S> class IndependentBackend : public detail::ModelBackend<S> {
+ public:
+  explicit IndependentBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = {})
+      : detail::ModelBackend<S>(model, std::move(contacts), closure), ws_(model) {}
+
+  void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
+    const int nq = this->nq(), nv = this->nv();
+    Eigen::Map<VecX<S>>(qdd, nv) = forward_dynamics_independent<S>(this->model_, this->data_, ws_, detail::ConstMap<S>(q, nq),
+                                                                   detail::ConstMap<S>(v, nv), detail::ConstMap<S>(tau, nv));
+  }
+
+ private:
+  ConstrainedDynamicsWorkspace<S> ws_;
+};
+
+}  // namespace mbgen::sim

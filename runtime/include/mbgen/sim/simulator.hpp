@@ -1,0 +1,475 @@
+#pragma once
+// Simulator<Backend>: the robot on the ground (docs/simulation.md). Header-only, templated on the
+// backend (sim/backend.hpp; a generated NAME::Backend or a runtime one), no allocation in a step.
+//
+// State: q (nq), every tree joint's position, and v (nv), every tree joint's velocity. With
+// `project` on (the default) every accepted step ends by re-closing the loops (the backend's
+// closure_positions, warm-started) and projecting the velocities (v = T vy from the independent
+// ones), so the state is exactly (closed q, vy), as the generated API wants; with it off the
+// dependent coordinates are integrated as they come, and their drift (the distance Newton moves
+// them when the loops are closed on demand, closure_drift()) can be measured. A floating base's
+// quaternion is renormalised after every step and at every stage.
+//
+// Each step returns a status and never leaves a NaN in the state: a failing step restores the
+// state it started from, and the simulation is meant to stop there (run_until() does).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include <Eigen/LU>
+#include <unsupported/Eigen/AutoDiff>
+
+#include "mbgen/sim/backend.hpp"
+#include "mbgen/sim/contact.hpp"
+#include "mbgen/sim/integrators.hpp"
+#include "mbgen/sim/state_space.hpp"
+
+namespace mbgen::sim {
+
+enum class StepStatus {
+  ok,              ///< the step was taken
+  step_rejected,   ///< adaptive integrator: the error estimate was too large; the step is retried smaller
+                   ///< (run_until stops with it when the step would fall below min_step)
+  closure_lost,    ///< closure_positions did not converge, or a linkage reached a dead point
+  diverged,        ///< a non-finite state or joint force, or the energy grew beyond its bound
+  penetration,     ///< a contact sphere sank deeper than max_penetration
+};
+
+inline const char* to_string(StepStatus s) {
+  switch (s) {
+    case StepStatus::ok: return "ok";
+    case StepStatus::step_rejected: return "step_rejected";
+    case StepStatus::closure_lost: return "closure_lost";
+    case StepStatus::diverged: return "diverged";
+    case StepStatus::penetration: return "penetration";
+  }
+  return "unknown";
+}
+
+struct SimulatorOptions {
+  Integrator integrator = Integrator::rk4;
+  double step = 1e-4;        ///< s: the fixed step, or the adaptive integrator's first step
+  double rtol = 1e-6;        ///< dormand_prince45: relative tolerance on each state entry
+  double atol = 1e-8;        ///< dormand_prince45: absolute tolerance (m, rad, m/s, rad/s)
+  double min_step = 1e-10;   ///< s: dormand_prince45 stops with step_rejected below it
+  double max_step = 1e-2;    ///< s: dormand_prince45's largest step
+  bool project = true;       ///< re-close the loops and project the velocities after each step
+  bool contact = true;       ///< the ground acts on the backend's contact spheres
+  GroundPlane ground;
+  ContactParameters contact_parameters;
+  double max_penetration = 0.05;  ///< m: deeper is a failure (the contact model is meaningless there)
+  /// J: the mechanical energy (kinetic, gravity, contact springs) minus the controller's work
+  /// may not grow by more than this; <= 0 picks 0.1 m |g| x 1 m (a tenth of lifting the robot
+  /// by a metre). Checked every energy_check_interval accepted steps (0: never).
+  double energy_limit = 0;
+  int energy_check_interval = 10;
+  double control_period = 1e-3;  ///< s: the controller runs at this rate (zero-order hold); 0: every step
+};
+
+/// What a run did, for the study and the reports.
+struct SimulationStatistics {
+  long accepted_steps = 0, rejected_steps = 0, evaluations = 0, controller_calls = 0;
+  double max_penetration = 0;    ///< m, over the accepted states
+  double last_step = 0;          ///< s
+};
+
+template <typename Backend> class Simulator {
+ public:
+  using S = typename Backend::Scalar;
+  using Controller = std::function<void(double t, const S* q, const S* v, S* tau)>;
+
+  Simulator(Backend backend, const SimulatorOptions& options = {})
+      : backend_(std::move(backend)), options_(options), nq_(backend_.nq()), nv_(backend_.nv()), ny_(backend_.ny()),
+        nc_(backend_.num_contacts()) {
+    const auto vec = [](int n) { return VecX<S>::Zero(n); };
+    q_ = vec(nq_), v_ = vec(nv_), q_start_ = vec(nq_), v_start_ = vec(nv_), q_stage_ = vec(nq_), v_stage_ = vec(nv_);
+    q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), vy_ = vec(ny_);
+    for (int s = 0; s < kMaxStages; ++s) dq_[s] = vec(nq_), dv_[s] = vec(nv_);
+    q_error_ = vec(nq_), v_error_ = vec(nv_);
+    points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_);
+    reports_.resize(static_cast<std::size_t>(nc_));
+    implicit_.resize(nq_, nv_, ny_);
+    if (backend_.floating_base()) q_[6] = S(1);
+    step_ = options_.step;
+    const double* g = backend_.gravity();
+    gravity_norm_ = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  }
+
+  // --- state --------------------------------------------------------------------------------
+  /// Sets the state (q: nq, v: nv) and the time; with project on, closes the loops and projects v
+  /// first, and returns that closure's status (0 converged).
+  int set_state(const S* q, const S* v, double t = 0) {
+    for (int i = 0; i < nq_; ++i) q_[i] = q[i];
+    for (int i = 0; i < nv_; ++i) v_[i] = v[i];
+    normalize_quaternion<S>(backend_.floating_base(), q_.data());
+    t_ = t;
+    control_ticks_ = 0;
+    work_ = 0;
+    int closure = 0;
+    if (options_.project) closure = project();
+    energy_start_ = energy();
+    stats_ = {};
+    control_due_ = true;
+    return closure;
+  }
+  const VecX<S>& q() const { return q_; }
+  const VecX<S>& v() const { return v_; }
+  double time() const { return t_; }
+  Backend& backend() { return backend_; }
+  SimulatorOptions& options() { return options_; }
+  const SimulationStatistics& statistics() const { return stats_; }
+  /// The joint forces the controller wrote last (held until its next call), nv.
+  const VecX<S>& control_forces() const { return tau_control_; }
+  void set_controller(Controller controller) { controller_ = std::move(controller); }
+
+  // --- stepping -----------------------------------------------------------------------------
+  /// One step of the configured integrator (no longer than `max_dt`, and ending at the next
+  /// controller call at the latest). ok: time and state advanced; any other status: the state
+  /// is the one the step started from.
+  StepStatus step(double max_dt = std::numeric_limits<double>::infinity()) {
+    if (control_due_ && !run_controller()) return StepStatus::diverged;
+    double h = options_.integrator == Integrator::dormand_prince45 ? std::min(step_, options_.max_step) : options_.step;
+    h = std::min(h, max_dt);
+    if (controller_ && options_.control_period > 0)
+      h = std::min(h, next_control_time() - t_);
+    q_start_ = q_;
+    v_start_ = v_;
+    // Every integrator starts from f(x_n), which also tells the contacts' state at x_n.
+    evaluate(q_, v_, dq_[0], dv_[0], /*record=*/true);
+    if (max_penetration_ > S(options_.max_penetration)) return StepStatus::penetration;
+    stats_.max_penetration = std::max(stats_.max_penetration, static_cast<double>(max_penetration_));
+    StepStatus status = StepStatus::ok;
+    switch (options_.integrator) {
+      case Integrator::explicit_euler: explicit_euler(h); break;
+      case Integrator::symplectic_euler: symplectic_euler(h); break;
+      case Integrator::rk4: explicit_rk(ButcherTableau::rk4(), h); break;
+      case Integrator::dormand_prince45: status = dormand_prince(h); break;
+      case Integrator::linearly_implicit_euler: linearly_implicit_euler(h); break;
+    }
+    if (status != StepStatus::ok) return status;
+    normalize_quaternion<S>(backend_.floating_base(), q_.data());
+    if (!finite()) return restore(StepStatus::diverged);
+    if (options_.project && project() != 0) return restore(StepStatus::closure_lost);
+    work_ += h * tau_control_.dot((v_start_ + v_) / S(2));
+    t_ += h;
+    stats_.last_step = h;
+    ++stats_.accepted_steps;
+    if (controller_ && options_.control_period > 0 && t_ >= next_control_time() - 1e-12 * options_.control_period) {
+      ++control_ticks_;
+      control_due_ = true;
+    } else if (controller_ && options_.control_period <= 0) {
+      control_due_ = true;
+    }
+    if (options_.energy_check_interval > 0 && stats_.accepted_steps % options_.energy_check_interval == 0) {
+      if (!(energy() - energy_start_ - work_ <= energy_limit())) return restore(StepStatus::diverged);
+    }
+    return StepStatus::ok;
+  }
+
+  /// Steps until time t_end (rejected steps are retried). Returns ok at t_end, or the status that
+  /// stopped it, with the state the failing step started from.
+  StepStatus run_until(double t_end) {
+    while (t_ < t_end - 1e-12 * std::max(1.0, std::abs(t_end))) {
+      const StepStatus s = step(t_end - t_);
+      if (s == StepStatus::ok) continue;
+      if (s == StepStatus::step_rejected && step_ >= options_.min_step) continue;
+      return s;
+    }
+    return StepStatus::ok;
+  }
+
+  // --- what the state means -----------------------------------------------------------------
+  /// Mechanical energy: kinetic (1/2 v^T M v), gravity (-m g . com) and the contact springs.
+  S energy() {
+    backend_.mass_matrix(q_.data(), implicit_.M.data());
+    implicit_.v_next.noalias() = implicit_.M_row_major() * v_;
+    S e = S(0.5) * v_.dot(implicit_.v_next);
+    S com[3];
+    backend_.center_of_mass(q_.data(), com);
+    const double* g = backend_.gravity();
+    e -= S(backend_.total_mass()) * (S(g[0]) * com[0] + S(g[1]) * com[1] + S(g[2]) * com[2]);
+    if (options_.contact && nc_ > 0) {
+      backend_.contact_points(q_.data(), points_.data(), jacobians_.data());
+      for (int k = 0; k < nc_; ++k) {
+        const Vec3<S> c(points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]);
+        const S delta = S(options_.ground.offset + backend_.contact_radius(k)) - options_.ground.normal.template cast<S>().dot(c);
+        e += contact_spring_energy<S>(delta, options_.contact_parameters);
+      }
+    }
+    return e;
+  }
+  /// Energy minus its start minus the controller's work: zero for an exact, conservative run.
+  S energy_balance() { return energy() - energy_start_ - work_; }
+  /// The contacts at the current state, one report per sphere of the backend.
+  const std::vector<ContactReport<S>>& contacts() {
+    evaluate(q_, v_, dq_[0], dv_[0], true);
+    return reports_;
+  }
+  /// How far closure_positions moves the dependent coordinates from the current q (max |dz|,
+  /// rad or m): the loops' drift when project is off, ~0 when on. Leaves the state alone.
+  S closure_drift() {
+    q_stage_ = q_;
+    backend_.closure_positions(q_stage_.data());
+    return (q_stage_ - q_).cwiseAbs().maxCoeff();
+  }
+
+ private:
+  static constexpr int kMaxStages = 7;
+
+  struct ImplicitWork {
+    void resize(int nq, int nv, int ny) {
+      M = VecX<S>::Zero(nv * nv), T = VecX<S>::Zero(nv * ny);
+      A = MatX<S>::Zero(nv, nv), B = MatX<S>::Zero(nv, nv);
+      My = MatX<S>::Zero(ny, ny), lhs = MatX<S>::Zero(ny, ny), TtA = MatX<S>::Zero(ny, nv), MT = MatX<S>::Zero(nv, ny);
+      Ty = MatX<S>::Zero(ny, ny), Tv = VecX<S>::Zero(nv);
+      rhs = VecX<S>::Zero(ny), dy = VecX<S>::Zero(ny), ydd0 = VecX<S>::Zero(ny), vy = VecX<S>::Zero(ny);
+      Jw = MatX<S>::Zero(3, nv), FJ = MatX<S>::Zero(3, nv), v_next = VecX<S>::Zero(nv);
+      lu = Eigen::PartialPivLU<MatX<S>>(ny);
+      (void)nq;
+    }
+    Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M_row_major() const {
+      return {M.data(), v_next.size(), v_next.size()};
+    }
+    VecX<S> M, T;  ///< row-major buffers the backend writes
+    MatX<S> A, B, My, lhs, TtA, MT, Jw, FJ, Ty;
+    VecX<S> Tv;
+    VecX<S> rhs, dy, ydd0, vy, v_next;
+    Eigen::PartialPivLU<MatX<S>> lu;
+  };
+
+  double next_control_time() const { return (control_ticks_ + 1) * options_.control_period; }
+  double energy_limit() const {
+    return options_.energy_limit > 0 ? options_.energy_limit : 0.1 * backend_.total_mass() * gravity_norm_;
+  }
+
+  bool run_controller() {
+    control_due_ = false;
+    if (!controller_) return true;
+    controller_(t_, q_.data(), v_.data(), tau_control_.data());
+    ++stats_.controller_calls;
+    return tau_control_.allFinite();
+  }
+
+  bool finite() const { return q_.allFinite() && v_.allFinite(); }
+  StepStatus restore(StepStatus s) {
+    q_ = q_start_;
+    v_ = v_start_;
+    return s;
+  }
+
+  /// Closes the loops in q_ and sets v_ = T vy; returns the closure status (0 converged).
+  int project() {
+    if (ny_ == nv_) return 0;
+    const int status = backend_.closure_positions(q_.data());
+    if (status != 0) return status;
+    for (int i = 0; i < ny_; ++i) vy_[i] = v_[backend_.independent_v_index()[i]];
+    backend_.full_velocities(q_.data(), vy_.data(), v_.data());
+    return 0;
+  }
+
+  /// f(x) = (qdot, vdot) at (q, v) under the held control forces and the ground; `record` keeps
+  /// the contact reports and the largest penetration.
+  void evaluate(const VecX<S>& q, const VecX<S>& v, VecX<S>& qdot, VecX<S>& vdot, bool record) {
+    ++stats_.evaluations;
+    q_eval_ = q;
+    normalize_quaternion<S>(backend_.floating_base(), q_eval_.data());
+    tau_total_ = tau_control_;
+    if (options_.contact && nc_ > 0) add_contact_forces(q_eval_, v, record);
+    backend_.accelerations(q_eval_.data(), v.data(), tau_total_.data(), vdot.data());
+    configuration_rate<S>(backend_.floating_base(), nq_, q_eval_.data(), v.data(), qdot.data());
+  }
+
+  using RowBlock = Eigen::Map<const Eigen::Matrix<S, 6, Eigen::Dynamic, Eigen::RowMajor>>;
+
+  void add_contact_forces(const VecX<S>& q, const VecX<S>& v, bool record) {
+    backend_.contact_points(q.data(), points_.data(), jacobians_.data());
+    if (record) max_penetration_ = S(0);
+    const Vec3<S> n = options_.ground.normal.template cast<S>();
+    for (int k = 0; k < nc_; ++k) {
+      const RowBlock J(jacobians_.data() + 6 * nv_ * k, 6, nv_);
+      const Vec3<S> c(points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]);
+      const Vec3<S> v_c = J.template topRows<3>() * v, omega = J.template bottomRows<3>() * v;
+      const double r = backend_.contact_radius(k);
+      const ContactReport<S> report = contact_law<S>(c, v_c, omega, r, options_.ground, options_.contact_parameters);
+      if (record) {
+        reports_[static_cast<std::size_t>(k)] = report;
+        max_penetration_ = std::max(max_penetration_, report.penetration);
+      }
+      if (!report.active) continue;
+      // The force at the witness c - r n: on the body, f at the centre and (-r n) x f.
+      const Vec3<S> moment = (-S(r) * n).cross(report.force);
+      tau_total_.noalias() += J.template topRows<3>().transpose() * report.force;
+      tau_total_.noalias() += J.template bottomRows<3>().transpose() * moment;
+    }
+  }
+
+  void explicit_euler(double h) {
+    q_ += S(h) * dq_[0];
+    v_ += S(h) * dv_[0];
+  }
+
+  /// v first, then q with the new v (symplectic for a separable system).
+  void symplectic_euler(double h) {
+    v_ += S(h) * dv_[0];
+    configuration_rate<S>(backend_.floating_base(), nq_, q_.data(), v_.data(), dq_[1].data());
+    q_ += S(h) * dq_[1];
+  }
+
+  /// An explicit Runge-Kutta step whose first stage (dq_[0], dv_[0]) is already evaluated.
+  void explicit_rk(const ButcherTableau& tab, double h) {
+    for (int s = 1; s < tab.stages; ++s) {
+      q_stage_ = q_;
+      v_stage_ = v_;
+      for (int j = 0; j < s; ++j)
+        if (tab.a[s][j] != 0) {
+          q_stage_ += S(h * tab.a[s][j]) * dq_[j];
+          v_stage_ += S(h * tab.a[s][j]) * dv_[j];
+        }
+      evaluate(q_stage_, v_stage_, dq_[s], dv_[s], false);
+    }
+    for (int s = 0; s < tab.stages; ++s)
+      if (tab.b[s] != 0) {
+        q_ += S(h * tab.b[s]) * dq_[s];
+        v_ += S(h * tab.b[s]) * dv_[s];
+      }
+  }
+
+  /// Dormand-Prince 5(4): the fifth-order solution advances, the embedded fourth-order one gives
+  /// the error; the step size follows the usual controller (Hairer, Norsett and Wanner, II.4).
+  StepStatus dormand_prince(double h) {
+    const ButcherTableau& tab = ButcherTableau::dormand_prince45();
+    explicit_rk(tab, h);
+    q_error_.setZero();
+    v_error_.setZero();
+    for (int s = 0; s < tab.stages; ++s) {
+      const double e = tab.b[s] - tab.b_embedded[s];
+      if (e == 0) continue;
+      q_error_ += S(h * e) * dq_[s];
+      v_error_ += S(h * e) * dv_[s];
+    }
+    double sum = 0;
+    const auto accumulate = [&](const VecX<S>& start, const VecX<S>& end, const VecX<S>& err) {
+      for (int i = 0; i < err.size(); ++i) {
+        const double scale = options_.atol + options_.rtol * std::max(std::abs(double(start[i])), std::abs(double(end[i])));
+        const double r = double(err[i]) / scale;
+        sum += r * r;
+      }
+    };
+    accumulate(q_start_, q_, q_error_);
+    accumulate(v_start_, v_, v_error_);
+    const double err = std::sqrt(sum / (nq_ + nv_));
+    if (!std::isfinite(err)) {
+      step_ = 0.2 * h;
+      ++stats_.rejected_steps;
+      restore(StepStatus::step_rejected);
+      return step_ < options_.min_step ? StepStatus::diverged : StepStatus::step_rejected;
+    }
+    const double factor = err == 0 ? 5.0 : std::clamp(0.9 * std::pow(err, -0.2), 0.2, 5.0);
+    if (err > 1) {
+      step_ = h * std::min(factor, 1.0);
+      ++stats_.rejected_steps;
+      return restore(StepStatus::step_rejected);
+    }
+    step_ = std::min(h * factor, options_.max_step);
+    return StepStatus::ok;
+  }
+
+  /// Linearly implicit Euler on the contact forces: the contacts' stiffness and damping are taken
+  /// at the end of the step through their exact Jacobian (automatic differentiation of the law),
+  /// everything else as in symplectic Euler. In the independent coordinates y (v = T vy):
+  ///   (M_y - h D_y - h^2 K_y) dy = h M_y ydd_0 + h^2 K_y vy,  v+ = v + h vdot_0 + T (dy - h ydd_0),
+  /// with M_y = T^T M T, D_y = T^T (sum J_w^T df/dv_w J_w) T, K_y the same with df/dp; then
+  /// q+ = q + h qdot(q, v+). Why this method: the stiff part of a legged robot is the contact
+  /// (stiffness 1e7, damping), local and cheap to linearise, while the rigid-body dynamics are
+  /// not stiff; one ny x ny LU per step makes steps of the order of the contact's own time
+  /// constant stable, where the explicit methods need a fraction of it. A Rosenbrock method of
+  /// higher order would need the full Jacobian of the dynamics, which neither the generated nor
+  /// the generic backends provide.
+  void linearly_implicit_euler(double h) {
+    ImplicitWork& w = implicit_;
+    backend_.mass_matrix(q_eval_.data(), w.M.data());
+    backend_.velocity_map(q_eval_.data(), w.T.data());
+    const Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M(w.M.data(), nv_, nv_),
+        T(w.T.data(), nv_, ny_);
+    w.A.setZero();
+    w.B.setZero();
+    if (options_.contact && nc_ > 0) contact_jacobians(h);  // uses points_/jacobians_ of f(x_n)
+    for (int i = 0; i < ny_; ++i) {
+      w.ydd0[i] = dv_[0][backend_.independent_v_index()[i]];
+      w.vy[i] = v_[backend_.independent_v_index()[i]];
+    }
+    w.MT.noalias() = M * T;
+    w.My.noalias() = T.transpose() * w.MT;
+    w.lhs = w.My;
+    // Every product into its own buffer: Eigen would allocate the nested temporaries.
+    w.TtA.noalias() = T.transpose() * w.A;  // A holds D + h K (contact_jacobians)
+    w.Ty.noalias() = w.TtA * T;
+    w.lhs -= S(h) * w.Ty;
+    w.rhs.noalias() = w.My * w.ydd0;
+    w.rhs *= S(h);
+    w.TtA.noalias() = T.transpose() * w.B;  // B holds K
+    w.Tv.noalias() = T * w.vy;
+    w.dy.noalias() = w.TtA * w.Tv;
+    w.rhs += S(h * h) * w.dy;
+    w.lu.compute(w.lhs);
+    w.dy.noalias() = w.lu.solve(w.rhs);
+    w.dy -= S(h) * w.ydd0;
+    v_ += S(h) * dv_[0];
+    w.Tv.noalias() = T * w.dy;
+    v_ += w.Tv;
+    configuration_rate<S>(backend_.floating_base(), nq_, q_.data(), v_.data(), dq_[1].data());
+    q_ += S(h) * dq_[1];
+  }
+
+  /// A = sum J_w^T (df/dv_w + h df/dp) J_w and B = sum J_w^T df/dp J_w over the active contacts,
+  /// with J_w = J_lin - [d]x J_ang the witness's Jacobian (d = -r n).
+  void contact_jacobians(double h) {
+    using AD = Eigen::AutoDiffScalar<Eigen::Matrix<S, 6, 1>>;
+    ImplicitWork& w = implicit_;
+    const Vec3<S> n = options_.ground.normal.template cast<S>();
+    for (int k = 0; k < nc_; ++k) {
+      if (!reports_[static_cast<std::size_t>(k)].active) continue;
+      const RowBlock J(jacobians_.data() + 6 * nv_ * k, 6, nv_);
+      const double r = backend_.contact_radius(k);
+      const Vec3<S> c(points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]);
+      const Vec3<S> v_c = J.template topRows<3>() * v_, omega = J.template bottomRows<3>() * v_;
+      Vec3<AD> c_ad, v_ad, omega_ad;
+      for (int i = 0; i < 3; ++i) {
+        c_ad[i] = AD(c[i], 6, i);
+        v_ad[i] = AD(v_c[i], 6, 3 + i);
+        omega_ad[i] = AD(omega[i]);
+      }
+      const ContactReport<AD> f = contact_law<AD>(c_ad, v_ad, omega_ad, r, options_.ground, options_.contact_parameters);
+      Mat3<S> dfdp, dfdv;
+      for (int i = 0; i < 3; ++i) {
+        dfdp.row(i) = f.force[i].derivatives().template head<3>().transpose();
+        dfdv.row(i) = f.force[i].derivatives().template tail<3>().transpose();
+      }
+      w.Jw = J.template topRows<3>();
+      w.Jw.noalias() -= skew<S>(-S(r) * n) * J.template bottomRows<3>();
+      w.FJ.noalias() = (dfdv + S(h) * dfdp) * w.Jw;
+      w.A.noalias() += w.Jw.transpose() * w.FJ;
+      w.FJ.noalias() = dfdp * w.Jw;
+      w.B.noalias() += w.Jw.transpose() * w.FJ;
+    }
+  }
+
+  Backend backend_;
+  SimulatorOptions options_;
+  int nq_, nv_, ny_, nc_;
+  VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, vy_;
+  VecX<S> dq_[kMaxStages], dv_[kMaxStages], q_error_, v_error_;
+  VecX<S> points_, jacobians_;
+  std::vector<ContactReport<S>> reports_;
+  ImplicitWork implicit_;
+  Controller controller_;
+  double t_ = 0, step_ = 0, gravity_norm_ = 0;
+  long control_ticks_ = 0;
+  bool control_due_ = true;
+  S work_ = S(0), energy_start_ = S(0), max_penetration_ = S(0);
+  SimulationStatistics stats_;
+};
+
+}  // namespace mbgen::sim
