@@ -41,6 +41,7 @@ inline constexpr const char* independent_joint_names[] = {"ankle_act_lat", "ankl
 inline constexpr int independent_v_index[] = {2, 5};
 inline constexpr const char* body_names[] = {"ankle_act_lat_cross", "ankle_act_lat_housing", "ankle_act_lat_rod", "ankle_act_med_cross", "ankle_act_med_housing", "ankle_act_med_rod", "ankle_cross", "foot_body"};
 inline constexpr const char* frame_names[] = {"foot"};
+constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
 
 /// Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the closure Jacobian's dependent block). q must close the loops and v be the independent velocities.
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
@@ -122,6 +123,13 @@ void center_of_mass(const double* q, double* com);
 /// Cost: 676 operations: 277 additions/subtractions, 368 multiplications, 3 divisions, 16 negations, 12 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
+/// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
+/// in  q: [8] joint positions
+/// out p: [0 x 3] centres, world
+/// out J: [0 x 6 x 8] per sphere a row-major 6 x nv matrix
+/// Cost: 0 operations: 0 additions/subtractions, 0 multiplications, 0 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void contact_points(const double* q, double* p, double* J);
+
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.
 template <typename S> inline void independent_velocities(const S* v, S* vy) {
@@ -185,4 +193,39 @@ inline constexpr const char* distance_pair_names[5][2] = {{"world", "foot_body"}
 /// Cost: straight-line placement and Jacobian columns: 237 operations: 106 additions/subtractions, 105 multiplications, 0 divisions, 14 negations, 12 sin/cos, 0 square roots; then at most 38 SSV distance calls (5 pairs; bounding spheres skip the rest).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 
+/// This robot as the simulator, the controllers and the study consume it (mbgen/sim/backend.hpp):
+/// mbgen::sim::Simulator<ankle_2dof::Backend> runs it with no glue code. Stateless: every member
+/// forwards to a function above, for the scalar S (only the scalars generated can be used).
+template <typename S> struct BasicBackend {
+  using Scalar = S;
+  int nq() const { return ankle_2dof::nq; }
+  int nv() const { return ankle_2dof::nv; }
+  int ny() const { return ankle_2dof::ny; }
+  bool floating_base() const { return ankle_2dof::floating_base; }
+  const int* independent_v_index() const { return ankle_2dof::independent_v_index; }
+  int num_contacts() const { return ankle_2dof::num_contact_spheres; }
+  double contact_radius(int k) const { return (void)k, 0.0; }
+  const char* contact_name(int k) const { return (void)k, ""; }
+  double total_mass() const { return 2.5800000000000005; }
+  const double* gravity() const {
+    static constexpr double g[3] = {0, 0, -9.81};
+    return g;
+  }
+  /// Every tree joint's accelerations at (q, v) (v: every tree joint's velocity; its independent
+  /// entries are read) under tau.
+  void accelerations(const S* q, const S* v, const S* tau, S* qdd) const {
+    S vy[ankle_2dof::ny];
+    ankle_2dof::independent_velocities(v, vy);
+    ankle_2dof::full_accelerations(q, vy, tau, qdd);
+  }
+  /// 0 converged, 1 not converged, 2 singular (ClosureStatus).
+  int closure_positions(S* q) const { return static_cast<int>(ankle_2dof::closure_positions(q).status); }
+  void full_velocities(const S* q, const S* vy, S* v) const { ankle_2dof::full_velocities(q, vy, v); }
+  void velocity_map(const S* q, S* T) const { ankle_2dof::velocity_map(q, T); }
+  void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { ankle_2dof::inverse_dynamics(q, v, qdd, tau); }
+  void mass_matrix(const S* q, S* M) const { ankle_2dof::mass_matrix(q, M); }
+  void center_of_mass(const S* q, S* com) const { ankle_2dof::center_of_mass(q, com); }
+  void contact_points(const S* q, S* p, S* J) const { ankle_2dof::contact_points(q, p, J); }
+};
+using Backend = BasicBackend<double>;
 }  // namespace ankle_2dof

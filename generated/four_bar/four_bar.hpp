@@ -41,6 +41,7 @@ inline constexpr const char* independent_joint_names[] = {"crank_joint"};
 inline constexpr int independent_v_index[] = {0};
 inline constexpr const char* body_names[] = {"crank", "coupler", "rocker"};
 inline constexpr const char* frame_names[] = {"coupler", "rocker"};
+constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
 
 /// Accelerations of the independent coordinates of the closed system: O(n) articulated-body algorithm with each sub-system of loops as one aggregate body (its velocity and acceleration maps from a Givens QR of the closure Jacobian's dependent block). q must close the loops and v be the independent velocities.
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
@@ -122,6 +123,13 @@ void center_of_mass(const double* q, double* com);
 /// Cost: 112 operations: 39 additions/subtractions, 59 multiplications, 2 divisions, 6 negations, 6 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
+/// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
+/// in  q: [3] joint positions
+/// out p: [0 x 3] centres, world
+/// out J: [0 x 6 x 3] per sphere a row-major 6 x nv matrix
+/// Cost: 0 operations: 0 additions/subtractions, 0 multiplications, 0 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void contact_points(const double* q, double* p, double* J);
+
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.
 template <typename S> inline void independent_velocities(const S* v, S* vy) {
@@ -185,4 +193,39 @@ inline constexpr const char* distance_pair_names[1][2] = {{"", ""}};
 /// Cost: nothing (the scene keeps no pair).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 
+/// This robot as the simulator, the controllers and the study consume it (mbgen/sim/backend.hpp):
+/// mbgen::sim::Simulator<four_bar::Backend> runs it with no glue code. Stateless: every member
+/// forwards to a function above, for the scalar S (only the scalars generated can be used).
+template <typename S> struct BasicBackend {
+  using Scalar = S;
+  int nq() const { return four_bar::nq; }
+  int nv() const { return four_bar::nv; }
+  int ny() const { return four_bar::ny; }
+  bool floating_base() const { return four_bar::floating_base; }
+  const int* independent_v_index() const { return four_bar::independent_v_index; }
+  int num_contacts() const { return four_bar::num_contact_spheres; }
+  double contact_radius(int k) const { return (void)k, 0.0; }
+  const char* contact_name(int k) const { return (void)k, ""; }
+  double total_mass() const { return 0.75; }
+  const double* gravity() const {
+    static constexpr double g[3] = {0, 0, -9.81};
+    return g;
+  }
+  /// Every tree joint's accelerations at (q, v) (v: every tree joint's velocity; its independent
+  /// entries are read) under tau.
+  void accelerations(const S* q, const S* v, const S* tau, S* qdd) const {
+    S vy[four_bar::ny];
+    four_bar::independent_velocities(v, vy);
+    four_bar::full_accelerations(q, vy, tau, qdd);
+  }
+  /// 0 converged, 1 not converged, 2 singular (ClosureStatus).
+  int closure_positions(S* q) const { return static_cast<int>(four_bar::closure_positions(q).status); }
+  void full_velocities(const S* q, const S* vy, S* v) const { four_bar::full_velocities(q, vy, v); }
+  void velocity_map(const S* q, S* T) const { four_bar::velocity_map(q, T); }
+  void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { four_bar::inverse_dynamics(q, v, qdd, tau); }
+  void mass_matrix(const S* q, S* M) const { four_bar::mass_matrix(q, M); }
+  void center_of_mass(const S* q, S* com) const { four_bar::center_of_mass(q, com); }
+  void contact_points(const S* q, S* p, S* J) const { four_bar::contact_points(q, p, J); }
+};
+using Backend = BasicBackend<double>;
 }  // namespace four_bar

@@ -170,6 +170,9 @@ std::string output_assignments(const TracedFunction& f, const std::vector<std::s
 std::string unused_inputs(const TracedFunction& f) {
   std::string out;
   for (const ArraySpec& a : f.inputs) out += fmt::format("  (void){};\n", a.name);
+  // An empty output (contact_points without contact spheres) is never written to.
+  for (const ArraySpec& a : f.outputs)
+    if (a.size == 0) out += fmt::format("  (void){};\n", a.name);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include "codegen/trace_dynamics.hpp"
 #include "codegen/trace_loop_maps.hpp"
 #include "collision/collision_scene.hpp"
+#include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "model/topology.hpp"
 #include "mbgen/mbgen.hpp"
@@ -121,6 +122,11 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   }
   functions.push_back(traced("center_of_mass", [&] { return trace_center_of_mass(tree); }));
   functions.push_back(traced("centroidal_momentum_matrix", [&] { return trace_centroidal_momentum_matrix(tree); }));
+  // Ground contact: the vertex spheres of the scene's contact links. Emitted for every robot
+  // (empty, num_contact_spheres = 0, without `contact:`), so that the files follow from the
+  // arguments alone (cmake/mbgen_add_robot.cmake).
+  const std::vector<sim::ContactSphere> contacts = gen::contact_spheres(description);
+  functions.push_back(traced("contact_points", [&] { return trace_contact_points(tree, contacts); }));
 
   // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
   // seeded, so the output stays deterministic).
@@ -167,6 +173,38 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       {"declarations", declarations},
       {"scalar_declarations", scalar_declarations}};
   header_fields.insert(header_fields.end(), distances.header_fields.begin(), distances.header_fields.end());
+  const auto number = [](double x) { return fmt::format("{}", x); };  // shortest round-trip
+  header_fields.push_back({"num_contact_spheres", std::to_string(contacts.size())});
+  std::string contact_block;
+  if (!contacts.empty()) {
+    const gen::ContactSpec& spec = *description.scene->contact;
+    std::vector<std::string> names, radii;
+    for (const sim::ContactSphere& c : contacts) names.push_back(c.name), radii.push_back(number(c.radius));
+    const Vec3<double>& n = spec.ground.normal;
+    contact_block = templates.render("contact", {{"robot", ctx.robot},
+                                                 {"links", fmt::format("{}", fmt::join(spec.links, ", "))},
+                                                 {"names", quoted_list(names)},
+                                                 {"radii", fmt::format("{}", fmt::join(radii, ", "))},
+                                                 {"stiffness", number(spec.parameters.stiffness)},
+                                                 {"damping", number(spec.parameters.damping)},
+                                                 {"exponent", number(spec.parameters.exponent)},
+                                                 {"friction", number(spec.parameters.friction)},
+                                                 {"stiction_velocity", number(spec.parameters.stiction_velocity)},
+                                                 {"ground_normal", fmt::format("{}, {}, {}", number(n.x()), number(n.y()), number(n.z()))},
+                                                 {"ground_offset", number(spec.ground.offset)}});
+  }
+  header_fields.push_back({"contact", contact_block});
+  const std::vector<std::string> scalars = scalar_types(options.scalars);
+  const bool has_double = std::find(scalars.begin(), scalars.end(), "double") != scalars.end();
+  const Vec3<double>& g = model.gravity;
+  header_fields.push_back(
+      {"backend",
+       templates.render("backend", {{"robot", ctx.robot},
+                                    {"default_scalar", has_double ? "double" : "float"},
+                                    {"total_mass", number(model.total_mass())},
+                                    {"gravity", fmt::format("{}, {}, {}", number(g.x()), number(g.y()), number(g.z()))},
+                                    {"contact_radius", contacts.empty() ? std::string("(void)k, 0.0") : fmt::format("{}::contact_sphere_radius[k]", ctx.robot)},
+                                    {"contact_name", contacts.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::contact_sphere_names[k]", ctx.robot)}})});
 
   std::vector<GeneratedFile> files;
   files.push_back({ctx.header, templates.render("header", header_fields)});

@@ -153,6 +153,27 @@ TracedFunction trace_frame_jacobians(const Model& model, const std::vector<Frame
   return f;
 }
 
+TracedFunction trace_contact_points(const Model& model, const std::vector<sim::ContactSphere>& spheres) {
+  const int n = static_cast<int>(spheres.size());
+  TracedFunction f;
+  f.name = "contact_points";
+  f.doc = "Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact "
+          "links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; "
+          "angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"p", 3 * n, fmt::format("[{} x 3] centres, world", n)},
+               {"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per sphere a row-major 6 x nv matrix", n, model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  std::vector<Sym> p(static_cast<std::size_t>(3 * n)), J(static_cast<std::size_t>(6 * model.nv() * n));
+  contact_points<Sym>(model, data, spheres, inputs(0, model.nq()), p.data(), J.data());
+  std::vector<int> p_ids, J_ids;
+  for (const Sym& x : p) p_ids.push_back(x.id());
+  for (const Sym& x : J) J_ids.push_back(x.id());
+  f.output_ids = {p_ids, J_ids};
+  return f;
+}
+
 TracedFunction trace_center_of_mass(const Model& model) {
   TracedFunction f;
   f.name = "center_of_mass";

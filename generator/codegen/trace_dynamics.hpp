@@ -6,6 +6,7 @@
 
 #include "codegen/traced_function.hpp"
 #include "mbgen/model.hpp"
+#include "mbgen/sim/contact.hpp"
 
 namespace mbgen::codegen {
 
@@ -22,6 +23,8 @@ TracedFunction trace_forward_kinematics(const Model& model);
 TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameIndex>& frames);
 /// Jacobians (6 x nv row-major each, LocalWorldAligned) of the given frames.
 TracedFunction trace_frame_jacobians(const Model& model, const std::vector<FrameIndex>& frames);
+/// Centres and body Jacobians (6 x nv, LocalWorldAligned) of the ground-contact spheres.
+TracedFunction trace_contact_points(const Model& model, const std::vector<sim::ContactSphere>& spheres);
 TracedFunction trace_center_of_mass(const Model& model);
 TracedFunction trace_centroidal_momentum_matrix(const Model& model);
 

@@ -8,6 +8,7 @@
 
 #include "load/check_values.hpp"
 #include "mbgen/model.hpp"
+#include "mbgen/sim/contact.hpp"
 
 namespace mbgen::gen {
 
@@ -47,6 +48,15 @@ struct SsvPrimitive {
   std::string source;  ///< where it was given: the extras' file:line, or the URDF <collision> it models
 };
 
+/// The ground contact a simulation of the scene uses (`scene: contact`, docs/extras.md): which
+/// links touch the ground (the vertex spheres of their SSVs, sim/contact.hpp), the compliant
+/// law's parameters and the ground plane.
+struct ContactSpec {
+  std::vector<std::string> links;
+  sim::ContactParameters parameters;
+  sim::GroundPlane ground;
+};
+
 /// What the generated code must provide (`scene:` of the extras). Kept as given; later issues
 /// (planning, collision) interpret it.
 struct SceneSpec {
@@ -57,6 +67,7 @@ struct SceneSpec {
   int prune_samples = 0;                    ///< 0: not given
   std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
   std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
+  std::optional<ContactSpec> contact;       ///< `contact:`; absent: the robot touches nothing
 };
 
 /// Where each URDF element starts (1-based lines), so that later checks can point at it. For an

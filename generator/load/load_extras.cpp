@@ -201,10 +201,62 @@ void read_outputs(const ExtrasFile& x, const YAML::Node& node, Description& d, S
   }
 }
 
+/// `scene: contact`: the links must exist and carry SSVs (their vertex spheres touch the ground).
+ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Description& d) {
+  const std::string element = "scene: contact";
+  require_map(x.path, c, element, "{links: [foot_l, foot_r], stiffness: 2e7, damping: 2, friction: 0.8}");
+  reject_unknown_keys(x.path, c, element,
+                      {"damping", "exponent", "friction", "ground", "links", "stiction_velocity", "stiffness"});
+  ContactSpec contact;
+  if (!c["links"]) fail(x.path, c, element, "has no links", "list the links that touch the ground, e.g. links: [foot_l, foot_r]");
+  require_sequence(x.path, c["links"], element + ": links", "[foot_l, foot_r]");
+  for (std::size_t i = 0; i < c["links"].size(); ++i) {
+    const YAML::Node& n = c["links"][i];
+    resolve_frame(x.path, n, element + ": links", d.model);
+    const std::string link = n.Scalar();
+    auto it = d.ssv.find(link);
+    if (it == d.ssv.end() || it->second.empty())
+      fail(x.path, n, element + ": links", fmt::format("'{}' has no swept-sphere volume to touch the ground with", link),
+           fmt::format("give it one under `ssv:`, e.g. {}: [{{line: [[-0.05, 0, -0.05], [0.1, 0, -0.05]], radius: 0.02}}]", link));
+    contact.links.push_back(link);
+  }
+  sim::ContactParameters& p = contact.parameters;
+  struct Number {
+    const char* key;
+    double* value;
+    double lowest;
+    bool strict;
+    const char* fix;
+  };
+  for (const Number& k : {Number{"stiffness", &p.stiffness, 0, true, "give k > 0 in N/m^exponent, e.g. 2e7"},
+                          Number{"damping", &p.damping, 0, false, "give d >= 0 in s/m, e.g. 2"},
+                          Number{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring, 1.5 Hertz's sphere"},
+                          Number{"friction", &p.friction, 0, false, "give mu >= 0, e.g. 0.8"},
+                          Number{"stiction_velocity", &p.stiction_velocity, 0, true, "give v_s > 0 in m/s, e.g. 1e-3"}}) {
+    if (!c[k.key]) continue;
+    *k.value = to_number(x.path, c[k.key], element + ": " + k.key);
+    if (k.strict ? !(*k.value > k.lowest) : !(*k.value >= k.lowest))
+      fail(x.path, c[k.key], element + ": " + k.key, "is out of range", k.fix);
+  }
+  if (const YAML::Node& g = c["ground"]) {
+    require_map(x.path, g, element + ": ground", "{normal: [0, 0, 1], offset: 0}");
+    reject_unknown_keys(x.path, g, element + ": ground", {"normal", "offset"});
+    if (g["normal"]) {
+      const Vec3<double> n = to_vec3(x.path, g["normal"], element + ": ground: normal");
+      if (!(n.norm() > 1e-9))
+        fail(x.path, g["normal"], element + ": ground: normal", "is zero", "give the plane's upward normal, e.g. [0, 0, 1]");
+      contact.ground.normal = n.normalized();
+    }
+    if (g["offset"]) contact.ground.offset = to_number(x.path, g["offset"], element + ": ground: offset");
+  }
+  return contact;
+}
+
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
-  reject_unknown_keys(x.path, node, "scene", {"collision", "outputs", "rotors", "scalar"});
+  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "outputs", "rotors", "scalar"});
   SceneSpec scene;
+  if (node["contact"]) scene.contact = read_contact(x, node["contact"], d);
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
   if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body"});

@@ -123,6 +123,9 @@ template <typename Backend> class Simulator {
   /// The joint forces the controller wrote last (held until its next call), nv.
   const VecX<S>& control_forces() const { return tau_control_; }
   void set_controller(Controller controller) { controller_ = std::move(controller); }
+  /// The last closure_positions status (0 converged, 1 not converged, 2 singular): why a step
+  /// ended in closure_lost.
+  int closure_status() const { return closure_status_; }
 
   // --- stepping -----------------------------------------------------------------------------
   /// One step of the configured integrator (no longer than `max_dt`, and ending at the next
@@ -262,7 +265,7 @@ template <typename Backend> class Simulator {
   /// Closes the loops in q_ and sets v_ = T vy; returns the closure status (0 converged).
   int project() {
     if (ny_ == nv_) return 0;
-    const int status = backend_.closure_positions(q_.data());
+    const int status = closure_status_ = backend_.closure_positions(q_.data());
     if (status != 0) return status;
     for (int i = 0; i < ny_; ++i) vy_[i] = v_[backend_.independent_v_index()[i]];
     backend_.full_velocities(q_.data(), vy_.data(), v_.data());
@@ -467,6 +470,7 @@ template <typename Backend> class Simulator {
   Controller controller_;
   double t_ = 0, step_ = 0, gravity_norm_ = 0;
   long control_ticks_ = 0;
+  int closure_status_ = 0;
   bool control_due_ = true;
   S work_ = S(0), energy_start_ = S(0), max_penetration_ = S(0);
   SimulationStatistics stats_;

@@ -1,0 +1,163 @@
+#pragma once
+// Runs one scenario with any backend and writes its trajectory as CSV (one row per sample): the
+// same code path for the generated and the runtime backends.
+#include <fmt/format.h>
+#include <fmt/os.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "examples/sim/scenario.hpp"
+#include "mbgen/algorithm/closure.hpp"
+#include "mbgen/algorithm/configuration.hpp"
+#include "mbgen/sim/pd_gravity.hpp"
+
+namespace mbgen::simulate {
+
+/// The scenario's start state: the description's assembled (closed) pose, or its neutral one;
+/// for contact scenarios lowered or raised so that the lowest contact sphere is `height` above
+/// the ground.
+template <typename Backend>
+VecX<typename Backend::Scalar> start_pose(Backend& backend, const gen::Description& d, double height) {
+  using S = typename Backend::Scalar;
+  VecX<S> q = d.assembly.q.size() ? d.assembly.q.cast<S>().eval() : mbgen::neutral_configuration<double>(d.model).cast<S>().eval();
+  const int nc = backend.num_contacts();
+  if (nc == 0 || !backend.floating_base()) return q;
+  VecX<S> p(3 * nc), J(6 * backend.nv() * nc);
+  backend.contact_points(q.data(), p.data(), J.data());
+  S lowest = S(1e9);
+  for (int k = 0; k < nc; ++k) lowest = std::min(lowest, p[3 * k + 2] - S(backend.contact_radius(k)));
+  q[2] += S(height) - lowest;
+  return q;
+}
+
+template <typename Backend>
+ScenarioResult run_scenario(Backend backend, Backend controller_backend, const gen::Description& d, const ScenarioOptions& o) {
+  using S = typename Backend::Scalar;
+  ScenarioResult result;
+  const bool contact = o.scenario != Scenario::swing;
+  sim::SimulatorOptions so = o.simulator;
+  so.contact = contact;
+  sim::Simulator<Backend> sim(std::move(backend), so);
+  Backend& b = sim.backend();
+  const int nv = b.nv(), ny = b.ny();
+  const VecX<S> q0 = start_pose(b, d, contact ? o.height : 0.0);
+  VecX<S> v0 = VecX<S>::Zero(nv);
+  if (o.scenario == Scenario::swing) {
+    VecX<S> vy = VecX<S>::Constant(ny, S(o.swing_speed));
+    b.full_velocities(q0.data(), vy.data(), v0.data());
+  }
+  if (const int status = sim.set_state(q0.data(), v0.data()); status != 0) {
+    result.status = sim::StepStatus::closure_lost;
+    return result;
+  }
+  // Control: PD + gravity on the actuated joints, holding the start pose (none for the swing);
+  // the push adds a constant force on the base during push_time (its wrench entries of tau are in
+  // base coordinates: the world force rotated into them).
+  const double push_start = o.settle, push_end = o.settle + o.push_time;
+  if (o.scenario != Scenario::swing) {
+    // Gains per coordinate from a bandwidth: kp = w^2 m, kd = 2 zeta w m with m the coordinate's
+    // inertia at the start pose (the diagonal of T^T M T: a roller-screw nut moving the shank
+    // through its linkage weighs tens of kg, a hip joint with its drive a few kg m^2), so every
+    // joint, rotary or linear, answers alike and the 1 kHz controller stays well inside its
+    // stability limit (w T = 0.13 at 20 Hz).
+    VecX<S> M(nv * nv), T(nv * ny), kp(ny), kd(ny);
+    b.mass_matrix(q0.data(), M.data());
+    b.velocity_map(q0.data(), T.data());
+    const double w = 2 * M_PI * o.bandwidth;
+    for (int i = 0; i < ny; ++i) {
+      S m = S(0);  // (T^T M T)_ii
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < nv; ++c) m += T[r * ny + i] * M[r * nv + c] * T[c * ny + i];
+      kp[i] = S(w * w) * m;
+      kd[i] = S(2 * o.damping_ratio * w) * m;
+    }
+    sim::PdGravityController<Backend> pd(std::move(controller_backend), q0, kp, kd);
+    const bool push = o.scenario == Scenario::push;
+    const double force = o.impulse / o.push_time;
+    sim.set_controller([pd, push, push_start, push_end, force](double t, const S* q, const S* v, S* tau) mutable {
+      pd(t, q, v, tau);
+      if (push && t >= push_start && t < push_end) {
+        const S x = q[3], y = q[4], z = q[5], w = q[6];
+        // R^T e_x: the world x axis in base coordinates (first row of R).
+        tau[0] += S(force) * (S(1) - S(2) * (y * y + z * z));
+        tau[1] += S(force) * S(2) * (x * y - z * w);
+        tau[2] += S(force) * S(2) * (x * z + y * w);
+      }
+    });
+  }
+
+  // Contact links: the spheres are named link/ssv/vertex; one force column per link.
+  std::vector<std::string> links;
+  std::vector<int> link_of;
+  for (int k = 0; k < b.num_contacts(); ++k) {
+    std::string name = b.contact_name(k);
+    name = name.substr(0, name.find('/'));
+    auto it = std::find(links.begin(), links.end(), name);
+    if (it == links.end()) links.push_back(name), it = links.end() - 1;
+    link_of.push_back(static_cast<int>(it - links.begin()));
+  }
+  auto out = fmt::output_file(o.csv);
+  out.print("t,base_x,base_y,base_z,com_x,com_y,com_z,energy,energy_balance,max_penetration,normal_force,closure_residual,weight");
+  for (const std::string& l : links) out.print(",force_{}", l);
+  out.print("\n");
+  std::vector<double> link_force(links.size());
+  Data<double> check(d.model);
+  const double weight = d.model.total_mass() * d.model.gravity.norm();
+  const double total = o.scenario == Scenario::push ? o.settle + o.duration : o.duration;
+  const auto sample = [&] {
+    const VecX<S>& q = sim.q();
+    S com[3];
+    b.center_of_mass(q.data(), com);
+    double normal = 0, penetration = 0;
+    std::fill(link_force.begin(), link_force.end(), 0.0);
+    if (contact) {
+      const auto& reports = sim.contacts();
+      for (std::size_t k = 0; k < reports.size(); ++k) {
+        normal += double(reports[k].normal_force);
+        link_force[static_cast<std::size_t>(link_of[k])] += double(reports[k].normal_force);
+        penetration = std::max(penetration, double(reports[k].penetration));
+      }
+    }
+    // The loops' violation, max |Phi| over the kept rows (m, rad), by the generic runtime in
+    // double whatever the backend: an independent check of the closed state.
+    double drift = 0;
+    if (!d.model.closures.empty()) {
+      const VecX<double> qd = q.template cast<double>();
+      closure_residual<double>(d.model, check, qd);
+      for (const SubSystem& sub : d.model.subsystems)
+        for (int row : sub.rows) drift = std::max(drift, std::abs(check.Phi[row]));
+    }
+    result.max_closure_drift = std::max(result.max_closure_drift, drift);
+    result.max_penetration = std::max(result.max_penetration, penetration);
+    const bool floating = b.floating_base();
+    out.print("{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.9g},{:.3g},{:.6g}", sim.time(),
+              floating ? double(q[0]) : 0.0, floating ? double(q[1]) : 0.0, floating ? double(q[2]) : 0.0, double(com[0]),
+              double(com[1]), double(com[2]), double(sim.energy()), double(sim.energy_balance()), penetration, normal, drift, weight);
+    for (double f : link_force) out.print(",{:.6g}", f);
+    out.print("\n");
+    result.final_energy_balance = double(sim.energy_balance());
+    result.final_base_height = floating ? double(q[2]) : 0.0;
+    result.final_normal_force = normal;
+  };
+  sample();
+  double cpu = 0;
+  for (long k = 1;; ++k) {
+    const double t_next = std::min(total, k * o.sample_period);
+    const auto start = std::chrono::steady_clock::now();
+    result.status = sim.run_until(t_next);
+    cpu += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    sample();
+    if (result.status != sim::StepStatus::ok || t_next >= total) break;
+  }
+  result.end_time = sim.time();
+  result.cpu_seconds = cpu;
+  result.statistics = sim.statistics();
+  result.closure_status = sim.closure_status();
+  return result;
+}
+
+}  // namespace mbgen::simulate

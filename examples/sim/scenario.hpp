@@ -1,0 +1,48 @@
+#pragma once
+// The simulation scenarios of `mbgen_sim` (docs/simulation.md): what each one sets up, and the
+// options the command line gives them.
+#include <string>
+
+#include "load/description.hpp"
+#include "mbgen/sim/simulator.hpp"
+
+namespace mbgen::simulate {
+
+enum class Scenario {
+  drop,   ///< dropped from `height` above the ground, PD + gravity holding the start pose
+  push,   ///< standing (settled for `settle` s), then pushed at the base by `impulse` N s along +x
+  swing,  ///< a mechanism swinging freely from its assembled pose, no contact, no control
+};
+
+struct ScenarioOptions {
+  Scenario scenario = Scenario::drop;
+  std::string backend = "generated";  ///< generated, generic, kkt, independent
+  sim::SimulatorOptions simulator;
+  double duration = 2.0;     ///< s of simulated time (after settling, for push)
+  double height = 0.05;      ///< m: drop height of the lowest contact sphere
+  double impulse = 20.0;     ///< N s: push
+  double push_time = 0.05;   ///< s: the push's duration (a constant force impulse / push_time)
+  double settle = 1.0;       ///< s: push, standing time before the push
+  double swing_speed = 3.0;  ///< rad/s (or m/s): swing, the independent coordinates' start velocity
+  double bandwidth = 20;      ///< Hz: the PD gains' natural frequency per joint (kp = w^2 m, kd = 2 zeta w m)
+  double damping_ratio = 1;   ///< zeta
+  double baumgarte = 20;     ///< kkt backend: alpha = beta (1/s)
+  double sample_period = 1e-3;  ///< s: CSV rows
+  std::string csv;           ///< output file
+};
+
+/// What a run ended with, for the summary line.
+struct ScenarioResult {
+  sim::StepStatus status = sim::StepStatus::ok;
+  double end_time = 0;
+  double cpu_seconds = 0;      ///< of the simulation itself (sampling excluded)
+  sim::SimulationStatistics statistics;
+  double max_closure_drift = 0;  ///< max |Phi| (m, rad) over the samples: the loops' violation
+  double max_penetration = 0;    ///< m
+  double final_energy_balance = 0;  ///< J
+  double final_base_height = 0;     ///< m
+  double final_normal_force = 0;    ///< N, summed over the contacts
+  int closure_status = 0;           ///< the last closure_positions status (1 not converged, 2 singular)
+};
+
+}  // namespace mbgen::simulate
