@@ -4,7 +4,9 @@
 #
 #   run_fuzzers.sh BUILD_DIR SECONDS [TARGET...]     targets: urdf mjcf extras inspect (default all)
 #
-# Each target runs with -timeout=10 (an input slower than 10 s is a hang) and -rss_limit_mb=4096,
+# Each target runs with -timeout=10 (an input slower than 10 s is a hang; 60 s for inspect, whose
+# inputs run the whole pipeline: a loop that cannot close tries 24 assembly seeds, 0.2 s in a
+# release build and ~20 s under ASan + UBSan) and -rss_limit_mb=4096,
 # two at a time, with random seeds (MBGEN_FUZZ_SEED fixes it: the test suite's smoke run uses 1,
 # so that it finds the same thing on every machine). A crash, hang, leak or sanitizer report leaves the input in
 # BUILD_DIR/artifacts/<target>/ and fails the run; the last lines of each log give executions
@@ -51,7 +53,9 @@ export LSAN_OPTIONS=suppressions=$source_dir/scripts/lsan_suppressions.txt
 run_one() {
   local target=$1
   mkdir -p "$build_dir/corpus/$target" "$build_dir/artifacts/$target"
-  "$build_dir/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -max_len=262144 \
+  local timeout=10
+  [[ $target == inspect ]] && timeout=60
+  "$build_dir/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=$timeout -rss_limit_mb=4096 -max_len=262144 \
     -seed="${MBGEN_FUZZ_SEED:-0}" \
     -print_final_stats=1 -artifact_prefix="$build_dir/artifacts/$target/" \
     "$build_dir/corpus/$target" "$seed_dir/$target" >"$build_dir/fuzz_$target.log" 2>&1

@@ -30,7 +30,11 @@ if (contact) {
        csv using "t":(lowcut(column("closure_residual"))) axes x1y2 with lines title "loop violation (right)"
 } else {
   set ylabel "energy [J]"
-  plot csv using "t":"energy" with lines lw 2 title "energy"
+  stats csv using "energy" nooutput
+  pad = 0.05 * (abs(STATS_max) + abs(STATS_min)) + 1e-9
+  set yrange [STATS_min - pad : STATS_max + pad]
+  plot csv using "t":"energy" with lines lw 2 title "energy (kinetic + gravity)"
+  set autoscale y
   set ylabel "energy - energy(0) [J]"
   set format y "%.1e"
   plot csv using "t":"energy_balance" with lines lw 2 title "energy balance"

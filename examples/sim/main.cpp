@@ -39,7 +39,7 @@ constexpr const char* kUsage = R"(usage: mbgen_sim drop|push|swing [options]
   --duration T         simulated s (default 2; push: after settling)
   --height H           drop height of the lowest contact sphere, m (default 0.05)
   --impulse P          push, N s along +x at the base (default 20), over --push-time s (default 0.05)
-  --bandwidth F        PD + gravity per actuated joint: natural frequency, Hz (default 20), at
+  --bandwidth F        PD + gravity per actuated joint: natural frequency, Hz (default 40), at
   --damping-ratio Z    this damping ratio (default 1), scaled by each joint's inertia
   --baumgarte G        kkt backend: alpha = beta, 1/s (default 20)
   --no-projection      do not re-close the loops after each step (to measure the drift)
@@ -166,6 +166,7 @@ int main(int argc, char** argv) {
 
   fmt::print("{} {} ({} backend, {}, step {:g} s): {} at t = {:.4f} s\n", scenario, d.model.name, backend,
              sim::to_string(o.simulator.integrator), o.simulator.step, sim::to_string(r.status), r.end_time);
+  if (r.fell) fmt::print("  the robot fell: its centre of mass sank below half its start height; stopped there\n");
   if (r.status == sim::StepStatus::closure_lost)
     fmt::print("  the loops could not be closed: {}\n", r.closure_status == 2 ? "a linkage at (or too near) a dead point" : "Newton did not converge");
   fmt::print("  {} steps ({} rejected), {} evaluations; CPU {:.3f} s per simulated s\n", r.statistics.accepted_steps,
@@ -185,5 +186,5 @@ int main(int argc, char** argv) {
     if (std::system(command.c_str()) == 0) fmt::print("  plot: {}\n", png);
     else fmt::print(stderr, "mbgen_sim: gnuplot failed (apt-get install gnuplot-nox); the CSV is written\n");
   }
-  return r.status == sim::StepStatus::ok ? 0 : 3;
+  return r.status == sim::StepStatus::ok ? (r.fell ? 4 : 0) : 3;
 }

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <fmt/os.h>
 
+#include <Eigen/Cholesky>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -59,21 +60,25 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   // base coordinates: the world force rotated into them).
   const double push_start = o.settle, push_end = o.settle + o.push_time;
   if (o.scenario != Scenario::swing) {
-    // Gains per coordinate from a bandwidth: kp = w^2 m, kd = 2 zeta w m with m the coordinate's
-    // inertia at the start pose (the diagonal of T^T M T: a roller-screw nut moving the shank
-    // through its linkage weighs tens of kg, a hip joint with its drive a few kg m^2), so every
-    // joint, rotary or linear, answers alike and the 1 kHz controller stays well inside its
-    // stability limit (w T = 0.13 at 20 Hz).
-    VecX<S> M(nv * nv), T(nv * ny), kp(ny), kd(ny);
-    b.mass_matrix(q0.data(), M.data());
-    b.velocity_map(q0.data(), T.data());
+    // Gains per coordinate from a bandwidth: kp = w^2 m, kd = 2 zeta w m, with m the
+    // coordinate's apparent inertia at the start pose, 1 / (M_y^-1)_ii (M_y = T^T M T): what the
+    // joint feels when the rest of the robot is free to react, so that a light wrist on a
+    // floating robot and a roller-screw nut driving a shank through its linkage (tens of kg) are
+    // tuned alike, and the 1 kHz controller (zero-order hold) stays inside its stability limit
+    // (w T = 0.25 at 40 Hz).
+    VecX<S> M_buffer(nv * nv), T_buffer(nv * ny), kp(ny), kd(ny);
+    b.mass_matrix(q0.data(), M_buffer.data());
+    b.velocity_map(q0.data(), T_buffer.data());
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const RowMajor M = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(M_buffer.data(), nv, nv).template cast<double>();
+    const RowMajor T = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(T_buffer.data(), nv, ny).template cast<double>();
+    const MatX<double> My = T.transpose() * M * T;
+    const MatX<double> My_inverse = My.ldlt().solve(MatX<double>::Identity(ny, ny));
     const double w = 2 * M_PI * o.bandwidth;
     for (int i = 0; i < ny; ++i) {
-      S m = S(0);  // (T^T M T)_ii
-      for (int r = 0; r < nv; ++r)
-        for (int c = 0; c < nv; ++c) m += T[r * ny + i] * M[r * nv + c] * T[c * ny + i];
-      kp[i] = S(w * w) * m;
-      kd[i] = S(2 * o.damping_ratio * w) * m;
+      const double m = 1 / My_inverse(i, i);
+      kp[i] = S(w * w * m);
+      kd[i] = S(2 * o.damping_ratio * w * m);
     }
     sim::PdGravityController<Backend> pd(std::move(controller_backend), q0, kp, kd);
     const bool push = o.scenario == Scenario::push;
@@ -142,8 +147,10 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     result.final_energy_balance = double(sim.energy_balance());
     result.final_base_height = floating ? double(q[2]) : 0.0;
     result.final_normal_force = normal;
+    result.final_com_height = double(com[2]);
   };
   sample();
+  const double com_start = result.final_com_height;
   double cpu = 0;
   for (long k = 1;; ++k) {
     const double t_next = std::min(total, k * o.sample_period);
@@ -152,6 +159,12 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     cpu += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sample();
     if (result.status != sim::StepStatus::ok || t_next >= total) break;
+    // A fall ends the scenario: the CoM below half its start height (only the contact links
+    // touch the ground; the rest of the robot would sink through it).
+    if (contact && b.floating_base() && result.final_com_height < 0.5 * com_start) {
+      result.fell = true;
+      break;
+    }
   }
   result.end_time = sim.time();
   result.cpu_seconds = cpu;

@@ -24,7 +24,7 @@ struct ScenarioOptions {
   double push_time = 0.05;   ///< s: the push's duration (a constant force impulse / push_time)
   double settle = 1.0;       ///< s: push, standing time before the push
   double swing_speed = 3.0;  ///< rad/s (or m/s): swing, the independent coordinates' start velocity
-  double bandwidth = 20;      ///< Hz: the PD gains' natural frequency per joint (kp = w^2 m, kd = 2 zeta w m)
+  double bandwidth = 40;      ///< Hz: the PD gains' natural frequency per joint (kp = w^2 m, kd = 2 zeta w m)
   double damping_ratio = 1;   ///< zeta
   double baumgarte = 20;     ///< kkt backend: alpha = beta (1/s)
   double sample_period = 1e-3;  ///< s: CSV rows
@@ -42,6 +42,8 @@ struct ScenarioResult {
   double final_energy_balance = 0;  ///< J
   double final_base_height = 0;     ///< m
   double final_normal_force = 0;    ///< N, summed over the contacts
+  double final_com_height = 0;     ///< m
+  bool fell = false;                ///< the CoM fell below half its start height: stopped there
   int closure_status = 0;           ///< the last closure_positions status (1 not converged, 2 singular)
 };
 
