@@ -26,6 +26,7 @@
 
 #include "bench_generated.hpp"
 #include "bench_loops.hpp"
+#include "bench_sim.hpp"
 #include "bench_rotor.hpp"
 #include "bench_self_distance.hpp"
 #include "bench_support.hpp"
@@ -212,6 +213,7 @@ int main(int argc, char** argv) {
     add_rotor_benchmarks();
     add_self_distance_benchmarks();
     add_loop_benchmarks();
+    add_sim_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
     add_kdl_floating_rnea(robots[1]);
     add_kdl_floating_rnea(robots[2]);

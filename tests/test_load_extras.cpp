@@ -4,6 +4,7 @@
 
 #include "load/load_error.hpp"
 #include "load/name_match.hpp"
+#include "collision/contact_spheres.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {
@@ -116,6 +117,45 @@ TEST(LoadExtras, DuplicateKeyIsAnError) {
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.element(), "key 'base'");
   EXPECT_EQ(e.problem(), "is given twice");
+}
+
+// scene: contact (docs/extras.md): the values as given, the plane's normal normalised, and a
+// sphere per SSV vertex of the listed links (a line gives 2, a point 1), in the body frame.
+TEST(LoadExtras, ContactSceneIsRead) {
+  const Description d = load_with(kData + "/tiny_arm.urdf", kData + "/extras/contact.yaml");
+  ASSERT_TRUE(d.scene && d.scene->contact);
+  const gen::ContactSpec& c = *d.scene->contact;
+  EXPECT_EQ(c.links, std::vector<std::string>{"tool"});
+  EXPECT_EQ(c.parameters.stiffness, 1e6);
+  EXPECT_EQ(c.parameters.damping, 0.5);
+  EXPECT_EQ(c.parameters.exponent, 1.0);
+  EXPECT_EQ(c.parameters.friction, 0.3);
+  EXPECT_EQ(c.parameters.stiction_velocity, 0.01);
+  EXPECT_EQ(c.ground.normal, Vec3<double>(0, 0, 1));
+  EXPECT_EQ(c.ground.offset, -0.1);
+  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  ASSERT_EQ(spheres.size(), 3u);
+  EXPECT_EQ(spheres[1].name, "tool/0/1");
+  EXPECT_EQ(spheres[2].radius, 0.01);
+  const Frame& tool = d.model.frame(d.model.frame_index("tool"));
+  EXPECT_EQ(spheres[1].body, tool.body);
+  EXPECT_LT((spheres[1].center - tool.X_BF.act(Vec3<double>(0.1, 0, 0))).norm(), 1e-15);
+}
+
+TEST(LoadExtras, ContactLinkWithoutSsvIsAnErrorWithTheFix) {
+  const LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/contact_link_without_ssv.yaml");
+  EXPECT_EQ(e.line(), 5);
+  EXPECT_NE(e.problem().find("'lower' has no swept-sphere volume"), std::string::npos) << e.what();
+  EXPECT_NE(e.fix().find("ssv:"), std::string::npos) << e.what();
+}
+
+TEST(LoadExtras, ContactParametersOutOfRangeAreErrors) {
+  LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/contact_negative_stiffness.yaml");
+  EXPECT_EQ(e.line(), 6);
+  EXPECT_EQ(e.element(), "scene: contact: stiffness");
+  e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/contact_zero_normal.yaml");
+  EXPECT_EQ(e.element(), "scene: contact: ground: normal");
+  EXPECT_EQ(e.problem(), "is zero");
 }
 
 TEST(LoadExtras, DriveOnAFixedJointIsAnError) {

@@ -6,6 +6,7 @@
 // written into the tree forces at the independent joints (zero elsewhere), which is where
 // forward dynamics applies them. T^T g is the closed system's gravity: the closure forces do no
 // work on motions that keep the loops closed.
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -52,7 +53,37 @@ template <typename Backend> class PdGravityController {
     }
   }
 
+  /// Gains from a bandwidth: for each independent coordinate kp = w^2 m, kd = 2 zeta w m,
+  /// w = 2 pi bandwidth_hz, with m its apparent inertia at q_ref, 1 / (M_y^-1)_ii (M_y = T^T M T):
+  /// what the joint feels when the rest of the robot is free to react. So a light wrist on a
+  /// floating robot and a roller-screw nut driving a shank through its linkage (tens of kg) are
+  /// tuned alike, and a controller at rate f stays inside its zero-order-hold stability limit
+  /// while w / f is small (0.25 at 40 Hz and 1 kHz).
+  static PdGravityController from_bandwidth(Backend backend, VecX<S> q_ref, double bandwidth_hz, double damping_ratio = 1,
+                                            double effort_limit = 0) {
+    const int nv = backend.nv(), ny = backend.ny();
+    VecX<S> M_buffer(nv * nv), T_buffer(nv * ny);
+    backend.mass_matrix(q_ref.data(), M_buffer.data());
+    backend.velocity_map(q_ref.data(), T_buffer.data());
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    using Map = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+    const RowMajor M = Map(M_buffer.data(), nv, nv).template cast<double>();
+    const RowMajor T = Map(T_buffer.data(), nv, ny).template cast<double>();
+    const Eigen::MatrixXd My = T.transpose() * M * T;
+    const Eigen::MatrixXd My_inverse = My.ldlt().solve(Eigen::MatrixXd::Identity(ny, ny));
+    const double w = 2 * M_PI * bandwidth_hz;
+    VecX<S> kp(ny), kd(ny);
+    for (int i = 0; i < ny; ++i) {
+      const double m = 1 / My_inverse(i, i);
+      kp[i] = S(w * w * m);
+      kd[i] = S(2 * damping_ratio * w * m);
+    }
+    return PdGravityController(std::move(backend), std::move(q_ref), std::move(kp), std::move(kd), effort_limit);
+  }
+
   VecX<S>& target() { return q_ref_; }
+  const VecX<S>& kp() const { return kp_; }
+  const VecX<S>& kd() const { return kd_; }
 
  private:
   Backend backend_;
