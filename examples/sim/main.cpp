@@ -38,7 +38,7 @@ constexpr const char* kUsage = R"(usage: mbgen_sim drop|push|swing [options]
   --rtol R --atol A    dormand_prince45 tolerances (default 1e-6, 1e-8)
   --duration T         simulated s (default 2; push: after settling)
   --height H           drop height of the lowest contact sphere, m (default 0.05)
-  --impulse P          push, N s along +x at the base (default 20), over --push-time s (default 0.05)
+  --impulse P          push, N s along +x at the base (default 4), over --push-time s (default 0.05)
   --bandwidth F        PD + gravity per actuated joint: natural frequency, Hz (default 40), at
   --damping-ratio Z    this damping ratio (default 1), scaled by each joint's inertia
   --baumgarte G        kkt backend: alpha = beta, 1/s (default 20)

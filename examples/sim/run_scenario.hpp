@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <fmt/os.h>
 
-#include <Eigen/Cholesky>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -60,27 +59,8 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   // base coordinates: the world force rotated into them).
   const double push_start = o.settle, push_end = o.settle + o.push_time;
   if (o.scenario != Scenario::swing) {
-    // Gains per coordinate from a bandwidth: kp = w^2 m, kd = 2 zeta w m, with m the
-    // coordinate's apparent inertia at the start pose, 1 / (M_y^-1)_ii (M_y = T^T M T): what the
-    // joint feels when the rest of the robot is free to react, so that a light wrist on a
-    // floating robot and a roller-screw nut driving a shank through its linkage (tens of kg) are
-    // tuned alike, and the 1 kHz controller (zero-order hold) stays inside its stability limit
-    // (w T = 0.25 at 40 Hz).
-    VecX<S> M_buffer(nv * nv), T_buffer(nv * ny), kp(ny), kd(ny);
-    b.mass_matrix(q0.data(), M_buffer.data());
-    b.velocity_map(q0.data(), T_buffer.data());
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const RowMajor M = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(M_buffer.data(), nv, nv).template cast<double>();
-    const RowMajor T = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(T_buffer.data(), nv, ny).template cast<double>();
-    const MatX<double> My = T.transpose() * M * T;
-    const MatX<double> My_inverse = My.ldlt().solve(MatX<double>::Identity(ny, ny));
-    const double w = 2 * M_PI * o.bandwidth;
-    for (int i = 0; i < ny; ++i) {
-      const double m = 1 / My_inverse(i, i);
-      kp[i] = S(w * w * m);
-      kd[i] = S(2 * o.damping_ratio * w * m);
-    }
-    sim::PdGravityController<Backend> pd(std::move(controller_backend), q0, kp, kd);
+    // Gains of a o.bandwidth loop on each joint's apparent inertia (pd_gravity.hpp says why).
+    auto pd = sim::PdGravityController<Backend>::from_bandwidth(std::move(controller_backend), q0, o.bandwidth, o.damping_ratio);
     const bool push = o.scenario == Scenario::push;
     const double force = o.impulse / o.push_time;
     sim.set_controller([pd, push, push_start, push_end, force](double t, const S* q, const S* v, S* tau) mutable {

@@ -20,7 +20,7 @@ struct ScenarioOptions {
   sim::SimulatorOptions simulator;
   double duration = 2.0;     ///< s of simulated time (after settling, for push)
   double height = 0.05;      ///< m: drop height of the lowest contact sphere
-  double impulse = 20.0;     ///< N s: push
+  double impulse = 4.0;      ///< N s: push
   double push_time = 0.05;   ///< s: the push's duration (a constant force impulse / push_time)
   double settle = 1.0;       ///< s: push, standing time before the push
   double swing_speed = 3.0;  ///< rad/s (or m/s): swing, the independent coordinates' start velocity
