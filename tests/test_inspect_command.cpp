@@ -139,6 +139,23 @@ TEST(Inspect, LoopsSubSystemsAndClosedDof) {
   EXPECT_NE(text.out.find("rank 3 (3 redundant)"), std::string::npos) << text.out;
 }
 
+// scene: contact shows in text (the sphere count) and JSON (each sphere on its body).
+TEST(Inspect, GroundContactIsReported) {
+  const std::string data = MBGEN_TEST_DATA;
+  const Outcome text = run_mbgen("inspect " + quote(data + "/tiny_arm.urdf") + " --extras " + quote(data + "/extras/contact.yaml"));
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("ground contact: 3 spheres (the SSV vertices of tool); k 1e+06 N/m^1, damping 0.5 s/m, friction 0.3"),
+            std::string::npos) << text.out;
+  const Outcome run = run_mbgen("inspect " + quote(data + "/tiny_arm.urdf") + " --extras " + quote(data + "/extras/contact.yaml") + " --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  const nlohmann::json& c = j["scene"]["contact"];
+  ASSERT_EQ(c["spheres"].size(), 3u);
+  EXPECT_EQ(c["spheres"][2]["name"], "tool/1/0");
+  EXPECT_EQ(c["spheres"][2]["radius"], 0.01);
+  EXPECT_EQ(c["ground"]["offset"], -0.1);
+}
+
 TEST(Inspect, ExtrasFileIsReported) {
   const Outcome run = run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --extras " +
                             quote(kData + "/extras/tiny_arm_full.yaml") + " --json");

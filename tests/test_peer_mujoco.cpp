@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <random>
 
+#include "mujoco_without_assets.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {
@@ -36,23 +37,7 @@ namespace {
 std::string strip_assets(const std::string& path, const std::string& name) {
   tinyxml2::XMLDocument doc;
   EXPECT_EQ(doc.LoadFile(path.c_str()), tinyxml2::XML_SUCCESS);
-  tinyxml2::XMLElement* root = doc.FirstChildElement("mujoco");
-  if (auto* asset = root->FirstChildElement("asset")) root->DeleteChild(asset);
-  std::vector<tinyxml2::XMLElement*> stack{root};
-  while (!stack.empty()) {
-    tinyxml2::XMLElement* e = stack.back();
-    stack.pop_back();
-    e->DeleteAttribute("material");
-    for (tinyxml2::XMLElement* c = e->FirstChildElement(); c;) {
-      tinyxml2::XMLElement* next = c->NextSiblingElement();
-      const bool mesh_geom = std::string(c->Name()) == "geom" && c->Attribute("mesh");
-      if (mesh_geom) e->DeleteChild(c);
-      else stack.push_back(c);
-      c = next;
-    }
-    // A default that makes geoms meshes would need a mesh: make them spheres (visual only).
-    if (std::string(e->Name()) == "geom" && e->Attribute("type", "mesh")) e->SetAttribute("type", "sphere");
-  }
+  remove_mujoco_assets(doc);
   const std::string out = (std::filesystem::temp_directory_path() / ("mbgen_peer_mujoco_" + name + ".xml")).string();
   EXPECT_EQ(doc.SaveFile(out.c_str()), tinyxml2::XML_SUCCESS);
   return out;

@@ -4,8 +4,8 @@
 //
 // Both start from mbgen's assembled pose (the loops closed), 5 cm above the floor, at rest, motors
 // off, with the file's joint springs and damping (MuJoCo's passive forces; mbgen applies the same
-// -k (q - q_spring) - d qdot through its controller callback at every step), except the ball
-// joints' damping (see below). Every collision
+// -k (q - q_spring) - d qdot as passive forces, evaluated at every stage), except the ball
+// joints' damping and, unless --springs, the springs (see below). Every collision
 // capsule touches the floor on both sides (examples/data/cassie_sim.yaml lists their bodies for
 // mbgen; the pelvis ellipsoid, which mbgen does not model, collides in MuJoCo only). Per simulated
 // second: CPU time, the largest loop-closure violation (the distance between each connect's two
@@ -24,6 +24,7 @@
 #include "collision/contact_spheres.hpp"
 #include "examples/sim/run_scenario.hpp"
 #include "model/load_description.hpp"
+#include "tests/mujoco_without_assets.hpp"
 
 using namespace mbgen;
 
@@ -33,21 +34,8 @@ namespace {
 std::string mujoco_copy(const std::string& path) {
   tinyxml2::XMLDocument doc;
   if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) throw std::runtime_error("cannot read " + path);
+  test::remove_mujoco_assets(doc);
   tinyxml2::XMLElement* root = doc.FirstChildElement("mujoco");
-  if (auto* asset = root->FirstChildElement("asset")) root->DeleteChild(asset);
-  std::vector<tinyxml2::XMLElement*> stack{root};
-  while (!stack.empty()) {
-    tinyxml2::XMLElement* e = stack.back();
-    stack.pop_back();
-    e->DeleteAttribute("material");
-    for (tinyxml2::XMLElement* c = e->FirstChildElement(); c;) {
-      tinyxml2::XMLElement* next = c->NextSiblingElement();
-      if (std::string(c->Name()) == "geom" && c->Attribute("mesh")) e->DeleteChild(c);
-      else stack.push_back(c);
-      c = next;
-    }
-    if (std::string(e->Name()) == "geom" && e->Attribute("type", "mesh")) e->SetAttribute("type", "sphere");
-  }
   tinyxml2::XMLElement* floor = doc.NewElement("geom");
   floor->SetAttribute("name", "floor");
   floor->SetAttribute("type", "plane");
@@ -171,9 +159,9 @@ int main(int argc, char** argv) {
   for (int j = 0; j < m->njnt; ++j)
     if (m->jnt_type[j] == mjJNT_BALL)
       for (int k = 0; k < 3; ++k) m->dof_damping[m->jnt_dofadr[j] + k] = 0;
-  // The shin and heel springs (1500 and 1250 N m/rad on light links) are left out by default, on
-  // both sides: with them, mbgen's run shows a 27 J jump of its energy balance 25 ms in (under
-  // investigation, docs/simulation.md) and stops at 0.16 s. --springs keeps them.
+  // The shin and heel springs (1500 and 1250 N m/rad) are left out unless --springs, on both
+  // sides: at the assembled pose the heel springs are deflected by 0.17 rad, and their ~550 Hz
+  // oscillation drives the achilles linkage to its dead point within 24 ms (docs/simulation.md).
   if (!springs)
     for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0;
 
@@ -235,12 +223,10 @@ int main(int argc, char** argv) {
     r.who = fmt::format("mbgen generic O(n) (RK4, {} ms, exact loops, Hunt-Crossley)", 1e3 * h);
     sim::SimulatorOptions o;
     o.step = h;
-    o.control_period = 0;
     if (d.scene && d.scene->contact) o.contact_parameters = d.scene->contact->parameters;
     sim::Simulator<sim::GenericBackend<double>> simulator(sim::GenericBackend<double>(d.model, spheres), o);
     const int nv = d.model.nv();
-    simulator.set_controller([&, nv](double, const double* q, const double* v, double* tau) {
-      for (int i = 0; i < nv; ++i) tau[i] = 0;
+    simulator.set_passive_forces([&](const double* q, const double* v, double* tau) {
       for (std::size_t k = 0; k < stiffness.size(); ++k) {
         const int iv = stiffness[k].first;
         tau[iv] -= stiffness[k].second * (q[d.model.q_index_of_v(iv)] - spring_q[k]);

@@ -14,6 +14,7 @@
 
 #include "model/load_description.hpp"
 #include "cli/inspect_collision.hpp"
+#include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/algorithm/closure.hpp"
 #include "model/topology.hpp"
@@ -165,6 +166,14 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
+  if (d.scene && d.scene->contact) {
+    const gen::ContactSpec& c = *d.scene->contact;
+    const sim::ContactParameters& p = c.parameters;
+    out << fmt::format("ground contact: {} spheres (the SSV vertices of {}); k {:g} N/m^{:g}, damping {:g} s/m, friction {:g}, "
+                       "stiction {:g} m/s; ground n ({:g}, {:g}, {:g}), offset {:g} m\n",
+                       gen::contact_spheres(d).size(), fmt::join(c.links, ", "), p.stiffness, p.exponent, p.damping, p.friction,
+                       p.stiction_velocity, c.ground.normal.x(), c.ground.normal.y(), c.ground.normal.z(), c.ground.offset);
+  }
   if (collision) print_collision_scene(*collision, out);
   std::vector<std::string> warnings = d.warnings;
   if (collision) warnings.insert(warnings.end(), collision->warnings.begin(), collision->warnings.end());
@@ -246,6 +255,20 @@ Json to_json(const Description& d) {
                {"include", pairs(d.scene->collision_include)},
                {"prune_samples", d.scene->prune_samples}}},
              {"scalar", d.scene->scalar}};
+    if (d.scene->contact) {
+      const gen::ContactSpec& c = *d.scene->contact;
+      Json spheres = Json::array();
+      for (const sim::ContactSphere& s : gen::contact_spheres(d))
+        spheres.push_back({{"name", s.name}, {"body", m.body(s.body).name}, {"center", {s.center.x(), s.center.y(), s.center.z()}}, {"radius", s.radius}});
+      scene["contact"] = {{"links", c.links},
+                          {"spheres", spheres},
+                          {"stiffness", c.parameters.stiffness},
+                          {"damping", c.parameters.damping},
+                          {"exponent", c.parameters.exponent},
+                          {"friction", c.parameters.friction},
+                          {"stiction_velocity", c.parameters.stiction_velocity},
+                          {"ground", {{"normal", {c.ground.normal.x(), c.ground.normal.y(), c.ground.normal.z()}}, {"offset", c.ground.offset}}}};
+    }
   }
   Json loops = Json::array();
   for (const LoopClosure& c : m.closures)

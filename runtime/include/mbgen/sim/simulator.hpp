@@ -85,7 +85,7 @@ template <typename Backend> class Simulator {
         nc_(backend_.num_contacts()) {
     const auto vec = [](int n) { return VecX<S>::Zero(n); };
     q_ = vec(nq_), v_ = vec(nv_), q_start_ = vec(nq_), v_start_ = vec(nv_), q_stage_ = vec(nq_), v_stage_ = vec(nv_);
-    q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), vy_ = vec(ny_);
+    q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), tau_passive_ = vec(nv_), vy_ = vec(ny_);
     for (int s = 0; s < kMaxStages; ++s) dq_[s] = vec(nq_), dv_[s] = vec(nv_);
     q_error_ = vec(nq_), v_error_ = vec(nv_);
     points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_);
@@ -124,6 +124,12 @@ template <typename Backend> class Simulator {
   /// The joint forces the controller wrote last (held until its next call), nv.
   const VecX<S>& control_forces() const { return tau_control_; }
   void set_controller(Controller controller) { controller_ = std::move(controller); }
+  /// Passive joint forces (springs, dampers): a law of the state, evaluated at every stage of
+  /// every step, unlike the controller's zero-order hold (a stiff spring held over a step is
+  /// explicit Euler on it, and gains energy). It adds to tau (nv). Its work enters the energy
+  /// balance like the controller's.
+  using PassiveForces = std::function<void(const S* q, const S* v, S* tau)>;
+  void set_passive_forces(PassiveForces passive) { passive_ = std::move(passive); }
   /// The last closure_positions status (0 converged, 1 not converged, 2 singular): why a step
   /// ended in closure_lost.
   int closure_status() const { return closure_status_; }
@@ -142,6 +148,7 @@ template <typename Backend> class Simulator {
     v_start_ = v_;
     // Every integrator starts from f(x_n), which also tells the contacts' state at x_n.
     evaluate(q_, v_, dq_[0], dv_[0], /*record=*/true);
+    stage_power_[0] = power_;
     if (max_penetration_ > S(options_.max_penetration)) return StepStatus::penetration;
     stats_.max_penetration = std::max(stats_.max_penetration, static_cast<double>(max_penetration_));
     StepStatus status = StepStatus::ok;
@@ -156,7 +163,7 @@ template <typename Backend> class Simulator {
     normalize_quaternion<S>(backend_.floating_base(), q_.data());
     if (!finite()) return restore(StepStatus::diverged);
     if (options_.project && project() != 0) return restore(StepStatus::closure_lost);
-    work_ += h * tau_control_.dot((v_start_ + v_) / S(2));
+    add_work(h);
     t_ += h;
     stats_.last_step = h;
     ++stats_.accepted_steps;
@@ -273,6 +280,28 @@ template <typename Backend> class Simulator {
     return 0;
   }
 
+  /// The work of the control and passive forces over the accepted step of length h, by the
+  /// step's own quadrature: a Runge-Kutta method's weights on its stage powers (the work is one
+  /// more state, integrated to the method's order, so that the energy balance measures the
+  /// integrator and not a coarser quadrature of it); the trapezoidal rule for the first-order
+  /// methods (the power at the end from the forces at the end of the step).
+  void add_work(double h) {
+    const ButcherTableau* tab = options_.integrator == Integrator::rk4                ? &ButcherTableau::rk4()
+                                : options_.integrator == Integrator::dormand_prince45 ? &ButcherTableau::dormand_prince45()
+                                                                                      : nullptr;
+    if (tab) {
+      for (int s = 0; s < tab->stages; ++s) work_ += S(h * tab->b[s]) * stage_power_[s];
+      return;
+    }
+    S power_end = tau_control_.dot(v_);
+    if (passive_) {
+      tau_passive_.setZero();
+      passive_(q_.data(), v_.data(), tau_passive_.data());
+      power_end += tau_passive_.dot(v_);
+    }
+    work_ += S(h / 2) * (stage_power_[0] + power_end);
+  }
+
   /// f(x) = (qdot, vdot) at (q, v) under the held control forces and the ground; `record` keeps
   /// the contact reports and the largest penetration.
   void evaluate(const VecX<S>& q, const VecX<S>& v, VecX<S>& qdot, VecX<S>& vdot, bool record) {
@@ -280,6 +309,12 @@ template <typename Backend> class Simulator {
     q_eval_ = q;
     normalize_quaternion<S>(backend_.floating_base(), q_eval_.data());
     tau_total_ = tau_control_;
+    if (passive_) {
+      tau_passive_.setZero();
+      passive_(q_eval_.data(), v.data(), tau_passive_.data());
+      tau_total_ += tau_passive_;
+    }
+    power_ = (passive_ ? (tau_control_ + tau_passive_).dot(v) : tau_control_.dot(v));
     if (options_.contact && nc_ > 0) add_contact_forces(q_eval_, v, record);
     backend_.accelerations(q_eval_.data(), v.data(), tau_total_.data(), vdot.data());
     configuration_rate<S>(backend_.floating_base(), nq_, q_eval_.data(), v.data(), qdot.data());
@@ -377,6 +412,7 @@ template <typename Backend> class Simulator {
           v_stage_ += S(h * tab.a[s][j]) * dv_[j];
         }
       evaluate(q_stage_, v_stage_, dq_[s], dv_[s], false);
+      stage_power_[s] = power_;
     }
     for (int s = 0; s < tab.stages; ++s)
       if (tab.b[s] != 0) {
@@ -508,13 +544,16 @@ template <typename Backend> class Simulator {
   Backend backend_;
   SimulatorOptions options_;
   int nq_, nv_, ny_, nc_;
-  VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, vy_;
+  VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, tau_passive_, vy_;
   VecX<S> dq_[kMaxStages], dv_[kMaxStages], q_error_, v_error_;
   VecX<S> points_, jacobians_;
   std::vector<ContactReport<S>> reports_;
   std::vector<int> contact_columns_, contact_column_start_;  ///< find_contact_columns
   ImplicitWork implicit_;
   Controller controller_;
+  PassiveForces passive_;
+  S power_ = S(0);                  ///< (tau_control + tau_passive) . v of the last evaluation
+  S stage_power_[kMaxStages] = {};  ///< power_ at each Runge-Kutta stage of the step
   double t_ = 0, step_ = 0, gravity_norm_ = 0;
   long control_ticks_ = 0;
   int closure_status_ = 0;
