@@ -79,7 +79,29 @@ void add_step(const std::string& backend_name, sim::Integrator integrator, std::
 
 }  // namespace
 
+/// One evaluation of the step's dynamics at the standing state: the generated
+/// contact_accelerations (12 pressing spheres, the law, J^T f, the closed-system forward
+/// dynamics), to set against fd/lola/generated.
+void add_contact_accelerations() {
+  benchmark::RegisterBenchmark("contact_accelerations/lola/generated", [](benchmark::State& state) {
+    const StandingLola& s = standing_lola();
+    const lola::Backend backend;
+    double ground[sim::kGroundInputs], law[sim::kLawInputs];
+    sim::ContactParameters p;
+    p.stiffness = lola::contact_stiffness, p.damping = lola::contact_damping, p.friction = lola::contact_friction;
+    p.stiction_velocity = lola::contact_stiction_velocity;
+    sim::contact_inputs(sim::GroundPlane{}, p, ground, law);
+    VecX<double> tau = VecX<double>::Zero(lola::nv), qdd(lola::nv), out(sim::kContactOutputs * lola::num_contact_spheres);
+    for (auto _ : state) {
+      backend.accelerations_with_contact(s.q.data(), s.v.data(), tau.data(), ground, law, qdd.data(), out.data());
+      benchmark::DoNotOptimize(qdd.data());
+      benchmark::ClobberMemory();
+    }
+  });
+}
+
 void add_sim_benchmarks() {
+  add_contact_accelerations();
   const StandingLola& s = standing_lola();
   const Model* model = &s.description.model;
   const std::vector<sim::ContactSphere>* spheres = &s.spheres;

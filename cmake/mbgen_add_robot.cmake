@@ -18,13 +18,14 @@
 #               names come from its header_file.fmt and source_file.fmt
 
 # The functions every generation emits, one source file each (<NAME>_<function>.cpp).
-# self_distances and contact_points are emitted for every robot (empty, with num_distance_pairs
-# or num_contact_spheres = 0, when the description has no SSV pairs or the scene no contact), so
-# the outputs follow from the arguments alone.
+# self_distances, contact_points and contact_accelerations are emitted for every robot (empty,
+# with num_distance_pairs or num_contact_spheres = 0, or a call of full_accelerations, when the
+# description has no SSV pairs or the scene no contact), so the outputs follow from the arguments
+# alone.
 set(MBGEN_GENERATED_FUNCTIONS
     forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
     center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
-    self_distances contact_points)
+    self_distances contact_points contact_accelerations)
 
 function(mbgen_add_robot)
   cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES" "FRAMES"

@@ -176,4 +176,33 @@ TEST(GenerateCommand, TooLargeToUnrollIsAnErrorNotAnOutOfMemory) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// contact_accelerations follows the scene: its law's exponent is built in (a product for 1, a
+// pow for any other than 1, 1.5 and 2), and a scene without contact links gets a call of
+// full_accelerations rather than a second copy of the dynamics.
+TEST(GenerateCommand, ContactAccelerationsFollowTheScenesLaw) {
+  const std::string data = std::string(MBGEN_SOURCE_DIR) + "/tests/data";
+  const std::string extras = read(data + "/extras/contact.yaml");
+  ASSERT_NE(extras.find("exponent: 1.0"), std::string::npos);
+  const fs::path odd_extras = fs::temp_directory_path() / "mbgen_test_contact_exponent_1_3.yaml";
+  {
+    std::string odd = extras;
+    odd.replace(odd.find("exponent: 1.0"), 13, "exponent: 1.3");
+    std::ofstream(odd_extras) << odd;
+  }
+  const fs::path linear = fresh_dir("contact_linear"), odd = fresh_dir("contact_odd"), none = fresh_dir("contact_none");
+  ASSERT_EQ(generate(linear, "arm", "--extras " + data + "/extras/contact.yaml", data + "/tiny_arm.urdf"), 0);
+  ASSERT_EQ(generate(odd, "arm", "--extras " + odd_extras.string(), data + "/tiny_arm.urdf"), 0);
+  ASSERT_EQ(generate(none, "arm", "", data + "/tiny_arm.urdf"), 0);
+  const std::string a = read(linear / "arm_contact_accelerations.cpp"), b = read(odd / "arm_contact_accelerations.cpp"),
+                    c = read(none / "arm_contact_accelerations.cpp");
+  EXPECT_NE(a.find("exponent 1 built in"), std::string::npos);
+  EXPECT_EQ(a.find("std::pow"), std::string::npos);
+  EXPECT_NE(b.find("exponent 1.3 built in"), std::string::npos);
+  EXPECT_NE(b.find("std::pow("), std::string::npos);
+  EXPECT_NE(b.find("3 powers"), std::string::npos);  // the tool's three vertex spheres
+  EXPECT_NE(c.find("full_accelerations(q, vy, tau, qdd);"), std::string::npos);
+  EXPECT_EQ(c.find("std::sin"), std::string::npos);
+  EXPECT_NE(read(odd / "arm.hpp").find("double contact_exponent() const { return 1.3; }"), std::string::npos);
+}
+
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "collision/contact_spheres.hpp"
 #include "four_bar.hpp"
@@ -56,6 +57,69 @@ TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
     EXPECT_EQ(spheres[static_cast<std::size_t>(k)].name, lola::contact_sphere_names[k]);
     EXPECT_EQ(spheres[static_cast<std::size_t>(k)].radius, lola::contact_sphere_radius[k]);
   }
+}
+
+// The generated contact_accelerations (contact kinematics, law, J^T f and the closed-system
+// dynamics in one unrolled function) against the generic contact_joint_forces followed by the
+// O(n) recursion: Lola lowered 1 mm into the ground, moving (sliding, sinking, turning, legs
+// swinging), so that some spheres press and slip and others are apart. Accelerations to 1e-10
+// relative to their largest, the per-sphere outputs to 1e-10 relative.
+TEST(GeneratedSimulation, ContactAccelerationsEqualTheGenericOnes) {
+  const gen::Description d = load_lola();
+  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  sim::GenericBackend<double> generic(d.model, spheres);
+  generic.set_contact_exponent(lola::contact_exponent);
+  const lola::Backend generated;
+  EXPECT_EQ(generated.contact_exponent(), lola::contact_exponent);
+  sim::ContactParameters p;
+  p.stiffness = lola::contact_stiffness, p.damping = lola::contact_damping, p.friction = lola::contact_friction;
+  p.stiction_velocity = lola::contact_stiction_velocity;
+  double ground[sim::kGroundInputs], law[sim::kLawInputs];
+  sim::contact_inputs(sim::GroundPlane::tilted_about_x(0.05), p, ground, law);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int pressing = 0, apart = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const VecX<double> q = standing_pose(d, spheres, 1e-3);
+    VecX<double> vy(generic.ny()), v(d.model.nv()), tau(d.model.nv());
+    for (int i = 0; i < vy.size(); ++i) vy[i] = 0.3 * unit(rng);
+    for (int i = 0; i < tau.size(); ++i) tau[i] = 20 * unit(rng);
+    generic.full_velocities(q.data(), vy.data(), v.data());
+    const int nc = lola::num_contact_spheres;
+    VecX<double> qdd(d.model.nv()), qdd_g(d.model.nv()), out(sim::kContactOutputs * nc), out_g(out.size());
+    generic.accelerations_with_contact(q.data(), v.data(), tau.data(), ground, law, qdd.data(), out.data());
+    generated.accelerations_with_contact(q.data(), v.data(), tau.data(), ground, law, qdd_g.data(), out_g.data());
+    EXPECT_LT((qdd - qdd_g).cwiseAbs().maxCoeff(), 1e-10 * qdd.cwiseAbs().maxCoeff()) << trial;
+    EXPECT_LT((out - out_g).cwiseAbs().maxCoeff(), 1e-10 * out.cwiseAbs().maxCoeff()) << trial;
+    for (int k = 0; k < nc; ++k) (out[sim::kContactOutputs * k] > 0 ? pressing : apart) += 1;
+    // Without the ground's forces the same call is the plain forward dynamics.
+    VecX<double> qdd_free(d.model.nv());
+    generic.accelerations(q.data(), v.data(), tau.data(), qdd_free.data());
+    EXPECT_GT((qdd - qdd_free).cwiseAbs().maxCoeff(), 1.0) << "the ground did act";
+  }
+  EXPECT_GT(pressing, 0);
+  EXPECT_GT(apart, 0);  // the tilt lifts the spheres on one side
+}
+
+// A generated backend is built for its scene's exponent: the simulator refuses another, and says
+// what to do; a runtime backend takes whichever the options give.
+TEST(GeneratedSimulation, AnotherContactExponentIsRefused) {
+  sim::SimulatorOptions o;
+  o.contact_parameters.exponent = 1.0;
+  ASSERT_NE(lola::contact_exponent, 1.0);
+  sim::Simulator<lola::Backend> generated(lola::Backend{}, o);
+  VecX<double> q = VecX<double>::Zero(lola::nq), v = VecX<double>::Zero(lola::nv);
+  q[6] = 1;
+  try {
+    generated.set_state(q.data(), v.data());
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("built for 1.5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("regenerate"), std::string::npos) << e.what();
+  }
+  const gen::Description d = load_lola();
+  sim::Simulator<sim::GenericBackend<double>> generic(sim::GenericBackend<double>(d.model, gen::contact_spheres(d)), o);
+  EXPECT_NO_THROW(generic.set_state(d.assembly.q.data(), v.data()));
 }
 
 // One step from Lola standing 0.5 mm deep in the ground (every foot sphere pressing, friction

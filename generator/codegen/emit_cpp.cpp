@@ -64,6 +64,7 @@ OpCount count_operations(const TracedFunction& f) {
       case Op::Cos: ++c.trig; break;
       case Op::Sqrt: ++c.sqrt; break;
       case Op::Max: ++c.max; break;
+      case Op::Pow: ++c.pow; break;
       default: break;
     }
   }
@@ -81,9 +82,10 @@ std::vector<std::string> scalar_types(ScalarChoice choice) {
 
 std::string describe_operations(const OpCount& c) {
   return fmt::format("{} operations: {} additions/subtractions, {} multiplications, {} divisions, {} negations, "
-                     "{} sin/cos, {} square roots{}",
+                     "{} sin/cos, {} square roots{}{}",
                      c.total(), c.add, c.mul, c.div, c.neg, c.trig, c.sqrt,
-                     c.max > 0 ? fmt::format(", {} max (selects)", c.max) : std::string());
+                     c.max > 0 ? fmt::format(", {} max (selects)", c.max) : std::string(),
+                     c.pow > 0 ? fmt::format(", {} powers", c.pow) : std::string());
 }
 
 std::string parameters(const TracedFunction& f, const std::string& scalar) {
@@ -138,6 +140,7 @@ template <typename Name> std::string expression(const Node& n, Name name) {
     case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
     // A select, not std::fmax: no libm call on a microcontroller.
     case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
+    case Op::Pow: return fmt::format("std::pow({}, {})", name(n.a), name(n.b));
     case Op::Constant:
     case Op::Input: break;
   }
@@ -325,6 +328,26 @@ std::string emit_selection_definition(const TracedFunction& f, const TracedFunct
                                                    {"kept", std::to_string(selection.size())},
                                                    {"size", std::to_string(source.outputs[0].size)},
                                                    {"definitions", definitions}});
+}
+
+std::string emit_contact_free_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& independent,
+                                         const EmitContext& ctx) {
+  std::string copies;
+  for (std::size_t i = 0; i < independent.size(); ++i) copies += fmt::format("  vy[{}] = v[{}];\n", i, independent[i]);
+  std::string definitions;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    definitions += ctx.templates.render("contact_free_definition", {{"public_name", ctx.public_name(f.name, s)},
+                                                                    {"parameters", parameters(f, s)},
+                                                                    {"scalar", s},
+                                                                    {"callee", ctx.public_name(source.name, s)},
+                                                                    {"ny", std::to_string(independent.size())},
+                                                                    {"copies", copies}});
+  return ctx.templates.render("contact_free_source", {{"banner", ctx.banner},
+                                                      {"header", ctx.header},
+                                                      {"robot", ctx.robot},
+                                                      {"doc", f.doc},
+                                                      {"source_function", source.name},
+                                                      {"definitions", definitions}});
 }
 
 std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const EmitContext& ctx) {

@@ -68,4 +68,10 @@ std::string emit_selection_definition(const TracedFunction& f, const TracedFunct
 /// one copy of the unrolled maps, not two.
 std::string emit_product_definition(const TracedFunction& f, const TracedFunction& source, const EmitContext& ctx);
 
+/// contact_free_source.fmt: contact_accelerations of a scene without contact spheres, as a call of
+/// full_accelerations (`source`) at the independent velocities of v: its unrolled twin would be
+/// a second copy of the dynamics that computes nothing more.
+std::string emit_contact_free_definition(const TracedFunction& f, const TracedFunction& source, const std::vector<int>& independent,
+                                         const EmitContext& ctx);
+
 }  // namespace mbgen::codegen

@@ -84,6 +84,7 @@ int ExpressionGraph::binary(Op op, int a, int b) {
       case Op::Mul: return constant(x * y);
       case Op::Div: return constant(x / y);
       case Op::Max: return constant(x > y ? x : y);
+      case Op::Pow: return constant(std::pow(x, y));
       default: break;
     }
   }

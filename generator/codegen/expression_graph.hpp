@@ -12,11 +12,11 @@ namespace mbgen::codegen {
 
 /// Max: the larger operand (a > b ? a : b), the one value-dependent choice a traced algorithm may
 /// make (a guard against 0 / 0, e.g. in a Givens rotation of two numerically zero entries).
-enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt, Max };
+enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt, Max, Pow };
 
 struct Node {
   Op op;
-  int a = -1, b = -1;  ///< operand node ids (Add..Max)
+  int a = -1, b = -1;  ///< operand node ids (Add..Pow)
   double value = 0;    ///< Constant
   int input = -1;      ///< Input: argument number
   int index = -1;      ///< Input: element in that argument
@@ -24,8 +24,8 @@ struct Node {
 
 /// Counts of arithmetic operations, as printed in the generated functions' comments.
 struct OpCount {
-  int add = 0, mul = 0, div = 0, neg = 0, trig = 0, sqrt = 0, max = 0;
-  int total() const { return add + mul + div + neg + trig + sqrt + max; }
+  int add = 0, mul = 0, div = 0, neg = 0, trig = 0, sqrt = 0, max = 0, pow = 0;
+  int total() const { return add + mul + div + neg + trig + sqrt + max + pow; }
 };
 
 /// Thrown when a graph would grow past its limit (GraphLimit): a description too large to unroll.

@@ -127,6 +127,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   // arguments alone (cmake/mbgen_add_robot.cmake).
   const std::vector<sim::ContactSphere> contacts = gen::contact_spheres(description);
   functions.push_back(traced("contact_points", [&] { return trace_contact_points(tree, contacts); }));
+  const double contact_exponent = contacts.empty() ? 1.5 : description.scene->contact->parameters.exponent;
+  functions.push_back(traced("contact_accelerations", [&] { return trace_contact_accelerations(model, contacts, contact_exponent); }));
 
   // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
   // seeded, so the output stays deterministic).
@@ -204,7 +206,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                     {"total_mass", number(model.total_mass())},
                                     {"gravity", fmt::format("{}, {}, {}", number(g.x()), number(g.y()), number(g.z()))},
                                     {"contact_radius", contacts.empty() ? std::string("(void)k, 0.0") : fmt::format("{}::contact_sphere_radius[k]", ctx.robot)},
-                                    {"contact_name", contacts.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::contact_sphere_names[k]", ctx.robot)}})});
+                                    {"contact_name", contacts.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::contact_sphere_names[k]", ctx.robot)},
+                                    {"contact_exponent", number(contact_exponent)}})});
 
   std::vector<GeneratedFile> files;
   files.push_back({ctx.header, templates.render("header", header_fields)});
@@ -219,6 +222,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       std::vector<int> all(static_cast<std::size_t>(model.nv()));
       for (int i = 0; i < model.nv(); ++i) all[static_cast<std::size_t>(i)] = i;
       source = emit_selection_definition(f, functions[0], all, ctx);
+    } else if (f.name == "contact_accelerations" && contacts.empty()) {
+      source = emit_contact_free_definition(f, functions[1], independent, ctx);
     } else if (f.name == "full_velocities") {
       const auto map = std::find_if(functions.begin(), functions.end(), [](const TracedFunction& g) { return g.name == "velocity_map"; });
       source = emit_product_definition(f, *map, ctx);

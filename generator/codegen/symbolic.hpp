@@ -54,6 +54,8 @@ class Sym {
   /// The larger of a and b, decided at run time (found by ADL where the runtime writes
   /// `using std::max; max(x, y)`).
   friend Sym max(const Sym& a, const Sym& b) { return from_id(Recording::graph().binary(Op::Max, a.id_, b.id_)); }
+  /// a^b (the contact law's exponent other than 1, 1.5 or 2).
+  friend Sym pow(const Sym& a, const Sym& b) { return from_id(Recording::graph().binary(Op::Pow, a.id_, b.id_)); }
 
   /// Comparisons exist only so that Eigen compiles; a traced algorithm must not branch on values.
   /// They are true only for constants that satisfy them (and abort in debug builds otherwise).

@@ -174,6 +174,47 @@ TracedFunction trace_contact_points(const Model& model, const std::vector<sim::C
   return f;
 }
 
+TracedFunction trace_contact_accelerations(const Model& model, const std::vector<sim::ContactSphere>& spheres, double exponent) {
+  const int n = static_cast<int>(spheres.size());
+  TracedFunction f;
+  f.name = "contact_accelerations";
+  f.doc = fmt::format(
+      "Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the "
+      "compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent {} built in; regularised Coulomb) at each "
+      "contact sphere, its force mapped to the joints by J^T. Also writes, per sphere, what the law gave. The "
+      "simulator's step (NAME::Backend::accelerations_with_contact).",
+      exponent);
+  f.inputs = {closed_q_spec(model), v_spec(model, "v", "velocities of every tree joint (the independent ones drive the dynamics, all move the contacts)"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)"),
+              {"ground", sim::kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
+              {"law", sim::kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
+  f.outputs = {v_spec(model, "qdd", "accelerations of every tree joint, joint_names order"),
+               {"contacts", sim::kContactOutputs * n,
+                fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
+                            "there (3, N, world), slip velocity (3, m/s)",
+                            n)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), ground = inputs(3, sim::kGroundInputs),
+               law = inputs(4, sim::kLawInputs);
+  SymVec tau = inputs(2, model.nv());
+  std::vector<Sym> contacts(static_cast<std::size_t>(sim::kContactOutputs * n));
+  contact_joint_forces<Sym>(model, data, spheres, exponent, q, v.data(), ground.data(), law.data(), tau.data(), contacts.data());
+  std::vector<int> qdd;
+  if (model.subsystems.empty()) {
+    qdd = ids_of(aba<Sym>(model, data, q, v, tau));
+  } else {
+    SymVec vy(static_cast<int>(data.independent_v.size()));
+    for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+    forward_dynamics_loops_independent<Sym>(model, data, q, vy, tau);
+    qdd = ids_of(data.ddq);
+  }
+  std::vector<int> contact_ids;
+  for (const Sym& x : contacts) contact_ids.push_back(x.id());
+  f.output_ids = {qdd, contact_ids};
+  return f;
+}
+
 TracedFunction trace_center_of_mass(const Model& model) {
   TracedFunction f;
   f.name = "center_of_mass";

@@ -19,6 +19,12 @@
 //   void center_of_mass(q, com)
 //   void contact_points(q, p, J)                  algorithm/contact_points.hpp: per sphere its
 //                                                 centre (3) and a 6 x nv Jacobian block
+//   void accelerations_with_contact(q, v, tau, ground, law, qdd, contacts)
+//                                                 accelerations under tau and the ground's forces
+//                                                 on the spheres (contact.hpp: contact_inputs,
+//                                                 kContactOutputs per sphere); the simulator's step
+//   double contact_exponent()                     the law's exponent it computes with; a backend
+//                                                 with set_contact_exponent(e) takes any
 //
 // All arrays are raw pointers (the generated API's form); no call allocates after construction.
 // Backends differ only in how `accelerations` obtains qdd:
@@ -29,6 +35,7 @@
 //   IndependentBackend  the O(n^3) reference in independent coordinates (G^T M G ydd = ...).
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -41,6 +48,12 @@
 namespace mbgen::sim {
 
 namespace detail {
+
+/// Whether a backend takes the contact law's exponent at run time (the runtime ones) or is built
+/// for one (a generated one).
+template <typename B, typename = void> struct has_set_contact_exponent : std::false_type {};
+template <typename B>
+struct has_set_contact_exponent<B, std::void_t<decltype(std::declval<B&>().set_contact_exponent(1.0))>> : std::true_type {};
 
 template <typename S> using ConstMap = Eigen::Map<const VecX<S>>;
 template <typename S> using RowMajorMap = Eigen::Map<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
@@ -63,6 +76,7 @@ template <typename S> class ModelBackend {
       if (!c.body.valid() || c.body == kWorldBody || c.body.value() >= model.num_bodies())
         throw std::invalid_argument("sim backend: contact sphere '" + c.name + "' is not on a moving body of '" + model.name + "'");
     vy_ = VecX<S>::Zero(static_cast<int>(data_.independent_v.size()));
+    tau_contact_ = VecX<S>::Zero(model.nv());
     gravity_[0] = model.gravity.x(), gravity_[1] = model.gravity.y(), gravity_[2] = model.gravity.z();
   }
 
@@ -99,8 +113,19 @@ template <typename S> class ModelBackend {
     for (int i = 0; i < 3; ++i) com[i] = c[i];
   }
   void contact_points(const S* q, S* p, S* J) { mbgen::contact_points<S>(model_, data_, contacts_, ConstMap<S>(q, nq()), p, J); }
+  double contact_exponent() const { return contact_exponent_; }
+  void set_contact_exponent(double e) { contact_exponent_ = e; }
 
  protected:
+  /// tau plus the ground's joint forces (contact_joint_forces, the generic twin of the generated
+  /// contact_accelerations' first half), in a member buffer.
+  const S* with_contact_forces(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* contacts) {
+    tau_contact_ = ConstMap<S>(tau, nv());
+    contact_joint_forces<S>(model_, data_, contacts_, contact_exponent_, ConstMap<S>(q, nq()), v, ground, law, tau_contact_.data(),
+                            contacts);
+    return tau_contact_.data();
+  }
+
   void gather_independent(const S* v) {
     for (int i = 0; i < ny(); ++i) vy_[i] = v[data_.independent_v[static_cast<std::size_t>(i)]];
   }
@@ -109,8 +134,9 @@ template <typename S> class ModelBackend {
   Data<S> data_;
   std::vector<ContactSphere> contacts_;
   ClosureOptions closure_;
-  VecX<S> vy_;
+  VecX<S> vy_, tau_contact_;
   double gravity_[3] = {0, 0, 0};
+  double contact_exponent_ = ContactParameters{}.exponent;
 };
 
 }  // namespace detail
@@ -133,6 +159,9 @@ template <typename S> class GenericBackend : public detail::ModelBackend<S> {
     forward_dynamics_loops_independent<S>(this->model_, this->data_, detail::ConstMap<S>(q, nq), this->vy_, detail::ConstMap<S>(tau, nv));
     Eigen::Map<VecX<S>>(qdd, nv) = this->data_.ddq;
   }
+  void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) {
+    accelerations(q, v, this->with_contact_forces(q, v, tau, ground, law, contacts), qdd);
+  }
 };
 
 /// The O(n^3) full-coordinate reference: [M Phi^T; Phi 0] with Lagrange multipliers and
@@ -147,6 +176,9 @@ template <typename S> class KktBackend : public detail::ModelBackend<S> {
     const int nq = this->nq(), nv = this->nv();
     Eigen::Map<VecX<S>>(qdd, nv) = forward_dynamics_kkt<S>(this->model_, this->data_, ws_, detail::ConstMap<S>(q, nq),
                                                            detail::ConstMap<S>(v, nv), detail::ConstMap<S>(tau, nv), gains_);
+  }
+  void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) {
+    accelerations(q, v, this->with_contact_forces(q, v, tau, ground, law, contacts), qdd);
   }
   BaumgarteGains& gains() { return gains_; }
 
@@ -165,6 +197,9 @@ template <typename S> class IndependentBackend : public detail::ModelBackend<S> 
     const int nq = this->nq(), nv = this->nv();
     Eigen::Map<VecX<S>>(qdd, nv) = forward_dynamics_independent<S>(this->model_, this->data_, ws_, detail::ConstMap<S>(q, nq),
                                                                    detail::ConstMap<S>(v, nv), detail::ConstMap<S>(tau, nv));
+  }
+  void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) {
+    accelerations(q, v, this->with_contact_forces(q, v, tau, ground, law, contacts), qdd);
   }
 
  private:

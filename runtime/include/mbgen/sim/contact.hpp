@@ -10,7 +10,7 @@
 // rock and chatter; the vertex spheres share the load as a distributed support does.
 //
 // The law, per sphere (centre c, radius r; plane n . x = offset, n the unit normal pointing out
-// of the ground): penetration delta = offset + r - n . c, witness w = c - r n (the sphere's
+// of the ground; contact_force): penetration delta = offset + r - n . c, witness w = c - r n (the sphere's
 // lowest point), its velocity v_w = v_c + omega x (-r n), normal rate delta_dot = -n . v_w.
 //   normal:  f_n = k delta^e (1 + d delta_dot), clamped at 0 (Hunt and Crossley 1975): the
 //            damping grows with the penetration, so the force is continuous at touch-down and
@@ -68,34 +68,87 @@ template <typename S> struct ContactReport {
   bool active = false;                  ///< delta > 0
 };
 
-/// The law at one sphere. c, v_c, omega: centre, centre velocity and body angular velocity
-/// (world). Writes the force at the witness into `force` and returns the report. Templated so
-/// that an automatic-differentiation scalar gives the stiff integrator its exact Jacobian.
-template <typename T>
-ContactReport<T> contact_law(const Vec3<T>& c, const Vec3<T>& v_c, const Vec3<T>& omega, double radius,
-                             const GroundPlane& ground, const ContactParameters& p) {
-  using std::abs;
+/// The run-time inputs of the law as the backends' accelerations_with_contact (and the
+/// generated contact_accelerations) read them: ground = {n_x, n_y, n_z, offset} and
+/// law = {stiffness, damping, friction, stiction velocity}. The exponent is not among them: it
+/// shapes the code (delta sqrt(delta) for 1.5), so a generated backend is specialised for its
+/// scene's, and a runtime backend is given one at construction.
+inline constexpr int kGroundInputs = 4, kLawInputs = 4;
+inline void contact_inputs(const GroundPlane& g, const ContactParameters& p, double ground[kGroundInputs], double law[kLawInputs]) {
+  ground[0] = g.normal.x(), ground[1] = g.normal.y(), ground[2] = g.normal.z(), ground[3] = g.offset;
+  law[0] = p.stiffness, law[1] = p.damping, law[2] = p.friction, law[3] = p.stiction_velocity;
+}
+
+/// What the law gives at one sphere; accelerations_with_contact writes these kContactOutputs
+/// numbers per sphere, in this order.
+template <typename T> struct ContactForce {
+  T penetration = T(0);                     ///< delta, m (<= 0 when apart)
+  Vec3<T> point = Vec3<T>::Zero();          ///< witness w, world
+  Vec3<T> force = Vec3<T>::Zero();          ///< on the robot at w, world, N (0 when apart)
+  Vec3<T> slip_velocity = Vec3<T>::Zero();  ///< tangential velocity of w, world, m/s
+};
+inline constexpr int kContactOutputs = 10;
+
+/// The larger of a and b, both converted to T first (an automatic-differentiation expression
+/// would make std::max and Eigen's overload ambiguous; the symbolic scalar's is found by ADL).
+template <typename T> T contact_max(const T& a, const T& b) {
+  using std::max;
+  return max(a, b);
+}
+
+/// delta^e for delta >= 0: a product or a square root for the usual exponents (a square root
+/// costs a fraction of a pow), pow otherwise.
+template <typename T> T contact_spring_power(const T& delta, double exponent) {
   using std::pow;
   using std::sqrt;
-  ContactReport<T> out;
-  const Vec3<T> n(T(ground.normal.x()), T(ground.normal.y()), T(ground.normal.z()));
-  out.penetration = T(ground.offset + radius) - n.dot(c);
+  if (exponent == 1) return delta;
+  if (exponent == 1.5) return delta * sqrt(delta);
+  if (exponent == 2) return delta * delta;
+  return pow(delta, exponent);
+}
+
+/// The law at one sphere, without a branch on the state (max and sqrt only, so that the generator
+/// traces it into the generated contact_accelerations; apart, every force term is exactly 0).
+/// c, v_c, omega: centre, centre velocity and body angular velocity (world); ground and law as
+/// contact_inputs writes them. Templated so that an automatic-differentiation scalar gives the
+/// stiff integrator its exact Jacobian (where delta > 0).
+template <typename T>
+ContactForce<T> contact_force(const Vec3<T>& c, const Vec3<T>& v_c, const Vec3<T>& omega, double radius, const T* ground,
+                              const T* law, double exponent) {
+  using std::sqrt;
+  ContactForce<T> out;
+  const Vec3<T> n(ground[0], ground[1], ground[2]);
+  out.penetration = ground[3] + T(radius) - n.dot(c);
   out.point = c - T(radius) * n;
-  if (!(out.penetration > T(0))) return out;
-  out.active = true;
   const Vec3<T> v_w = v_c + omega.cross(-T(radius) * n);
   const T normal_rate = -n.dot(v_w);
   out.slip_velocity = v_w - n * n.dot(v_w);
-  // delta^1.5 (Hertz) as delta sqrt(delta): a square root costs a fraction of a pow.
-  const T spring = T(p.stiffness) * (p.exponent == 1.5 ? T(out.penetration * sqrt(out.penetration))
-                                                       : static_cast<T>(pow(out.penetration, p.exponent)));
-  T fn = spring * (T(1) + T(p.damping) * normal_rate);
-  if (fn < T(0)) fn = T(0);
-  out.normal_force = fn;
-  // sqrt only above the stiction velocity: at zero slip its derivative would be 0/0.
-  const T slip_squared = out.slip_velocity.squaredNorm();
-  const T scale = slip_squared > T(p.stiction_velocity * p.stiction_velocity) ? T(sqrt(slip_squared)) : T(p.stiction_velocity);
-  out.force = fn * n - (T(p.friction) * fn / scale) * out.slip_velocity;
+  const T spring = law[0] * contact_spring_power<T>(contact_max<T>(out.penetration, T(0)), exponent);
+  const T fn = contact_max<T>(spring * (T(1) + law[1] * normal_rate), T(0));
+  // max(|v_t|, v_s) as the root of the larger square: at zero slip the root's argument is v_s^2,
+  // never 0, so its derivative stays finite.
+  const T scale = sqrt(contact_max<T>(out.slip_velocity.squaredNorm(), law[3] * law[3]));
+  out.force = fn * n - (law[2] * fn / scale) * out.slip_velocity;
+  return out;
+}
+
+/// The law at one sphere as the simulator reports it (contact_force with the parameters of
+/// `ground` and `p`, the slip zeroed when apart).
+template <typename T>
+ContactReport<T> contact_law(const Vec3<T>& c, const Vec3<T>& v_c, const Vec3<T>& omega, double radius,
+                             const GroundPlane& ground, const ContactParameters& p) {
+  double g[kGroundInputs], l[kLawInputs];
+  contact_inputs(ground, p, g, l);
+  const T gt[kGroundInputs] = {T(g[0]), T(g[1]), T(g[2]), T(g[3])}, lt[kLawInputs] = {T(l[0]), T(l[1]), T(l[2]), T(l[3])};
+  const ContactForce<T> f = contact_force<T>(c, v_c, omega, radius, gt, lt, p.exponent);
+  ContactReport<T> out;
+  out.penetration = f.penetration;
+  out.point = f.point;
+  out.active = f.penetration > T(0);
+  if (!out.active) return out;
+  out.force = f.force;
+  out.slip_velocity = f.slip_velocity;
+  out.normal_force = f.force.dot(Vec3<T>(gt[0], gt[1], gt[2]));
   return out;
 }
 

@@ -14,7 +14,9 @@
 // state it started from, and the simulation is meant to stop there (run_until() does).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <stdexcept>
 #include <limits>
 #include <vector>
 
@@ -88,7 +90,7 @@ template <typename Backend> class Simulator {
     q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), tau_passive_ = vec(nv_), vy_ = vec(ny_);
     for (int s = 0; s < kMaxStages; ++s) dq_[s] = vec(nq_), dv_[s] = vec(nv_);
     q_error_ = vec(nq_), v_error_ = vec(nv_);
-    points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_);
+    points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_), contact_out_ = vec(kContactOutputs * nc_);
     reports_.resize(static_cast<std::size_t>(nc_));
     implicit_.resize(nq_, nv_, ny_);
     if (backend_.floating_base()) q_[6] = S(1);
@@ -109,7 +111,7 @@ template <typename Backend> class Simulator {
     work_ = 0;
     int closure = 0;
     if (options_.project) closure = project();
-    find_contact_columns();
+    adopt_contact_exponent();
     energy_start_ = energy();
     stats_ = {};
     control_due_ = true;
@@ -315,77 +317,50 @@ template <typename Backend> class Simulator {
       tau_total_ += tau_passive_;
     }
     power_ = (passive_ ? (tau_control_ + tau_passive_).dot(v) : tau_control_.dot(v));
-    if (options_.contact && nc_ > 0) add_contact_forces(q_eval_, v, record);
-    backend_.accelerations(q_eval_.data(), v.data(), tau_total_.data(), vdot.data());
+    if (options_.contact && nc_ > 0)
+      contact_accelerations(q_eval_, v, vdot, record);
+    else
+      backend_.accelerations(q_eval_.data(), v.data(), tau_total_.data(), vdot.data());
     configuration_rate<S>(backend_.floating_base(), nq_, q_eval_.data(), v.data(), qdot.data());
   }
 
   using RowBlock = Eigen::Map<const Eigen::Matrix<S, 6, Eigen::Dynamic, Eigen::RowMajor>>;
 
-  /// The columns of each contact sphere's Jacobian that can be non-zero: those of the joints
-  /// between its body and the root (a foot's: the base's and its leg's, 12 of Lola's 46), so that
-  /// the products with v and f skip the rest. Found numerically, from the Jacobians at the state
-  /// and at two randomly moved copies of it (a structural zero is exactly 0.0 in the generated
-  /// and the generic code alike; a column that vanishes by accident at all three is
-  /// vanishingly unlikely).
-  void find_contact_columns() {
-    contact_columns_.clear();
-    contact_column_start_.assign(static_cast<std::size_t>(nc_) + 1, 0);
-    if (nc_ == 0) return;
-    std::vector<bool> used(static_cast<std::size_t>(nc_ * nv_), false);
-    unsigned long seed = 12345;
-    for (int trial = 0; trial < 3; ++trial) {
-      q_stage_ = q_;
-      for (int i = 0; trial > 0 && i < nq_; ++i) {
-        seed = seed * 6364136223846793005ul + 1442695040888963407ul;
-        q_stage_[i] += S(0.3 * (double(seed >> 11) / double(1ul << 53) - 0.5));
-      }
-      normalize_quaternion<S>(backend_.floating_base(), q_stage_.data());
-      backend_.contact_points(q_stage_.data(), points_.data(), jacobians_.data());
-      for (int k = 0; k < nc_; ++k)
-        for (int r = 0; r < 6; ++r)
-          for (int c = 0; c < nv_; ++c)
-            if (jacobians_[6 * nv_ * k + r * nv_ + c] != S(0)) used[static_cast<std::size_t>(k * nv_ + c)] = true;
-    }
-    for (int k = 0; k < nc_; ++k) {
-      for (int c = 0; c < nv_; ++c)
-        if (used[static_cast<std::size_t>(k * nv_ + c)]) contact_columns_.push_back(c);
-      contact_column_start_[static_cast<std::size_t>(k) + 1] = static_cast<int>(contact_columns_.size());
+  /// The law's exponent shapes the code (sim/contact.hpp): a runtime backend takes the options',
+  /// a generated one is built for its scene's and must match.
+  void adopt_contact_exponent() {
+    const double e = options_.contact_parameters.exponent;
+    if constexpr (detail::has_set_contact_exponent<Backend>::value) {
+      backend_.set_contact_exponent(e);
+    } else if (options_.contact && nc_ > 0 && backend_.contact_exponent() != e) {
+      char message[256];
+      std::snprintf(message, sizeof message,
+                    "Simulator: contact_parameters.exponent is %g but the generated backend's contact law is built for %g (the "
+                    "scene's `contact: exponent`): set the option to it, or regenerate with the exponent wanted",
+                    e, backend_.contact_exponent());
+      throw std::invalid_argument(message);
     }
   }
 
-  void add_contact_forces(const VecX<S>& q, const VecX<S>& v, bool record) {
-    backend_.contact_points(q.data(), points_.data(), jacobians_.data());
-    if (record) max_penetration_ = S(0);
-    const Vec3<S> n = options_.ground.normal.template cast<S>();
+  /// f(x) under the ground: the backend adds the contacts' joint forces to tau_total_ and solves
+  /// in one call (generated: one unrolled function); `record` keeps the reports.
+  void contact_accelerations(const VecX<S>& q, const VecX<S>& v, VecX<S>& vdot, bool record) {
+    double g[kGroundInputs], l[kLawInputs];
+    contact_inputs(options_.ground, options_.contact_parameters, g, l);
+    const S ground[kGroundInputs] = {S(g[0]), S(g[1]), S(g[2]), S(g[3])}, law[kLawInputs] = {S(l[0]), S(l[1]), S(l[2]), S(l[3])};
+    backend_.accelerations_with_contact(q.data(), v.data(), tau_total_.data(), ground, law, vdot.data(), contact_out_.data());
+    if (!record) return;
+    max_penetration_ = S(0);
     for (int k = 0; k < nc_; ++k) {
-      const S* J = jacobians_.data() + 6 * nv_ * k;
-      const int* columns = contact_columns_.data() + contact_column_start_[static_cast<std::size_t>(k)];
-      const int num_columns = contact_column_start_[static_cast<std::size_t>(k) + 1] - contact_column_start_[static_cast<std::size_t>(k)];
-      const Vec3<S> c(points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]);
-      Vec3<S> v_c = Vec3<S>::Zero(), omega = Vec3<S>::Zero();
-      for (int j = 0; j < num_columns; ++j) {
-        const int col = columns[j];
-        for (int r = 0; r < 3; ++r) {
-          v_c[r] += J[r * nv_ + col] * v[col];
-          omega[r] += J[(3 + r) * nv_ + col] * v[col];
-        }
-      }
-      const double r = backend_.contact_radius(k);
-      const ContactReport<S> report = contact_law<S>(c, v_c, omega, r, options_.ground, options_.contact_parameters);
-      if (record) {
-        reports_[static_cast<std::size_t>(k)] = report;
-        max_penetration_ = std::max(max_penetration_, report.penetration);
-      }
-      if (!report.active) continue;
-      // The force at the witness c - r n: on the body, f at the centre and (-r n) x f.
-      const Vec3<S> moment = (-S(r) * n).cross(report.force);
-      for (int j = 0; j < num_columns; ++j) {
-        const int col = columns[j];
-        S f = S(0);
-        for (int r = 0; r < 3; ++r) f += J[r * nv_ + col] * report.force[r] + J[(3 + r) * nv_ + col] * moment[r];
-        tau_total_[col] += f;
-      }
+      const S* o = contact_out_.data() + kContactOutputs * k;
+      ContactReport<S>& r = reports_[static_cast<std::size_t>(k)];
+      r.penetration = o[0];
+      r.point = Vec3<S>(o[1], o[2], o[3]);
+      r.active = o[0] > S(0);
+      r.force = r.active ? Vec3<S>(o[4], o[5], o[6]) : Vec3<S>::Zero();
+      r.slip_velocity = r.active ? Vec3<S>(o[7], o[8], o[9]) : Vec3<S>::Zero();
+      r.normal_force = r.force.dot(Vec3<S>(ground[0], ground[1], ground[2]));
+      max_penetration_ = std::max(max_penetration_, r.penetration);
     }
   }
 
@@ -480,7 +455,10 @@ template <typename Backend> class Simulator {
         T(w.T.data(), nv_, ny_);
     w.A.setZero();
     w.B.setZero();
-    if (options_.contact && nc_ > 0) contact_jacobians(h);  // uses points_/jacobians_ of f(x_n)
+    if (options_.contact && nc_ > 0) {  // the reports of f(x_n) tell which contacts are active
+      backend_.contact_points(q_eval_.data(), points_.data(), jacobians_.data());
+      contact_jacobians(h);
+    }
     for (int i = 0; i < ny_; ++i) {
       w.ydd0[i] = dv_[0][backend_.independent_v_index()[i]];
       w.vy[i] = v_[backend_.independent_v_index()[i]];
@@ -546,9 +524,8 @@ template <typename Backend> class Simulator {
   int nq_, nv_, ny_, nc_;
   VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, tau_passive_, vy_;
   VecX<S> dq_[kMaxStages], dv_[kMaxStages], q_error_, v_error_;
-  VecX<S> points_, jacobians_;
+  VecX<S> points_, jacobians_, contact_out_;
   std::vector<ContactReport<S>> reports_;
-  std::vector<int> contact_columns_, contact_column_start_;  ///< find_contact_columns
   ImplicitWork implicit_;
   Controller controller_;
   PassiveForces passive_;
