@@ -122,6 +122,30 @@ TEST(GeneratedSimulation, AnotherContactExponentIsRefused) {
   EXPECT_NO_THROW(generic.set_state(d.assembly.q.data(), v.data()));
 }
 
+// A closure that fails says in which sub-system, the generated Newton as the generic one: each of
+// Lola's four linkages in turn gets a NaN dependent coordinate (not converged there), and each
+// in turn is moved 0.3 rad off (converges; -1).
+TEST(GeneratedSimulation, AFailedClosureNamesItsSubSystem) {
+  const gen::Description d = load_lola();
+  sim::GenericBackend<double> generic(d.model);
+  const lola::Backend generated;
+  ASSERT_EQ(d.model.subsystems.size(), 4u);
+  for (std::size_t k = 0; k < d.model.subsystems.size(); ++k) {
+    const int z = d.model.q_index_of_v(d.model.subsystems[k].dependent[0]);
+    for (const double change : {std::nan(""), 0.3}) {
+      VecX<double> q = d.assembly.q, qg = d.assembly.q;
+      q[z] = qg[z] = std::isnan(change) ? change : q[z] + change;
+      int sub = -2, sub_g = -2;
+      const int status = generic.closure_positions(q.data(), &sub), status_g = generated.closure_positions(qg.data(), &sub_g);
+      EXPECT_EQ(status, std::isnan(change) ? 1 : 0) << k;
+      EXPECT_EQ(status_g, status) << k;
+      EXPECT_EQ(sub, std::isnan(change) ? static_cast<int>(k) : -1) << k;
+      EXPECT_EQ(sub_g, sub) << k;
+    }
+    EXPECT_STREQ(generated.subsystem_name(static_cast<int>(k)), generic.subsystem_name(static_cast<int>(k)));
+  }
+}
+
 // One step from Lola standing 0.5 mm deep in the ground (every foot sphere pressing, friction
 // acting) with a PD + gravity controller: the generated and generic backends give the same state.
 TEST(GeneratedSimulation, OneStepAgreesWithTheGenericBackend) {

@@ -283,6 +283,9 @@ TEST(SimulatorFailure, SliderCrankThroughItsDeadPointLosesTheClosure) {
     tau[slider] = 50;  // N, towards the stroke end
   });
   EXPECT_EQ(sim.run_until(2.0), StepStatus::closure_lost);
+  EXPECT_EQ(sim.closure_status(), 2);  // singular
+  ASSERT_EQ(sim.closure_subsystem(), 0);
+  EXPECT_STREQ(sim.backend().subsystem_name(0), "rod_slider");
   EXPECT_TRUE(sim.q().allFinite() && sim.v().allFinite());
   EXPECT_LT(sim.q()[slider], 0.06);
   EXPECT_GT(sim.q()[slider], 0.05);

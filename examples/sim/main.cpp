@@ -168,7 +168,8 @@ int main(int argc, char** argv) {
              sim::to_string(o.simulator.integrator), o.simulator.step, sim::to_string(r.status), r.end_time);
   if (r.fell) fmt::print("  the robot fell: its centre of mass sank below half its start height; stopped there\n");
   if (r.status == sim::StepStatus::closure_lost)
-    fmt::print("  the loops could not be closed: {}\n", r.closure_status == 2 ? "a linkage at (or too near) a dead point" : "Newton did not converge");
+    fmt::print("  the loops could not be closed: {}, in the sub-system of {}\n",
+               r.closure_status == 2 ? "a linkage at (or too near) a dead point" : "Newton did not converge", r.closure_subsystem);
   fmt::print("  {} steps ({} rejected), {} evaluations; CPU {:.3f} s per simulated s\n", r.statistics.accepted_steps,
              r.statistics.rejected_steps, r.statistics.evaluations, r.end_time > 0 ? r.cpu_seconds / r.end_time : 0.0);
   fmt::print("  largest penetration {:.3f} mm, largest loop-closure violation {:.2g} m, energy balance at the end {:.4g} J\n",

@@ -247,7 +247,10 @@ int main(int argc, char** argv) {
       for (const auto& c : simulator.contacts()) r.penetration = std::max(r.penetration, double(c.penetration));
       if (s != sim::StepStatus::ok) {
         r.status = fmt::format("{} at {:.3f} s{}", sim::to_string(s), simulator.time(),
-                               s == sim::StepStatus::closure_lost ? (simulator.closure_status() == 2 ? " (singular)" : " (not converged)") : "");
+                               s == sim::StepStatus::closure_lost
+                                   ? fmt::format(" ({}, {})", simulator.closure_status() == 2 ? "singular" : "not converged",
+                                                 simulator.backend().subsystem_name(simulator.closure_subsystem()))
+                                   : "");
         break;
       }
     }

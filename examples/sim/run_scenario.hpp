@@ -150,6 +150,7 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   result.cpu_seconds = cpu;
   result.statistics = sim.statistics();
   result.closure_status = sim.closure_status();
+  if (sim.closure_subsystem() >= 0) result.closure_subsystem = sim.backend().subsystem_name(sim.closure_subsystem());
   return result;
 }
 

@@ -45,6 +45,7 @@ struct ScenarioResult {
   double final_com_height = 0;     ///< m
   bool fell = false;                ///< the CoM fell below half its start height: stopped there
   int closure_status = 0;           ///< the last closure_positions status (1 not converged, 2 singular)
+  std::string closure_subsystem;    ///< the loop closures of the sub-system it failed in
 };
 
 }  // namespace mbgen::simulate

@@ -159,6 +159,7 @@ template <typename S> struct ClosureResult {
   S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
   S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
   S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
+  int subsystem;    ///< a failure's sub-system (0-based; Backend::subsystem_name names it): the worst relative pivot ratio when singular, the largest residual when not converged; -1 when converged
 };
 /// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
 template <typename S> struct ClosureOptions {
@@ -229,8 +230,16 @@ template <typename S> struct BasicBackend {
     ankle_2dof::independent_velocities(v, vy);
     ankle_2dof::full_accelerations(q, vy, tau, qdd);
   }
-  /// 0 converged, 1 not converged, 2 singular (ClosureStatus).
-  int closure_positions(S* q) const { return static_cast<int>(ankle_2dof::closure_positions(q).status); }
+  /// 0 converged, 1 not converged, 2 singular (ClosureStatus); a failure's sub-system (-1 when
+  /// converged) to *subsystem if given.
+  int closure_positions(S* q, int* subsystem = nullptr) const {
+    const ClosureResult<S> r = ankle_2dof::closure_positions(q);
+    if (subsystem) *subsystem = r.subsystem;
+    return static_cast<int>(r.status);
+  }
+  /// Sub-system k's loop closures, as the description names them.
+  const char* subsystem_name(int k) const { static constexpr const char* names[] = {"ankle_lat, ankle_med"};
+    return names[k]; }
   void full_velocities(const S* q, const S* vy, S* v) const { ankle_2dof::full_velocities(q, vy, v); }
   void velocity_map(const S* q, S* T) const { ankle_2dof::velocity_map(q, T); }
   void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { ankle_2dof::inverse_dynamics(q, v, qdd, tau); }

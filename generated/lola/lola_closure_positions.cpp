@@ -2391,15 +2391,20 @@ template <typename S> constexpr S nominal_pivot_ratio[4] = {S(1.7e-01), S(1.9e-0
 
 template <typename S> ClosureResult<S> closure_positions_impl(S* q, const ClosureOptions<S>& options) {
   S residual[R], pivots[R], step[R];
-  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1)};
+  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   for (;; ++result.iterations) {
     closure_newton_step<S>(q, residual, pivots, step);
     bool finite = true;
+    int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);
-    for (int i = 0; i < R; ++i) {
-      finite = finite && std::isfinite(residual[i]);
-      if (std::fabs(residual[i]) > result.residual) result.residual = std::fabs(residual[i]);
-    }
+    for (int k = 0; k < num_subsystems; ++k)
+      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) {
+        if (!std::isfinite(residual[i]) && finite) finite = false, worst_residual = k;
+        if (std::fabs(residual[i]) > result.residual) {
+          result.residual = std::fabs(residual[i]);
+          if (finite) worst_residual = k;
+        }
+      }
     // Smallest / largest |R_ii| per sub-system, the worst of them, and the worst of them relative
     // to the sub-system's ratio at the assembled pose; NaN (all pivots 0, or NaN) counts as singular.
     result.pivot_ratio = S(1);
@@ -2414,14 +2419,17 @@ template <typename S> ClosureResult<S> closure_positions_impl(S* q, const Closur
       const S ratio = largest > S(0) ? smallest / largest : S(NAN);  // all pivots 0 or NaN: NaN, no 0 / 0
       if (!(ratio >= result.pivot_ratio)) result.pivot_ratio = ratio;
       const S relative = ratio / nominal_pivot_ratio<S>[k];
-      if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative;
+      if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative, worst_relative = k;
     }
-    if (!finite) return result.status = ClosureStatus::not_converged, result;
-    if (!(result.pivot_ratio >= options.singular_tolerance)) return result.status = ClosureStatus::singular, result;
-    if (result.residual < options.tolerance)  // closed, but maybe within the tolerance's reach of a dead point
-      return result.status = result.relative_pivot_ratio >= options.dead_point_tolerance ? ClosureStatus::converged : ClosureStatus::singular,
-             result;
-    if (result.iterations == options.max_iterations) return result.status = ClosureStatus::not_converged, result;
+    if (!finite) return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
+    if (!(result.pivot_ratio >= options.singular_tolerance))
+      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
+    if (result.residual < options.tolerance) {  // closed, but maybe within the tolerance's reach of a dead point
+      if (result.relative_pivot_ratio >= options.dead_point_tolerance) return result;
+      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
+    }
+    if (result.iterations == options.max_iterations)
+      return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
     // Steps limited to max_step in their largest entry, per sub-system.
     for (int k = 0; k < num_subsystems; ++k) {
       S largest = S(0);

@@ -42,6 +42,18 @@ std::string quoted_list(const std::vector<std::string>& items) {
   return out;
 }
 
+/// The body of Backend::subsystem_name: a table of each sub-system's closures, comma-separated.
+std::string subsystem_name_statements(const Model& model) {
+  if (model.subsystems.empty()) return "(void)k;\n    return \"\";";
+  std::vector<std::string> names;
+  for (const SubSystem& s : model.subsystems) {
+    std::vector<std::string> closures;
+    for (int c : s.closures) closures.push_back(model.closures[static_cast<std::size_t>(c)].name);
+    names.push_back(fmt::format("{}", fmt::join(closures, ", ")));
+  }
+  return fmt::format("static constexpr const char* names[] = {{{}}};\n    return names[k];", quoted_list(names));
+}
+
 }  // namespace
 
 std::string sanitize_identifier(const std::string& name) {
@@ -207,7 +219,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                     {"gravity", fmt::format("{}, {}, {}", number(g.x()), number(g.y()), number(g.z()))},
                                     {"contact_radius", contacts.empty() ? std::string("(void)k, 0.0") : fmt::format("{}::contact_sphere_radius[k]", ctx.robot)},
                                     {"contact_name", contacts.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::contact_sphere_names[k]", ctx.robot)},
-                                    {"contact_exponent", number(contact_exponent)}})});
+                                    {"contact_exponent", number(contact_exponent)},
+                                    {"subsystem_name", subsystem_name_statements(model)}})});
 
   std::vector<GeneratedFile> files;
   files.push_back({ctx.header, templates.render("header", header_fields)});

@@ -77,6 +77,10 @@ template <typename S> struct ClosureResult {
   S residual = S(0);       ///< max |Phi| over the kept rows at the returned q
   S pivot_ratio = S(1);    ///< subsystem_pivot_ratio at the returned q (1 without loops)
   S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio at the returned q (1 without loops)
+  /// A failure's sub-system (index into Model::subsystems): the one with the worst relative pivot
+  /// ratio when Singular, the largest (or a non-finite) kept residual when NotConverged; -1 when
+  /// Converged. The generated closure_positions reports the same.
+  int subsystem = -1;
 };
 
 namespace detail {
@@ -119,6 +123,31 @@ template <typename S> bool kept_residual(const Model& model, const Data<S>& data
   return finite;
 }
 
+/// The sub-system of the largest kept residual, a non-finite one first (ClosureResult::subsystem).
+template <typename S> int worst_residual_subsystem(const Model& model, const Data<S>& data) {
+  using std::abs;
+  using std::isfinite;
+  int worst = 0;
+  S largest = S(0);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k)
+    for (int row : model.subsystems[k].rows) {
+      if (!isfinite(data.Phi[row])) return static_cast<int>(k);
+      if (abs(data.Phi[row]) > largest) largest = abs(data.Phi[row]), worst = static_cast<int>(k);
+    }
+  return worst;
+}
+
+/// The sub-system of the worst relative pivot ratio, NaN first (ClosureResult::subsystem).
+template <typename S> int worst_pivot_subsystem(const Model& model, const Data<S>& data) {
+  int worst = 0;
+  S lowest = S(1);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const S relative = pivot_ratio_of<S>(data, k) / S(model.subsystems[k].nominal_pivot_ratio);
+    if (!(relative >= lowest)) lowest = relative, worst = static_cast<int>(k);
+  }
+  return worst;
+}
+
 }  // namespace detail
 
 /// Closes the loops: solves Phi(y, z) = 0 for the dependent coordinates z of every sub-system by
@@ -134,12 +163,18 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
     const bool finite = detail::kept_residual<S>(model, data, result.residual);
     result.pivot_ratio = subsystem_pivot_ratio<S>(model, data);
     result.relative_pivot_ratio = subsystem_relative_pivot_ratio<S>(model, data);
-    if (!finite) return result.status = ClosureStatus::NotConverged, result;
-    if (!(result.pivot_ratio >= S(options.singular_tolerance))) return result.status = ClosureStatus::Singular, result;
+    const auto fail = [&](ClosureStatus status) {
+      result.status = status;
+      result.subsystem = status == ClosureStatus::Singular ? detail::worst_pivot_subsystem<S>(model, data)
+                                                           : detail::worst_residual_subsystem<S>(model, data);
+      return result;
+    };
+    if (!finite) return fail(ClosureStatus::NotConverged);
+    if (!(result.pivot_ratio >= S(options.singular_tolerance))) return fail(ClosureStatus::Singular);
     if (result.residual < S(options.tolerance))
-      return result.status = result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular,
-             result;
-    if (result.iterations == options.max_iterations) return result.status = ClosureStatus::NotConverged, result;
+      return result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? (result.status = ClosureStatus::Converged, result)
+                                                                             : fail(ClosureStatus::Singular);
+    if (result.iterations == options.max_iterations) return fail(ClosureStatus::NotConverged);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
       const SubSystem& sub = model.subsystems[k];
       const SubSystemWork<S>& w = data.subsystem[k];

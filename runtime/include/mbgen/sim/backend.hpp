@@ -10,8 +10,10 @@
 //   int num_contacts(); double contact_radius(k); const char* contact_name(k)
 //   double total_mass(); const double* gravity(); world, 3 entries
 //   void accelerations(q, v, tau, qdd)            every tree joint's (nv) at (q, v), forces tau (nv)
-//   int closure_positions(q)                      closes the loops in place: 0 converged,
-//                                                 1 not converged, 2 singular (dead point)
+//   int closure_positions(q, subsystem = nullptr) closes the loops in place: 0 converged,
+//                                                 1 not converged, 2 singular (dead point); the
+//                                                 failing sub-system to *subsystem (-1 if none)
+//   const char* subsystem_name(k)                 sub-system k's loop closures
 //   void full_velocities(q, vy, v)                v = T vy
 //   void velocity_map(q, T)                       nv x ny, row-major
 //   void inverse_dynamics(q, v, qdd, tau)         the spanning tree's (no closure forces)
@@ -77,6 +79,11 @@ template <typename S> class ModelBackend {
         throw std::invalid_argument("sim backend: contact sphere '" + c.name + "' is not on a moving body of '" + model.name + "'");
     vy_ = VecX<S>::Zero(static_cast<int>(data_.independent_v.size()));
     tau_contact_ = VecX<S>::Zero(model.nv());
+    for (const SubSystem& s : model.subsystems) {
+      std::string name;
+      for (int c : s.closures) name += (name.empty() ? "" : ", ") + model.closures[static_cast<std::size_t>(c)].name;
+      subsystem_names_.push_back(name);
+    }
     gravity_[0] = model.gravity.x(), gravity_[1] = model.gravity.y(), gravity_[2] = model.gravity.z();
   }
 
@@ -94,10 +101,14 @@ template <typename S> class ModelBackend {
   const std::vector<ContactSphere>& contacts() const { return contacts_; }
   ClosureOptions& closure_options() { return closure_; }
 
-  int closure_positions(S* q) {
+  int closure_positions(S* q, int* subsystem = nullptr) {
     Eigen::Map<VecX<S>> qm(q, nq());
-    return static_cast<int>(mbgen::closure_positions<S>(model_, data_, qm, closure_).status);
+    const ClosureResult<S> r = mbgen::closure_positions<S>(model_, data_, qm, closure_);
+    if (subsystem) *subsystem = r.subsystem;
+    return static_cast<int>(r.status);
   }
+  /// Sub-system k's loop closures, comma-separated (as the generated Backend names them).
+  const char* subsystem_name(int k) const { return subsystem_names_[static_cast<std::size_t>(k)].c_str(); }
   void full_velocities(const S* q, const S* vy, S* v) {
     Eigen::Map<VecX<S>> out(v, nv());
     mbgen::full_velocities<S>(model_, data_, ConstMap<S>(q, nq()), ConstMap<S>(vy, ny()), out);
@@ -133,6 +144,7 @@ template <typename S> class ModelBackend {
   const Model& model_;
   Data<S> data_;
   std::vector<ContactSphere> contacts_;
+  std::vector<std::string> subsystem_names_;
   ClosureOptions closure_;
   VecX<S> vy_, tau_contact_;
   double gravity_[3] = {0, 0, 0};

@@ -135,6 +135,8 @@ template <typename Backend> class Simulator {
   /// The last closure_positions status (0 converged, 1 not converged, 2 singular): why a step
   /// ended in closure_lost.
   int closure_status() const { return closure_status_; }
+  /// The sub-system that closure failed in (Backend::subsystem_name(k) names it), -1 if none.
+  int closure_subsystem() const { return closure_subsystem_; }
 
   // --- stepping -----------------------------------------------------------------------------
   /// One step of the configured integrator (no longer than `max_dt`, and ending at the next
@@ -275,7 +277,7 @@ template <typename Backend> class Simulator {
   /// Closes the loops in q_ and sets v_ = T vy; returns the closure status (0 converged).
   int project() {
     if (ny_ == nv_) return 0;
-    const int status = closure_status_ = backend_.closure_positions(q_.data());
+    const int status = closure_status_ = backend_.closure_positions(q_.data(), &closure_subsystem_);
     if (status != 0) return status;
     for (int i = 0; i < ny_; ++i) vy_[i] = v_[backend_.independent_v_index()[i]];
     backend_.full_velocities(q_.data(), vy_.data(), v_.data());
@@ -533,7 +535,7 @@ template <typename Backend> class Simulator {
   S stage_power_[kMaxStages] = {};  ///< power_ at each Runge-Kutta stage of the step
   double t_ = 0, step_ = 0, gravity_norm_ = 0;
   long control_ticks_ = 0;
-  int closure_status_ = 0;
+  int closure_status_ = 0, closure_subsystem_ = -1;
   bool control_due_ = true;
   S work_ = S(0), energy_start_ = S(0), max_penetration_ = S(0);
   SimulationStatistics stats_;
