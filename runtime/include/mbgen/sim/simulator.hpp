@@ -121,6 +121,8 @@ template <typename Backend> class Simulator {
   const VecX<S>& v() const { return v_; }
   double time() const { return t_; }
   Backend& backend() { return backend_; }
+  /// Changes apply from the next step; contact_parameters.exponent is taken (runtime backends) or
+  /// checked against the generated law (generated ones) at set_state.
   SimulatorOptions& options() { return options_; }
   const SimulationStatistics& statistics() const { return stats_; }
   /// The joint forces the controller wrote last (held until its next call), nv.
