@@ -31,7 +31,9 @@ TEST_P(ClosureTest, JacobianMatchesFiniteDifferencesAtClosedPoses) {
   const double h = 1e-6;
   for (int trial = 0; trial < 4; ++trial) {
     VecX<double> q = d.assembly.q, v;
-    if (trial > 0) ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    if (trial > 0) {
+      ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    }
     const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
     for (int dir = 0; dir < 3; ++dir) {
       const VecX<double> dq = random_vector<double>(model.nv(), rng);
@@ -70,7 +72,9 @@ TEST_P(ClosureTest, BiasIsMinusTheRateOfTheConstraintVelocity) {
   const double h = 1e-6;
   for (int trial = 0; trial < 3; ++trial) {
     VecX<double> q = d.assembly.q, v = random_vector<double>(model.nv(), rng);
-    if (trial == 1) ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    if (trial == 1) {
+      ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    }
     if (trial == 2) q = random_configuration<double>(model, rng);
     const VecX<double> gamma = closure_bias<double>(model, data, q, v);
     const CentralPair p = central_pair(model, q, v, h);

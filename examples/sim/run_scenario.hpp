@@ -34,26 +34,22 @@ VecX<typename Backend::Scalar> start_pose(Backend& backend, const gen::Descripti
   return q;
 }
 
+/// Puts the scenario on `sim`: its start state (closed, projected) and, but for the swing, the
+/// PD + gravity controller holding the start pose (on controller_backend), with the push's force
+/// for the push. False if the start pose does not close. mbgen_sim and mbgen_study share it, so
+/// that both run the same scenario.
 template <typename Backend>
-ScenarioResult run_scenario(Backend backend, Backend controller_backend, const gen::Description& d, const ScenarioOptions& o) {
+bool prepare_scenario(sim::Simulator<Backend>& sim, Backend controller_backend, const gen::Description& d, const ScenarioOptions& o) {
   using S = typename Backend::Scalar;
-  ScenarioResult result;
-  const bool contact = o.scenario != Scenario::swing;
-  sim::SimulatorOptions so = o.simulator;
-  so.contact = contact;
-  sim::Simulator<Backend> sim(std::move(backend), so);
   Backend& b = sim.backend();
-  const int nv = b.nv(), ny = b.ny();
+  const bool contact = o.scenario != Scenario::swing;
   const VecX<S> q0 = start_pose(b, d, contact ? o.height : 0.0);
-  VecX<S> v0 = VecX<S>::Zero(nv);
+  VecX<S> v0 = VecX<S>::Zero(b.nv());
   if (o.scenario == Scenario::swing) {
-    VecX<S> vy = VecX<S>::Constant(ny, S(o.swing_speed));
+    VecX<S> vy = VecX<S>::Constant(b.ny(), S(o.swing_speed));
     b.full_velocities(q0.data(), vy.data(), v0.data());
   }
-  if (const int status = sim.set_state(q0.data(), v0.data()); status != 0) {
-    result.status = sim::StepStatus::closure_lost;
-    return result;
-  }
+  if (sim.set_state(q0.data(), v0.data()) != 0) return false;
   // Control: PD + gravity on the actuated joints, holding the start pose (none for the swing);
   // the push adds a constant force on the base during push_time (its wrench entries of tau are in
   // base coordinates: the world force rotated into them).
@@ -73,6 +69,22 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
         tau[2] += S(force) * S(2) * (x * z + y * w);
       }
     });
+  }
+  return true;
+}
+
+template <typename Backend>
+ScenarioResult run_scenario(Backend backend, Backend controller_backend, const gen::Description& d, const ScenarioOptions& o) {
+  using S = typename Backend::Scalar;
+  ScenarioResult result;
+  const bool contact = o.scenario != Scenario::swing;
+  sim::SimulatorOptions so = o.simulator;
+  so.contact = contact;
+  sim::Simulator<Backend> sim(std::move(backend), so);
+  Backend& b = sim.backend();
+  if (!prepare_scenario(sim, std::move(controller_backend), d, o)) {
+    result.status = sim::StepStatus::closure_lost;
+    return result;
   }
 
   // Contact links: the spheres are named link/ssv/vertex; one force column per link.
