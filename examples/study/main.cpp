@@ -24,6 +24,7 @@
 
 #include MBGEN_STUDY_HEADER
 #include "collision/contact_spheres.hpp"
+#include "examples/study/stability_map.hpp"
 #include "examples/study/trajectory.hpp"
 #include "load/load_error.hpp"
 #include "model/load_description.hpp"
@@ -37,7 +38,7 @@ namespace {
 constexpr const char* kUsage = R"(usage: mbgen_study [options]
   --grid full|small   the grid (default full: minutes; small: seconds, what the test suite runs)
   --out DIR           where study.csv, study.md and the charts go (default: study)
-  --scenario NAME     only this scenario (swing_four_bar, drop_lola)
+  --scenario NAME     only this part: swing_four_bar, drop_lola or stability (the map)
   --backends A,B,...  only these backends (generated, generic, independent, kkt)
   --no-plot           no charts
   --check             exit 1 unless the study's invariants hold
@@ -232,7 +233,7 @@ int main(int argc, char** argv) {
   if (!only_scenario.empty()) {
     scenarios.erase(std::remove_if(scenarios.begin(), scenarios.end(), [&](const Scenario& s) { return s.name != only_scenario; }),
                     scenarios.end());
-    if (scenarios.empty()) return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
+    if (scenarios.empty() && only_scenario != "stability") return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
   }
   if (!only_backends.empty()) {
     std::vector<std::string> chosen;
@@ -369,6 +370,71 @@ int main(int argc, char** argv) {
       report += "\n";
     }
     fmt::print("  {} runs, {} failed; Pareto front of {}\n", points.size(), failed, front.size());
+  }
+
+  // The stability map: on the drop with the generated backend (the compiled-in robot), the largest
+  // stable step of each fixed-step integrator against the contact stiffness. The controller runs at
+  // 1 kHz and ends every step at its calls, so 1 ms is the ladder's top: "stable at 1e-3" means
+  // "at least".
+  const bool map_wanted = only_scenario.empty() || only_scenario == "stability";
+  if (map_wanted) {
+    Scenario drop = make_scenario("drop_lola", simulate::Scenario::drop, MBGEN_STUDY_DESCRIPTION, full ? 0.25 : 0.15);
+    const std::vector<double> stiffnesses = full ? std::vector<double>{1e5, 1e6, 1e7, 1e8, 1e9} : std::vector<double>{1e6, 1e8};
+    const std::vector<Integrator> integrators =
+        full ? std::vector<Integrator>{Integrator::explicit_euler, Integrator::symplectic_euler, Integrator::rk4, Integrator::linearly_implicit_euler}
+             : std::vector<Integrator>{Integrator::explicit_euler, Integrator::linearly_implicit_euler};
+    const std::vector<double> ladder = study::step_ladder(1e-5, 1e-3);
+    fmt::print("stability map: {}, generated backend, steps 1e-5 to 1e-3 s\n", drop.title);
+    auto map_dat = fmt::output_file((out / "stability_map.dat").string());
+    report += fmt::format("## Stability map\n\nThe largest step (of 10^(k/4) s, 1e-5 to 1e-3) with which the drop of Lola runs its {:g} s "
+                          "with status ok, against the contact stiffness (N/m^1.5; the scene's is {:g}), generated backend; the "
+                          "controller's 1 ms period caps the steps.\n\n| integrator | stiffness | largest stable step [s] | smallest "
+                          "failing step [s] | its status, at t [s] | runs |\n|---|---|---|---|---|---|\n",
+                          drop.duration, drop.options.simulator.contact_parameters.stiffness);
+    std::map<std::string, std::map<double, double>> stable;
+    for (Integrator integrator : integrators) {
+      if (integrator != integrators.front()) map_dat.print("\n\n");
+      map_dat.print("\"{}\" x\n", sim::to_string(integrator));
+      for (double k : stiffnesses) {
+        Scenario s = drop;
+        s.options.simulator.contact_parameters.stiffness = k;
+        const study::StabilityResult r = study::largest_stable_step(ladder, [&](double h, sim::StepStatus& status, double& time) {
+          const study::Trajectory t = run(s, {"generated", integrator, h, 0});
+          status = t.status, time = t.end_time;
+          return t.finished(s.duration);
+        });
+        stable[sim::to_string(integrator)][k] = r.stable;
+        map_dat.print("{:g} {:g}\n", k, r.stable);
+        report += fmt::format("| {} | {:g} | {} | {} | {} | {} |\n", sim::to_string(integrator), k,
+                              r.stable > 0 ? fmt::format("{:.3g}", r.stable) : "none",
+                              r.unstable > 0 ? fmt::format("{:.3g}", r.unstable) : "none up to 1e-3",
+                              r.unstable > 0 ? fmt::format("{}, {:.4f}", sim::to_string(r.failure), r.failure_time) : "", r.runs);
+        fmt::print("  {} at stiffness {:g}: largest stable step {:.3g} s ({} runs)\n", sim::to_string(integrator), k, r.stable, r.runs);
+      }
+    }
+    map_dat.close();
+    report += "\n";
+    if (plot) {
+      const std::string png = (out / "study_stability_map.png").string();
+      const std::string command = fmt::format("gnuplot -e \"dat='{}'; png='{}'; plot_title='{}: the largest stable step'; default_stiffness={:g}\" {} 2>&1",
+                                              (out / "stability_map.dat").string(), png, drop.title,
+                                              drop.options.simulator.contact_parameters.stiffness,
+                                              MBGEN_SOURCE_DIR "/scripts/plot_stability_map.gp");
+      if (std::system(command.c_str()) == 0) fmt::print("  chart: {}\n", png);
+      else fmt::print(stderr, "mbgen_study: gnuplot failed (apt-get install gnuplot-nox); the data are written\n");
+      report += fmt::format("![{}: the largest stable step](study_stability_map.png)\n\n", drop.title);
+    }
+    // The invariants: a stiffer contact never allows explicit Euler a larger step, and linearly
+    // implicit Euler, built for stiff contact, is stable at every step explicit Euler is.
+    const auto& ee = stable["explicit_euler"];
+    for (auto it = ee.begin(); std::next(it) != ee.end(); ++it)
+      if (std::next(it)->second > it->second)
+        failures.push_back(fmt::format("stability map: explicit Euler's largest stable step grows with the stiffness ({:g} s at {:g}, {:g} s "
+                                       "at {:g})", it->second, it->first, std::next(it)->second, std::next(it)->first));
+    for (const auto& [k, h] : stable["linearly_implicit_euler"])
+      if (h < ee.at(k))
+        failures.push_back(fmt::format("stability map: linearly implicit Euler's largest stable step {:g} s is below explicit Euler's {:g} s "
+                                       "at stiffness {:g}", h, ee.at(k), k));
   }
 
   auto md = fmt::output_file((out / "study.md").string());
