@@ -34,6 +34,18 @@ VecX<typename Backend::Scalar> start_pose(Backend& backend, const gen::Descripti
   return q;
 }
 
+/// The loops' violation at q: max |Phi| over the sub-systems' kept rows (m, rad), by the generic
+/// runtime in double whatever the backend (an independent check of a closed state); 0 without
+/// loops.
+inline double loop_violation(const Model& model, Data<double>& data, const VecX<double>& q) {
+  if (model.closures.empty()) return 0;
+  closure_residual<double>(model, data, q);
+  double worst = 0;
+  for (const SubSystem& sub : model.subsystems)
+    for (int row : sub.rows) worst = std::max(worst, std::abs(data.Phi[row]));
+  return worst;
+}
+
 /// Puts the scenario on `sim`: its start state (closed, projected) and, but for the swing, the
 /// PD + gravity controller holding the start pose (on controller_backend), with the push's force
 /// for the push. False if the start pose does not close. mbgen_sim and mbgen_study share it, so
@@ -119,15 +131,7 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
         penetration = std::max(penetration, double(reports[k].penetration));
       }
     }
-    // The loops' violation, max |Phi| over the kept rows (m, rad), by the generic runtime in
-    // double whatever the backend: an independent check of the closed state.
-    double drift = 0;
-    if (!d.model.closures.empty()) {
-      const VecX<double> qd = q.template cast<double>();
-      closure_residual<double>(d.model, check, qd);
-      for (const SubSystem& sub : d.model.subsystems)
-        for (int row : sub.rows) drift = std::max(drift, std::abs(check.Phi[row]));
-    }
+    const double drift = loop_violation(d.model, check, q.template cast<double>());
     result.max_closure_drift = std::max(result.max_closure_drift, drift);
     result.max_penetration = std::max(result.max_penetration, penetration);
     const bool floating = b.floating_base();

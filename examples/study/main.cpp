@@ -135,6 +135,14 @@ std::vector<Config> grid(const Scenario& s, const std::vector<double>& steps, co
   return configs;
 }
 
+/// Runs one of the project's gnuplot scripts with its variables (`name=value; ...`); says where
+/// the chart went, or that gnuplot failed (the data files stay).
+void run_gnuplot(const std::string& variables, const std::string& script, const std::string& png) {
+  const std::string command = fmt::format("gnuplot -e \"{}; png='{}'\" {}/scripts/{} 2>&1", variables, png, MBGEN_SOURCE_DIR, script);
+  if (std::system(command.c_str()) == 0) fmt::print("  chart: {}\n", png);
+  else fmt::print(stderr, "mbgen_study: gnuplot failed (apt-get install gnuplot-nox); the data are written\n");
+}
+
 /// How many backends ran (the chart colours curves by integrator and marks them by backend).
 std::size_t backends_of(const std::vector<Point>& points) {
   std::vector<std::string> seen;
@@ -335,12 +343,10 @@ int main(int argc, char** argv) {
 
     if (plot) {
       const std::string png = (out / ("study_" + s.name + ".png")).string();
-      const std::string command = fmt::format(
-          "gnuplot -e \"dat='{}'; pareto='{}'; png='{}'; plot_title='{}: error against cost'; reference_error={:g}; per_backend={}\" {} 2>&1",
-          (out / (s.name + ".dat")).string(), (out / (s.name + "_pareto.dat")).string(), png, s.title, std::max(self_error, 1e-16), curves.size() / std::max<std::size_t>(1, backends_of(points)),
-          MBGEN_SOURCE_DIR "/scripts/plot_study.gp");
-      if (std::system(command.c_str()) == 0) fmt::print("  chart: {}\n", png);
-      else fmt::print(stderr, "mbgen_study: gnuplot failed (apt-get install gnuplot-nox); the data are written\n");
+      run_gnuplot(fmt::format("dat='{}'; pareto='{}'; plot_title='{}: error against cost'; reference_error={:g}; per_backend={}",
+                              (out / (s.name + ".dat")).string(), (out / (s.name + "_pareto.dat")).string(), s.title,
+                              std::max(self_error, 1e-16), curves.size() / std::max<std::size_t>(1, backends_of(points))),
+                  "plot_study.gp", png);
       report += fmt::format("![{}](study_{}.png)\n\n", s.title, s.name);
     }
 
@@ -416,12 +422,9 @@ int main(int argc, char** argv) {
     report += "\n";
     if (plot) {
       const std::string png = (out / "study_stability_map.png").string();
-      const std::string command = fmt::format("gnuplot -e \"dat='{}'; png='{}'; plot_title='{}: the largest stable step'; default_stiffness={:g}\" {} 2>&1",
-                                              (out / "stability_map.dat").string(), png, drop.title,
-                                              drop.options.simulator.contact_parameters.stiffness,
-                                              MBGEN_SOURCE_DIR "/scripts/plot_stability_map.gp");
-      if (std::system(command.c_str()) == 0) fmt::print("  chart: {}\n", png);
-      else fmt::print(stderr, "mbgen_study: gnuplot failed (apt-get install gnuplot-nox); the data are written\n");
+      run_gnuplot(fmt::format("dat='{}'; plot_title='{}: the largest stable step'; default_stiffness={:g}",
+                              (out / "stability_map.dat").string(), drop.title, drop.options.simulator.contact_parameters.stiffness),
+                  "plot_stability_map.gp", png);
       report += fmt::format("![{}: the largest stable step](study_stability_map.png)\n\n", drop.title);
     }
     // The invariants: a stiffer contact never allows explicit Euler a larger step, and linearly
@@ -471,10 +474,7 @@ int main(int argc, char** argv) {
                       t.finished(s.duration) ? "" : fmt::format(" ({} at {:.3f} s)", sim::to_string(t.status), t.end_time));
       double worst = 0, last = 0;
       for (std::size_t k = 0; k < t.q.size(); ++k) {
-        closure_residual<double>(s.description.model, check, t.q[k]);
-        double phi = 0;
-        for (const SubSystem& sub : s.description.model.subsystems)
-          for (int row : sub.rows) phi = std::max(phi, std::abs(check.Phi[row]));
+        const double phi = simulate::loop_violation(s.description.model, check, t.q[k]);
         drift_dat.print("{:g} {:.6g}\n", static_cast<double>(k) * kSamplePeriod, std::max(phi, 1e-17));
         worst = std::max(worst, phi), last = phi;
       }
@@ -487,11 +487,9 @@ int main(int argc, char** argv) {
     report += "\n";
     if (plot) {
       const std::string png = (out / "study_closure_drift.png").string();
-      const std::string command = fmt::format("gnuplot -e \"dat='{}'; png='{}'; plot_title='{}: the loop closure over time, RK4 at h = {:g} s'\" {} 2>&1",
-                                              (out / "closure_drift.dat").string(), png, swing.title, kDriftStep,
-                                              MBGEN_SOURCE_DIR "/scripts/plot_closure_drift.gp");
-      if (std::system(command.c_str()) == 0) fmt::print("  chart: {}\n", png);
-      else fmt::print(stderr, "mbgen_study: gnuplot failed (apt-get install gnuplot-nox); the data are written\n");
+      run_gnuplot(fmt::format("dat='{}'; plot_title='{}: the loop closure over time, RK4 at h = {:g} s'",
+                              (out / "closure_drift.dat").string(), swing.title, kDriftStep),
+                  "plot_closure_drift.gp", png);
       report += "![the loop closure over time](study_closure_drift.png)\n\n";
     }
     // The invariants: projected, the loop stays closed to the simulator's claim (1e-10); without
