@@ -1,6 +1,6 @@
 # mbgen_add_robot(TARGET <target> DESCRIPTION <urdf>
 #                 [EXTRAS <yaml>] [NAME <namespace>] [SCALAR double|float|both]
-#                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUT_DIR <dir>]
+#                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUTS <output>... | all] [OUTPUT_DIR <dir>]
 #                 [FLAVOUR cpp|c | TEMPLATES <dir>])
 #
 # Generates a robot's unrolled C++ at build time and adds the static library <target> whose
@@ -11,24 +11,27 @@
 #
 #   NAME        C++ namespace and file prefix (default: <target>)
 #   SCALAR      scalar types emitted (default: the extras' scene `scalar:`, else both)
+#   OUTPUTS     what to generate, overriding the extras' scene `outputs:` (docs/extras.md), or
+#               `all`; a function left out still has its (empty) source file
 #   OUTPUT_DIR  default: ${CMAKE_CURRENT_BINARY_DIR}/mbgen/<NAME>
 #   FLAVOUR     the installed templates to use (docs/templates.md): cpp (default; namespace
 #               <NAME>, overloads per scalar) or c (a C99 header, <NAME>_<function>_<scalar>)
 #   TEMPLATES   a folder of your own templates instead (a copy of a flavour, edited); the file
 #               names come from its header_file.fmt and source_file.fmt
 
-# The functions every generation emits, one source file each (<NAME>_<function>.cpp).
-# self_distances, contact_points and contact_accelerations are emitted for every robot (empty,
-# with num_distance_pairs or num_contact_spheres = 0, or a call of full_accelerations, when the
-# description has no SSV pairs or the scene no contact), so the outputs follow from the arguments
-# alone.
+# The source files of every generation, one per function (<NAME>_<function>.cpp), so that the
+# outputs follow from the arguments alone: a function the scene's outputs leave out
+# (generator/codegen/scene_functions.hpp) gets a file holding only a note; self_distances,
+# contact_points and contact_accelerations, when generated, are empty (num_distance_pairs or
+# num_contact_spheres = 0, or a call of full_accelerations) for a description without SSV pairs
+# or a scene without contact.
 set(MBGEN_GENERATED_FUNCTIONS
     forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
     center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
     self_distances contact_points contact_accelerations)
 
 function(mbgen_add_robot)
-  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES" "FRAMES"
+  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES" "FRAMES;OUTPUTS"
                         ${ARGN})
   if(NOT MB_TARGET OR NOT MB_DESCRIPTION)
     message(FATAL_ERROR "mbgen_add_robot: TARGET and DESCRIPTION are required")
@@ -68,6 +71,10 @@ function(mbgen_add_robot)
   if(MB_FRAMES)
     string(REPLACE ";" "," frames "${MB_FRAMES}")
     list(APPEND arguments --frames ${frames})
+  endif()
+  if(MB_OUTPUTS)
+    string(REPLACE ";" "," outputs "${MB_OUTPUTS}")
+    list(APPEND arguments --outputs ${outputs})
   endif()
 
   if(MB_FLAVOUR AND MB_TEMPLATES)

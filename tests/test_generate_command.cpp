@@ -205,4 +205,51 @@ TEST(GenerateCommand, ContactAccelerationsFollowTheScenesLaw) {
   EXPECT_NE(read(odd / "arm.hpp").find("double contact_exponent() const { return 1.3; }"), std::string::npos);
 }
 
+/// The scene's outputs choose what is generated: the two a scene lists (and closure_positions),
+/// every other function's file kept but holding only a note, the header declaring neither those
+/// nor the simulator's Backend; --outputs overrides the scene, `all` restores everything.
+TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
+  const fs::path extras = fs::temp_directory_path() / "mbgen_test_two_outputs.yaml";
+  { std::ofstream(extras) << "scene:\n  outputs: [mass_matrix, center_of_mass]\n"; }
+  const fs::path two = fresh_dir("two_outputs"), all = fresh_dir("all_outputs"), one = fresh_dir("one_output");
+  ASSERT_EQ(generate(two, "arm", "--extras " + extras.string()), 0);
+  ASSERT_EQ(generate(all, "arm", "--extras " + extras.string() + " --outputs all"), 0);
+  ASSERT_EQ(generate(one, "arm", "--extras " + extras.string() + " --outputs inverse_dynamics"), 0);
+  const std::vector<std::string> functions = {
+      "forward_dynamics", "full_accelerations", "inverse_dynamics", "mass_matrix", "forward_kinematics", "frame_poses",
+      "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "velocity_map", "full_velocities",
+      "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
+  ASSERT_EQ(static_cast<int>(functions.size()), MBGEN_GENERATED_FUNCTION_COUNT);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(two)) (void)entry, ++files;
+  EXPECT_EQ(files, 1 + MBGEN_GENERATED_FUNCTION_COUNT);  // the file list follows from the arguments alone
+  const std::string header = read(two / "arm.hpp");
+  for (const std::string& f : functions) {
+    const std::string source = read(two / ("arm_" + f + ".cpp"));
+    const bool kept = f == "mass_matrix" || f == "center_of_mass" || f == "closure_positions";
+    const bool left_out = source.find(f + " is left out: not among the outputs of mbgen_test_two_outputs.yaml's scene") != std::string::npos;
+    EXPECT_EQ(left_out, !kept) << f;
+    EXPECT_EQ(source.find("_impl") != std::string::npos, kept) << f;
+    const bool declared = header.find(" " + f + "(") != std::string::npos;
+    EXPECT_EQ(declared, kept) << f;
+    EXPECT_EQ(header.find("// " + f + ": left out (") != std::string::npos, !kept) << f;
+    // --outputs all: everything, as without outputs; --outputs inverse_dynamics: that alone.
+    EXPECT_EQ(read(all / ("arm_" + f + ".cpp")).find("is left out"), std::string::npos) << f;
+    EXPECT_EQ(read(one / ("arm_" + f + ".cpp")).find("is left out") == std::string::npos,
+              f == "inverse_dynamics" || f == "closure_positions")
+        << f;
+  }
+  EXPECT_EQ(header.find("struct BasicBackend"), std::string::npos);
+  EXPECT_NE(header.find("// Backend: left out"), std::string::npos);
+  EXPECT_NE(read(all / "arm.hpp").find("struct BasicBackend"), std::string::npos);
+  EXPECT_NE(read(one / "arm_mass_matrix.cpp").find("not among --outputs inverse_dynamics"), std::string::npos);
+}
+
+TEST(GenerateCommand, AnUnknownOutputNamesTheOnesThereAre) {
+  const auto [status, errors] = generate_with_errors(fresh_dir("unknown_output"), "--outputs mass_matrx");
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(errors.find("unknown output 'mass_matrx'"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("mass_matrix"), std::string::npos) << errors;
+}
+
 }  // namespace

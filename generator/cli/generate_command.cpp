@@ -22,6 +22,7 @@ struct GenerateOptions {
   std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
+  std::vector<std::string> outputs;  ///< overrides the scene's outputs; {"all"}: everything
   bool floating = false, fixed = false, quiet = false, repair_inertia = false;
   long max_operations = codegen::kDefaultGraphLimit;
 };
@@ -48,6 +49,7 @@ int run_generate(const GenerateOptions& o) {
                                           : codegen::ScalarChoice::Both;
     options.frames = o.frames;
     options.max_operations = o.max_operations;
+    options.outputs = o.outputs;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
                               codegen::sha256_of_file(d.description_file)});
@@ -94,6 +96,9 @@ void add_generate_command(CLI::App& app, int& status) {
   cmd->add_option("--scalar", options->scalar, "scalar types to emit (default: the scene's scalar, else both)")
       ->check(CLI::IsMember({"double", "float", "both"}));
   cmd->add_option("--frames", options->frames, "frames for frame_poses/frame_jacobians (default: scene, else leaf bodies)")
+      ->delimiter(',');
+  cmd->add_option("--outputs", options->outputs,
+                  "scene outputs to generate, overriding the scene's `outputs` (docs/extras.md), or `all`")
       ->delimiter(',');
   auto* flavour = cmd->add_option("--flavour", options->flavour,
                                   "output flavour, from mbgen's templates: cpp (namespace, overloads) or c (C99 header, "

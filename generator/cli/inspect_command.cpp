@@ -14,6 +14,7 @@
 
 #include "model/load_description.hpp"
 #include "cli/inspect_collision.hpp"
+#include "codegen/scene_functions.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/algorithm/closure.hpp"
@@ -166,6 +167,16 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
+  {
+    const codegen::FunctionSelection selection = codegen::select_functions(d, {});
+    std::vector<std::string> emitted;
+    for (const std::string& f : codegen::all_functions())
+      if (selection.emits(f)) emitted.push_back(f);
+    out << fmt::format("generated functions: {}{}\n", fmt::join(emitted, ", "), selection.backend ? ", Backend" : "");
+    if (!selection.left_out.empty() || !selection.backend)
+      out << fmt::format("left out by the scene: {}{}{}\n", fmt::join(selection.left_out, ", "),
+                         selection.left_out.empty() || selection.backend ? "" : ", ", selection.backend ? "" : "Backend");
+  }
   if (d.scene && d.scene->contact) {
     const gen::ContactSpec& c = *d.scene->contact;
     const sim::ContactParameters& p = c.parameters;

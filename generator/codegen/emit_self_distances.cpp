@@ -219,8 +219,12 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
   code.header_fields = {{"num_distance_pairs", std::to_string(np)},
                         {"distance_pair_rows", std::to_string(np == 0 ? 1 : np)},
                         {"distance_pair_names", pair_names},
-                        {"distance_cost", cost},
-                        {"distance_prototypes", prototypes}};
+                        {"distance_declarations", ctx.templates.render("distance_declarations",
+                                                                       {{"nq", std::to_string(model.nq())},
+                                                                        {"nv", std::to_string(model.nv())},
+                                                                        {"num_distance_pairs", std::to_string(np)},
+                                                                        {"distance_cost", cost},
+                                                                        {"distance_prototypes", prototypes}})}};
   code.source = ctx.templates.render(
       "self_distances_source",
       {{"banner", ctx.banner},

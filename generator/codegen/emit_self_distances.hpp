@@ -20,8 +20,8 @@
 namespace mbgen::codegen {
 
 struct SelfDistanceCode {
-  /// header.fmt's num_distance_pairs, distance_pair_rows, distance_pair_names, distance_cost and
-  /// distance_prototypes.
+  /// header.fmt's num_distance_pairs, distance_pair_rows, distance_pair_names and
+  /// distance_declarations (distance_declarations.fmt rendered).
   TemplateFields header_fields;
   std::string source;  ///< self_distances_source.fmt rendered: the source file
 };

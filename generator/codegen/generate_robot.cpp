@@ -9,6 +9,7 @@
 
 #include "codegen/emit_closure_positions.hpp"
 #include "codegen/emit_self_distances.hpp"
+#include "codegen/scene_functions.hpp"
 #include "codegen/trace_dynamics.hpp"
 #include "codegen/trace_loop_maps.hpp"
 #include "collision/collision_scene.hpp"
@@ -117,41 +118,59 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                            "--max-operations (about 100 bytes of memory per node while generating)");
     }
   };
+  // Only what the scene's outputs ask for (scene_functions.hpp); the rest is left out.
+  std::string left_out_reason;
+  const FunctionSelection selection = select_functions(description, options.outputs, &left_out_reason);
   std::vector<TracedFunction> functions;
-  functions.push_back(traced("forward_dynamics", [&] {
-    return loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree);
-  }));
-  functions.push_back(traced("full_accelerations", [&] { return trace_full_accelerations(model); }));
-  functions.push_back(traced("velocity_map", [&] { return trace_velocity_map(model); }));
-  functions.push_back(traced("full_velocities", [&] { return trace_full_velocities(model); }));
-  functions.push_back(traced("acceleration_bias", [&] { return trace_acceleration_bias(model); }));
-  functions.push_back(traced("inverse_dynamics", [&] { return trace_inverse_dynamics(tree); }));
-  functions.push_back(traced("mass_matrix", [&] { return trace_mass_matrix(tree); }));
-  functions.push_back(traced("forward_kinematics", [&] { return trace_forward_kinematics(tree); }));
+  const auto add = [&](const std::string& name, auto&& trace) {
+    if (selection.emits(name)) functions.push_back(traced(name, trace));
+  };
+  add("forward_dynamics", [&] { return loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree); });
+  add("full_accelerations", [&] { return trace_full_accelerations(model); });
+  add("velocity_map", [&] { return trace_velocity_map(model); });
+  add("full_velocities", [&] { return trace_full_velocities(model); });
+  add("acceleration_bias", [&] { return trace_acceleration_bias(model); });
+  add("inverse_dynamics", [&] { return trace_inverse_dynamics(tree); });
+  add("mass_matrix", [&] { return trace_mass_matrix(tree); });
+  add("forward_kinematics", [&] { return trace_forward_kinematics(tree); });
   if (!frames.empty()) {
-    functions.push_back(traced("frame_poses", [&] { return trace_frame_poses(tree, frames); }));
-    functions.push_back(traced("frame_jacobians", [&] { return trace_frame_jacobians(tree, frames); }));
+    add("frame_poses", [&] { return trace_frame_poses(tree, frames); });
+    add("frame_jacobians", [&] { return trace_frame_jacobians(tree, frames); });
   }
-  functions.push_back(traced("center_of_mass", [&] { return trace_center_of_mass(tree); }));
-  functions.push_back(traced("centroidal_momentum_matrix", [&] { return trace_centroidal_momentum_matrix(tree); }));
-  // Ground contact: the vertex spheres of the scene's contact links. Emitted for every robot
-  // (empty, num_contact_spheres = 0, without `contact:`), so that the files follow from the
-  // arguments alone (cmake/mbgen_add_robot.cmake).
+  add("center_of_mass", [&] { return trace_center_of_mass(tree); });
+  add("centroidal_momentum_matrix", [&] { return trace_centroidal_momentum_matrix(tree); });
+  // Ground contact: the vertex spheres of the scene's contact links. With the simulation, emitted
+  // for every robot (empty, num_contact_spheres = 0, without `contact:`).
   const std::vector<sim::ContactSphere> contacts = gen::contact_spheres(description);
-  functions.push_back(traced("contact_points", [&] { return trace_contact_points(tree, contacts); }));
+  add("contact_points", [&] { return trace_contact_points(tree, contacts); });
   const double contact_exponent = contacts.empty() ? 1.5 : description.scene->contact->parameters.exponent;
-  functions.push_back(traced("contact_accelerations", [&] { return trace_contact_accelerations(model, contacts, contact_exponent); }));
+  add("contact_accelerations", [&] { return trace_contact_accelerations(model, contacts, contact_exponent); });
+  const auto function_named = [&](const std::string& name) -> const TracedFunction& {
+    const auto it = std::find_if(functions.begin(), functions.end(), [&](const TracedFunction& g) { return g.name == name; });
+    if (it == functions.end()) throw std::logic_error("generate_robot: " + name + " was not traced");
+    return *it;
+  };
+  const auto left_out_note = [&](const std::string& function) {
+    return templates.render("left_out_declaration", {{"function", function}, {"reason", left_out_reason}});
+  };
 
   // Self-distances: the scene decides which pairs exist (the same pruning as `mbgen inspect`,
   // seeded, so the output stays deterministic).
-  const gen::CollisionScene scene = gen::build_collision_scene(description, gen::collision_scene_options(description));
-  if (options.notes) {
-    if (scene.sampling.drawn > 0)
+  SelfDistanceCode distances;
+  if (selection.emits("self_distances")) {
+    const gen::CollisionScene scene = gen::build_collision_scene(description, gen::collision_scene_options(description));
+    if (options.notes) {
       options.notes->push_back(fmt::format("collision pruning: {} of {} pairs kept; {}; {:.2f} s", scene.model.pairs.size(),
                                            scene.decisions.size(), gen::sampling_summary(scene), scene.seconds));
-    for (const std::string& w : scene.warnings) options.notes->push_back("warning: " + w);
+      for (const std::string& w : scene.warnings) options.notes->push_back("warning: " + w);
+    }
+    distances = traced("self_distances", [&] { return emit_self_distances(model, scene.model, ctx); });
+  } else {
+    distances.header_fields = {{"num_distance_pairs", "0"},
+                               {"distance_pair_rows", "1"},
+                               {"distance_pair_names", "{\"\", \"\"}"},
+                               {"distance_declarations", left_out_note("self_distances")}};
   }
-  const SelfDistanceCode distances = traced("self_distances", [&] { return emit_self_distances(model, scene.model, ctx); });
 
   std::vector<std::string> body_names;
   for (int k = 1; k < model.num_bodies(); ++k) body_names.push_back(model.body(BodyIndex(k)).name);
@@ -162,6 +181,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   for (int v : independent) independent_names.push_back(gen::coordinate_name(model, v));
   std::string declarations, scalar_declarations;
   for (const TracedFunction& f : functions) declarations += emit_declaration(f, ctx);
+  for (const std::string& f : selection.left_out)
+    if (f != "self_distances") declarations += left_out_note(f);
   for (const std::string& s : scalar_types(options.scalars))
     scalar_declarations += templates.render("scalar_declarations",
                                             {{"robot", ctx.robot},
@@ -213,7 +234,11 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const Vec3<double>& g = model.gravity;
   header_fields.push_back(
       {"backend",
-       templates.render("backend", {{"robot", ctx.robot},
+       !selection.backend
+           ? templates.render("left_out_declaration",
+                              {{"function", "Backend"},
+                               {"reason", "the simulator's adapter: the scene asks for neither `simulation` nor `contact:`"}})
+           : templates.render("backend", {{"robot", ctx.robot},
                                     {"default_scalar", has_double ? "double" : "float"},
                                     {"total_mass", number(model.total_mass())},
                                     {"gravity", fmt::format("{}, {}, {}", number(g.x()), number(g.y()), number(g.z()))},
@@ -226,27 +251,31 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   files.push_back({ctx.header, templates.render("header", header_fields)});
   for (const TracedFunction& f : functions) {
     std::string source;
-    // One copy of the unrolled dynamics: with loops, forward_dynamics is full_accelerations
-    // (functions[1]) read at the independent coordinates; without, full_accelerations is
-    // forward_dynamics (functions[0]) whole.
+    // One copy of the unrolled dynamics: with loops, forward_dynamics is full_accelerations read
+    // at the independent coordinates; without, full_accelerations is forward_dynamics whole.
     if (loops && f.name == "forward_dynamics") {
-      source = emit_selection_definition(f, functions[1], independent, ctx);
+      source = emit_selection_definition(f, function_named("full_accelerations"), independent, ctx);
     } else if (!loops && f.name == "full_accelerations") {
       std::vector<int> all(static_cast<std::size_t>(model.nv()));
       for (int i = 0; i < model.nv(); ++i) all[static_cast<std::size_t>(i)] = i;
-      source = emit_selection_definition(f, functions[0], all, ctx);
+      source = emit_selection_definition(f, function_named("forward_dynamics"), all, ctx);
     } else if (f.name == "contact_accelerations" && contacts.empty()) {
-      source = emit_contact_free_definition(f, functions[1], independent, ctx);
+      source = emit_contact_free_definition(f, function_named("full_accelerations"), independent, ctx);
     } else if (f.name == "full_velocities") {
-      const auto map = std::find_if(functions.begin(), functions.end(), [](const TracedFunction& g) { return g.name == "velocity_map"; });
-      source = emit_product_definition(f, *map, ctx);
+      source = emit_product_definition(f, function_named("velocity_map"), ctx);
     } else
       source = emit_definition(f, ctx);
     files.push_back({ctx.source_file(f.name), source});
   }
   files.push_back({ctx.source_file("closure_positions"),
                    traced("closure_positions", [&] { return emit_closure_positions_definition(model, ctx); })});
-  files.push_back({ctx.source_file("self_distances"), distances.source});
+  if (selection.emits("self_distances")) files.push_back({ctx.source_file("self_distances"), distances.source});
+  for (const std::string& f : selection.left_out)
+    files.push_back({ctx.source_file(f), templates.render("left_out_source", {{"banner", ctx.banner},
+                                                                              {"header", ctx.header},
+                                                                              {"robot", ctx.robot},
+                                                                              {"function", f},
+                                                                              {"reason", left_out_reason}})});
   return files;
 }
 

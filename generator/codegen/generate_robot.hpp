@@ -25,6 +25,9 @@ struct CodegenOptions {
   /// If set, receives lines for the user that are not part of the output: the collision
   /// pruning's sampling summary and time, and its warnings (prefixed "warning: ").
   std::vector<std::string>* notes = nullptr;
+  /// The scene outputs to generate (scene_functions.hpp), overriding the scene's `outputs`;
+  /// empty: the scene's (everything when it lists none); {"all"}: everything.
+  std::vector<std::string> outputs;
   /// Nodes a traced function's expression graph may have (GraphLimit): past it, a LoadError.
   long max_operations = kDefaultGraphLimit;
 };

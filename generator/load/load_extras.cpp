@@ -20,7 +20,7 @@ const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "inde
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
 const std::vector<std::string> kOutputs = {"center_of_mass",   "centroidal_momentum", "distances", "forward_dynamics",
-                                           "forward_kinematics", "inverse_dynamics",  "jacobians", "mass_matrix"};
+                                           "forward_kinematics", "inverse_dynamics",  "jacobians", "mass_matrix", "simulation"};
 
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
   return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) { return static_cast<bool>(root[k]); });

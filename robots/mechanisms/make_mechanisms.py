@@ -78,7 +78,7 @@ Nominal pose: all joints 0 = crank angle 90 deg; closure coupler_rocker (four_ba
         "    axis: [0, -1, 0]",
         "independent: [crank_joint]",
         "scene:",
-        "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix]",
+        "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix, simulation]",
         "  scalar: double",
     ])
 
@@ -119,7 +119,7 @@ Nominal pose: all joints 0 = crank angle 90 deg, slider at x = 0.12; closure rod
         "    axis: [0, -1, 0]",
         "independent: [crank_joint]",
         "scene:",
-        "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix]",
+        "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix, simulation]",
         "  scalar: double",
     ])
 
@@ -166,7 +166,7 @@ Nominal pose: all joints 0 (foot flat, rods vertical, 0.34 m between the U and b
           "  shank:",
           "    - {line: [[-0.015, 0, -0.05], [-0.015, 0, -0.38]], radius: 0.075}",
           "scene:",
-          "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix, {jacobians: [foot]}]",
+          "  outputs: [forward_kinematics, forward_dynamics, inverse_dynamics, mass_matrix, {jacobians: [foot]}, simulation]",
           "  scalar: double"]
     write_yaml(os.path.join(HERE, "ankle_2dof.yaml"), L)
 
