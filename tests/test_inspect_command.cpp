@@ -156,6 +156,26 @@ TEST(Inspect, GroundContactIsReported) {
   EXPECT_EQ(c["ground"]["offset"], -0.1);
 }
 
+/// Lola's legs-only scene (robots/lola/lola_legs.yaml: the upper body locked): what the lock
+/// removed, the loops kept, the forward dynamics' operations before and after, and the functions
+/// its two outputs leave out.
+TEST(Inspect, ModelReductionsAndLeftOutFunctionsAreReported) {
+  const std::string lola = std::string(MBGEN_SOURCE_DIR) + "/robots/lola/";
+  const Outcome run = run_mbgen("inspect " + quote(lola + "lola.urdf") + " --extras " + quote(lola + "lola_legs.yaml") + " --samples 0");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("model reductions (scene: lock, merge_below):"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("lock: welded 10 joint(s): trunk_yaw at 0, trunk_roll at 0"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("removed: 10 DoF (46 -> 36), 10 bodies (41 -> 31)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("loops: 6 closure(s), 4 sub-system(s) (whole robot: 6, 4)"), std::string::npos) << run.out;
+  const std::size_t fd = run.out.find("forward_dynamics: ");
+  ASSERT_NE(fd, std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("operations, the whole robot's", fd), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("left out by the scene: forward_kinematics, frame_poses, frame_jacobians, centroidal_momentum_matrix, "
+                         "self_distances\n"),
+            std::string::npos)
+      << run.out;
+}
+
 TEST(Inspect, ExtrasFileIsReported) {
   const Outcome run = run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --extras " +
                             quote(kData + "/extras/tiny_arm_full.yaml") + " --json");

@@ -15,6 +15,9 @@
 #include "model/load_description.hpp"
 #include "cli/inspect_collision.hpp"
 #include "codegen/scene_functions.hpp"
+#include "codegen/trace_dynamics.hpp"
+#include "codegen/trace_loop_maps.hpp"
+#include "codegen/traced_function.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/algorithm/closure.hpp"
@@ -123,7 +126,7 @@ void print_loops(const Description& d, std::ostream& out) {
   out << fmt::format("closed-system DoF: {} (tree {} - rank {})\n", d.closed_dof, m.nv(), m.nv() - d.closed_dof);
 }
 
-void print_text(const Description& d, const gen::CollisionScene* collision, std::ostream& out) {
+void print_text(const Description& d, const gen::CollisionScene* collision, std::ostream& out, const std::vector<std::string>& reduction_report) {
   const Model& m = d.model;
   out << "description: " << d.description_file << "\n";
   out << "extras:      " << (d.extras_file.empty() ? "(none)" : d.extras_file) << "\n";
@@ -165,6 +168,10 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
     std::vector<std::string> counts;
     for (const auto& [kind, n] : d.collision_geometry_not_modelled) counts.push_back(fmt::format("{} {}", n, kind));
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
+  }
+  if (!reduction_report.empty()) {
+    out << "model reductions (scene: lock, merge_below):\n";
+    for (const std::string& line : reduction_report) out << "  " << line << "\n";
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
   {
@@ -354,6 +361,25 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
   load.repair_inertia = options.repair_inertia;
   try {
     const Description d = gen::load_description(options.description, load);
+    // What the reductions removed, and the forward dynamics' operations before and after.
+    std::vector<std::string> reduction_report = d.reductions;
+    if (!d.reductions.empty() && !options.json) {
+      gen::LoadOptions whole = load;
+      whole.reduce = false;
+      const Description full = gen::load_description(options.description, whole);
+      const auto fd_operations = [](const Model& m) {
+        Model tree = m;
+        tree.closures.clear(), tree.subsystems.clear();
+        return codegen::count_operations(m.subsystems.empty() ? codegen::trace_forward_dynamics(tree)
+                                                               : codegen::trace_forward_dynamics_loops(m))
+            .total();
+      };
+      const long before = fd_operations(full.model), after = fd_operations(d.model);
+      reduction_report.push_back(fmt::format("loops: {} closure(s), {} sub-system(s) (whole robot: {}, {})", d.model.closures.size(),
+                                             d.model.subsystems.size(), full.model.closures.size(), full.model.subsystems.size()));
+      reduction_report.push_back(fmt::format("forward_dynamics: {} operations, the whole robot's {} ({:.2f}x fewer)", after, before,
+                                             static_cast<double>(before) / static_cast<double>(after)));
+    }
     std::optional<gen::CollisionScene> collision;
     if (!d.ssv.empty()) {
       gen::CollisionSceneOptions scene_options = gen::collision_scene_options(d);
@@ -366,7 +392,7 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
       if (collision) j["collision_pairs"] = collision_scene_json(*collision);
       out << j.dump(2) << "\n";
     } else {
-      print_text(d, collision ? &*collision : nullptr, out);
+      print_text(d, collision ? &*collision : nullptr, out, reduction_report);
     }
     return 0;
   } catch (const gen::LoadError& e) {

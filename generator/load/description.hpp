@@ -68,6 +68,12 @@ struct SceneSpec {
   std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
   std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
   std::optional<ContactSpec> contact;       ///< `contact:`; absent: the robot touches nothing
+  /// Model reductions (docs/extras.md, "Model reductions"; model/reduce_model.hpp):
+  /// `lock:` welds these joints at these values (rad or m), in the order given;
+  std::vector<std::pair<std::string, double>> lock;
+  int lock_line = 0;                        ///< the `lock:` line of the extras, for errors
+  /// `merge_below:` lumps every limb lighter than this (kg) into its parent; 0: none.
+  double merge_below = 0;
 };
 
 /// Where each URDF element starts (1-based lines), so that later checks can point at it. For an
@@ -111,6 +117,8 @@ struct Description {
   /// Values the loader changed that were not wrong enough to refuse: inertia round-off treated as
   /// zero, inertias repaired on request (LoadOptions::repair_inertia). `inspect` prints them.
   std::vector<std::string> notes;
+  /// What the scene's model reductions removed (reduce_model.hpp), one line each; `inspect` prints them.
+  std::vector<std::string> reductions;
 
   // Added with the YAML extras (issue 2, items 2 and 4).
   std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name
@@ -135,6 +143,9 @@ struct LoadOptions {
   /// Replace inertias that no rigid body has by the nearest valid ones, with a note each
   /// (ValueReport::repair_inertia; `--repair-inertia`), instead of refusing them.
   bool repair_inertia = false;
+  /// Apply the scene's model reductions (`lock`, `merge_below`; model/reduce_model.hpp). Off: the
+  /// whole robot, as `inspect` loads it to compare.
+  bool reduce = true;
 };
 
 /// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked

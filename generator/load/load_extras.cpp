@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "load/extras_support.hpp"
@@ -252,10 +253,44 @@ ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Descrip
   return contact;
 }
 
+/// `lock: [joint, ...]` (each at 0) or `lock: {joint: value, ...}`: moving 1-DoF joints, each
+/// once, a finite value within the joint's limits.
+void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d, SceneSpec& scene) {
+  if (!node.IsSequence() && !node.IsMap())
+    fail(x.path, node, "scene: lock", "must be a list of joints or a map joint: value", "write e.g. [head_pan, head_tilt] or {elbow_l: -0.5}");
+  scene.lock_line = line_of(node);
+  std::set<std::string> seen;
+  const auto add = [&](const YAML::Node& name, double value, const YAML::Node& where) {
+    const std::string element = "scene: lock";
+    const JointIndex j = resolve_moving_joint(x.path, name, element, d.model);
+    const Joint& joint = d.model.joint(j);
+    if (joint.nv != 1)
+      fail(x.path, name, element, fmt::format("names '{}', a {} joint", joint.name, to_string(joint.type)),
+           "lock revolute or prismatic joints (a floating base is fixed with `base: fixed`)");
+    if (!seen.insert(joint.name).second) fail(x.path, name, element, fmt::format("names '{}' twice", joint.name), "keep one entry");
+    if (!std::isfinite(value)) fail(x.path, where, element, fmt::format("gives '{}' a non-finite value", joint.name), "give a number");
+    if (joint.bounded && (value < joint.lower || value > joint.upper))
+      fail(x.path, where, element, fmt::format("locks '{}' at {:g}, outside its limits [{:g}, {:g}]", joint.name, value, joint.lower, joint.upper),
+           "give a value within the joint's limits");
+    scene.lock.emplace_back(joint.name, value);
+  };
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) add(node[i], 0.0, node[i]);
+  } else {
+    for (const auto& entry : node) add(entry.first, to_number(x.path, entry.second, "scene: lock: " + entry.first.Scalar()), entry.second);
+  }
+}
+
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
-  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "outputs", "rotors", "scalar"});
+  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "lock", "merge_below", "outputs", "rotors", "scalar"});
   SceneSpec scene;
+  if (node["lock"]) read_lock(x, node["lock"], d, scene);
+  if (node["merge_below"]) {
+    scene.merge_below = to_number(x.path, node["merge_below"], "scene: merge_below");
+    if (!(scene.merge_below >= 0))
+      fail(x.path, node["merge_below"], "scene: merge_below", "is negative", "give a mass in kg, e.g. 0.5 (0: merge nothing)");
+  }
   if (node["contact"]) scene.contact = read_contact(x, node["contact"], d);
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
