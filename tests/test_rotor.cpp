@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "load/load_error.hpp"
 #include "test_support.hpp"
@@ -156,6 +159,37 @@ TEST(RotorModels, DrivesComeFromTheExtrasAndTheSceneChoosesTheModel) {
   EXPECT_EQ(shoulder.rotor_inertia, 2e-5);
   EXPECT_EQ(elbow.rotor_gear_ratio, -50.0);
   EXPECT_EQ(elbow.rotor_inertia, 1e-5);
+}
+
+/// `scene: rotors: none` leaves every drive out: the model is the URDF's alone (its mass matrix
+/// equals the drive-free load's), and the reduction says so.
+TEST(RotorModels, RotorsNoneLeavesTheDrivesOut) {
+  const std::string data = MBGEN_TEST_DATA;
+  std::ifstream in(data + "/extras/drives.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const std::size_t at = yaml.find("rotors: body");
+  ASSERT_NE(at, std::string::npos) << yaml;
+  yaml.replace(at, 12, "rotors: none");
+  const std::string path = (std::filesystem::temp_directory_path() / "mbgen_test_rotors_none.yaml").string();
+  { std::ofstream(path) << yaml; }
+  gen::LoadOptions with, without;
+  with.extras_file = path;
+  without.pick_up_robot_yaml = false;
+  const gen::Description none = gen::load_description(data + "/tiny_arm.urdf", with);
+  const gen::Description bare = gen::load_description(data + "/tiny_arm.urdf", without);
+  const gen::Description drives = gen::load_description(data + "/tiny_arm.urdf", [&] {
+    gen::LoadOptions o;
+    o.extras_file = data + "/extras/drives.yaml";
+    return o;
+  }());
+  Data<double> dn(none.model), db(bare.model), dd(drives.model);
+  const VecX<double> q = (VecX<double>(bare.model.nq()) << 0.3, 0.7, -0.2).finished();
+  EXPECT_EQ(crba<double>(none.model, dn, q), crba<double>(bare.model, db, q));
+  EXPECT_GT((crba<double>(drives.model, dd, q) - crba<double>(bare.model, db, q)).norm(), 1e-3);  // the drives matter
+  ASSERT_EQ(none.reductions.size(), 1u);
+  EXPECT_NE(none.reductions[0].find("rotors: none"), std::string::npos) << none.reductions[0];
 }
 
 }  // namespace

@@ -66,7 +66,7 @@ struct SceneSpec {
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given
   std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
-  std::string rotors;                       ///< armature or body: overrides every drive's model; empty: each drive's own
+  std::string rotors;                       ///< armature or body: overrides every drive's model; none: no rotor modelled; empty: each drive's own
   std::optional<ContactSpec> contact;       ///< `contact:`; absent: the robot touches nothing
   /// Model reductions (docs/extras.md, "Model reductions"; model/reduce_model.hpp):
   /// `lock:` welds these joints at these values (rad or m), in the order given;

@@ -123,9 +123,15 @@ void read_drives(const ExtrasFile& x, const YAML::Node& node, Description& d) {
 }
 
 /// Puts the drives into the model (rotor.hpp): reflected inertia on the diagonal, or a rotor
-/// body; `scene: rotors` overrides each drive's own `model`. Drives sit on 1-DoF joints only
+/// body; `scene: rotors` overrides each drive's own `model`, and `rotors: none` leaves every rotor
+/// out (a model reduction: the drives are not modelled). Drives sit on 1-DoF joints only
 /// (resolve_moving_joint saw to that: floating joints are not named in extras).
 void apply_drives(Description& d) {
+  if (d.scene && d.scene->rotors == "none") {
+    if (!d.drives.empty())
+      d.reductions.push_back(fmt::format("rotors: none: the {} drive(s) not modelled (no armature, no rotor body)", d.drives.size()));
+    return;
+  }
   for (DriveSpec& drive : d.drives) {
     if (d.scene && !d.scene->rotors.empty()) drive.model = d.scene->rotors;
     Joint& joint = d.model.mutable_joint(*d.model.find_joint(drive.joint));
@@ -294,7 +300,7 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   if (node["contact"]) scene.contact = read_contact(x, node["contact"], d);
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
-  if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body"});
+  if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body", "none"});
   if (const YAML::Node& c = node["collision"]) {
     require_map(x.path, c, "scene: collision", "{margin: 0.05, exclude: [[torso, pelvis]]}");
     reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "include", "margin", "prune_samples"});
