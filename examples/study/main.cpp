@@ -18,11 +18,16 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include MBGEN_STUDY_HEADER
+#include "codegen/trace_dynamics.hpp"
+#include "codegen/trace_loop_maps.hpp"
+#include "codegen/traced_function.hpp"
 #include "collision/contact_spheres.hpp"
 #include "examples/study/stability_map.hpp"
 #include "examples/study/trajectory.hpp"
@@ -38,7 +43,7 @@ namespace {
 constexpr const char* kUsage = R"(usage: mbgen_study [options]
   --grid full|small   the grid (default full: minutes; small: seconds, what the test suite runs)
   --out DIR           where study.csv, study.md and the charts go (default: study)
-  --scenario NAME     only this part: swing_four_bar, drop_lola, stability (the map) or drift
+  --scenario NAME     only this part: swing_four_bar, drop_lola, stability (the map), drift or reductions
   --backends A,B,...  only these backends (generated, generic, independent, kkt)
   --no-plot           no charts
   --check             exit 1 unless the study's invariants hold
@@ -77,12 +82,14 @@ struct Scenario {
 constexpr double kSamplePeriod = 1e-2;
 constexpr double kReferenceRtol = 1e-10;
 
-Scenario make_scenario(const std::string& name, simulate::Scenario kind, const std::string& urdf, double duration) {
+/// `extras`: the YAML extras; empty: the URDF's name with .yaml, if there is one.
+Scenario make_scenario(const std::string& name, simulate::Scenario kind, const std::string& urdf, double duration,
+                       std::string extras = "") {
   Scenario s;
   s.name = name;
   s.options.scenario = kind;
   gen::LoadOptions load;
-  const std::string extras = std::filesystem::path(urdf).replace_extension(".yaml").string();
+  if (extras.empty()) extras = std::filesystem::path(urdf).replace_extension(".yaml").string();
   if (std::filesystem::exists(extras)) load.extras_file = extras;
   s.description = gen::load_description(urdf, load);
   s.spheres = gen::contact_spheres(s.description);
@@ -241,7 +248,7 @@ int main(int argc, char** argv) {
   if (!only_scenario.empty()) {
     scenarios.erase(std::remove_if(scenarios.begin(), scenarios.end(), [&](const Scenario& s) { return s.name != only_scenario; }),
                     scenarios.end());
-    if (scenarios.empty() && only_scenario != "stability" && only_scenario != "drift") return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
+    if (scenarios.empty() && only_scenario != "stability" && only_scenario != "drift" && only_scenario != "reductions") return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
   }
   if (!only_backends.empty()) {
     std::vector<std::string> chosen;
@@ -499,6 +506,95 @@ int main(int argc, char** argv) {
     if (!(largest["KKT, no Baumgarte"] > 1e-10))
       failures.push_back(fmt::format("closure drift: KKT without Baumgarte nor projection stays within 1e-10 ({:.2g})",
                                      largest["KKT, no Baumgarte"]));
+  }
+
+  // Model reductions: the drop of Lola with each of the scene's reductions (docs/extras.md), the
+  // generic backend and RK4 at 1e-4 s, against the whole model's reference: the error each
+  // reduction causes and the speed it gains. A welded joint is compared at its welded value.
+  if (only_scenario.empty() || only_scenario == "reductions") {
+    const double duration = full ? 0.3 : 0.05;
+    const std::string lola_yaml = std::filesystem::path(MBGEN_STUDY_DESCRIPTION).replace_extension(".yaml").string();
+    const Scenario whole = make_scenario("drop_lola", simulate::Scenario::drop, MBGEN_STUDY_DESCRIPTION, duration, lola_yaml);
+    const auto variant_extras = [&](const std::string& tag, const std::string& scene_line) {
+      std::ifstream in(lola_yaml);
+      std::stringstream text;
+      text << in.rdbuf();
+      std::string yaml = text.str();
+      yaml.insert(yaml.find("\nscene:\n") + 8, scene_line + "\n");
+      const std::string path = (std::filesystem::temp_directory_path() / ("mbgen_study_" + tag + ".yaml")).string();
+      std::ofstream(path) << yaml;
+      return path;
+    };
+    struct Reduction {
+      std::string name, extras;
+    };
+    const std::vector<Reduction> reductions = {
+        {"whole model", lola_yaml},
+        {"lock: upper body (lola_legs.yaml)", std::filesystem::path(lola_yaml).replace_filename("lola_legs.yaml").string()},
+        {"merge_below: 2 kg", variant_extras("merge_below", "  merge_below: 2")},
+        {"rotors: none", variant_extras("rotors_none", "  rotors: none")}};
+    fmt::print("model reductions: {}, generic backend, RK4 at h = 1e-4 s\n", whole.title);
+    const study::Trajectory reference = run(whole, {"generic", Integrator::dormand_prince45, 1e-4, kReferenceRtol});
+    if (!reference.finished(duration)) {
+      fmt::print(stderr, "mbgen_study: reductions: the reference run stopped with {}\n", sim::to_string(reference.status));
+      return 1;
+    }
+    const Model& W = whole.description.model;
+    auto red_dat = fmt::output_file((out / "reductions.dat").string());
+    report += fmt::format("## Model reductions\n\nThe drop of Lola for {:g} s with each reduction of the scene (docs/extras.md, "
+                          "\"Model reductions\"), generic backend, RK4 at h = 1e-4 s. Error: the largest deviation from the whole "
+                          "model's reference (dormand_prince45, rtol {:g}) of the base and of every joint of the whole model, a welded "
+                          "joint at its welded value; speed-up: the whole model's CPU time per simulated second over the reduced one's "
+                          "(the same integrator and step).\n\n| reduction | nv | forward dynamics operations (generated) | status | CPU s per "
+                          "simulated s | speed-up | error | worst joint |\n|---|---|---|---|---|---|---|---|\n",
+                          duration, kReferenceRtol);
+    double whole_cost = 0;
+    for (const Reduction& r : reductions) {
+      const Scenario v = make_scenario("drop_lola", simulate::Scenario::drop, MBGEN_STUDY_DESCRIPTION, duration, r.extras);
+      const Model& R = v.description.model;
+      study::Trajectory t = run(v, {"generic", Integrator::rk4, 1e-4, 0});
+      // Into the whole model's coordinates: the reduced model's joints by name, the welded ones at
+      // their lock value (0 for merge_below).
+      std::map<std::string, double> welded;
+      if (v.description.scene)
+        for (const auto& [name, value] : v.description.scene->lock) welded[name] = value;
+      for (std::size_t k = 0; k < t.q.size(); ++k) {
+        VecX<double> q = VecX<double>::Zero(W.nq());
+        if (W.floating_base()) q[6] = 1;
+        for (int j = 1; j < W.num_joints(); ++j) {
+          const Joint& wj = W.joint(JointIndex(j));
+          if (const auto rj = R.find_joint(wj.name))
+            for (int i = 0; i < wj.nq; ++i) q[wj.idx_q + i] = t.q[k][R.joint(*rj).idx_q + i];
+          else if (welded.count(wj.name))
+            q[wj.idx_q] = welded[wj.name];
+        }
+        t.q[k] = q;
+      }
+      const double cost = t.cpu_seconds / std::max(t.end_time, 1e-12);
+      if (r.name == "whole model") whole_cost = cost;
+      const study::Deviation e = study::deviation(t, reference, W.floating_base());
+      Model tree = R;
+      tree.closures.clear(), tree.subsystems.clear();
+      const long operations = codegen::count_operations(R.subsystems.empty() ? codegen::trace_forward_dynamics(tree)
+                                                                                : codegen::trace_forward_dynamics_loops(R)).total();
+      const bool finished = t.finished(duration);
+      if (!finished) failures.push_back(fmt::format("reductions: {} stopped with {} at {:.4f} s", r.name, sim::to_string(t.status), t.end_time));
+      red_dat.print("{:.4g} {:.4g} \"{}\"\n", whole_cost / cost, finished ? std::max(e.largest(), 1e-16) : NAN, r.name);
+      report += fmt::format("| {} | {} | {} | {}{} | {:.3g} | {:.2f} | {:.2g} | {} |\n", r.name, R.nv(), operations, sim::to_string(t.status),
+                            finished ? "" : fmt::format(" at {:.4f} s", t.end_time), cost, whole_cost / cost, e.largest(),
+                            joint_at_q(W, e.worst_joint_q));
+      fmt::print("  {}: nv {}, {} operations, {:.3g} CPU s per simulated s (x{:.2f}), error {:.2g} at {}\n", r.name, R.nv(), operations,
+                 cost, whole_cost / cost, e.largest(), joint_at_q(W, e.worst_joint_q));
+    }
+    red_dat.close();
+    report += "\n";
+    if (plot) {
+      const std::string png = (out / "study_reductions.png").string();
+      run_gnuplot(fmt::format("dat='{}'; plot_title='{}: the error each reduction causes against the speed it gains'",
+                              (out / "reductions.dat").string(), whole.title),
+                  "plot_reductions.gp", png);
+      report += "![model reductions: error against speed-up](study_reductions.png)\n\n";
+    }
   }
 
   auto md = fmt::output_file((out / "study.md").string());
