@@ -573,10 +573,7 @@ int main(int argc, char** argv) {
       const double cost = t.cpu_seconds / std::max(t.end_time, 1e-12);
       if (r.name == "whole model") whole_cost = cost;
       const study::Deviation e = study::deviation(t, reference, W.floating_base());
-      Model tree = R;
-      tree.closures.clear(), tree.subsystems.clear();
-      const long operations = codegen::count_operations(R.subsystems.empty() ? codegen::trace_forward_dynamics(tree)
-                                                                                : codegen::trace_forward_dynamics_loops(R)).total();
+      const long operations = codegen::count_operations(codegen::trace_generated_forward_dynamics(R)).total();
       const bool finished = t.finished(duration);
       if (!finished) failures.push_back(fmt::format("reductions: {} stopped with {} at {:.4f} s", r.name, sim::to_string(t.status), t.end_time));
       red_dat.print("{:.4g} {:.4g} \"{}\"\n", whole_cost / cost, finished ? std::max(e.largest(), 1e-16) : NAN, r.name);

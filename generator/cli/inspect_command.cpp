@@ -367,13 +367,7 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
       gen::LoadOptions whole = load;
       whole.reduce = false;
       const Description full = gen::load_description(options.description, whole);
-      const auto fd_operations = [](const Model& m) {
-        Model tree = m;
-        tree.closures.clear(), tree.subsystems.clear();
-        return codegen::count_operations(m.subsystems.empty() ? codegen::trace_forward_dynamics(tree)
-                                                               : codegen::trace_forward_dynamics_loops(m))
-            .total();
-      };
+      const auto fd_operations = [](const Model& m) { return codegen::count_operations(codegen::trace_generated_forward_dynamics(m)).total(); };
       const long before = fd_operations(full.model), after = fd_operations(d.model);
       reduction_report.push_back(fmt::format("loops: {} closure(s), {} sub-system(s) (whole robot: {}, {})", d.model.closures.size(),
                                              d.model.subsystems.size(), full.model.closures.size(), full.model.subsystems.size()));

@@ -125,7 +125,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const auto add = [&](const std::string& name, auto&& trace) {
     if (selection.emits(name)) functions.push_back(traced(name, trace));
   };
-  add("forward_dynamics", [&] { return loops ? trace_forward_dynamics_loops(model) : trace_forward_dynamics(tree); });
+  add("forward_dynamics", [&] { return trace_generated_forward_dynamics(model); });
   add("full_accelerations", [&] { return trace_full_accelerations(model); });
   add("velocity_map", [&] { return trace_velocity_map(model); });
   add("full_velocities", [&] { return trace_full_velocities(model); });

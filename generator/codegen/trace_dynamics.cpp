@@ -40,6 +40,13 @@ void trace_loop_recursion(const Model& model, Data<Sym>& data) {
 }
 }  // namespace
 
+TracedFunction trace_generated_forward_dynamics(const Model& model) {
+  if (!model.subsystems.empty()) return trace_forward_dynamics_loops(model);
+  Model tree = model;
+  tree.closures.clear();
+  return trace_forward_dynamics(tree);
+}
+
 TracedFunction trace_forward_dynamics_loops(const Model& model) {
   TracedFunction f;
   f.name = "forward_dynamics";

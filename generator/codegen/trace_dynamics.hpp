@@ -15,6 +15,9 @@ TracedFunction trace_inverse_dynamics(const Model& model);
 /// A model with loops: forward dynamics in independent coordinates (O(n), sub-systems as
 /// aggregate bodies) and the accelerations of every tree joint.
 TracedFunction trace_forward_dynamics_loops(const Model& model);
+/// The forward_dynamics the generator emits for `model`: trace_forward_dynamics_loops with loops,
+/// else trace_forward_dynamics of the tree (inspect and mbgen_study count its operations).
+TracedFunction trace_generated_forward_dynamics(const Model& model);
 TracedFunction trace_full_accelerations(const Model& model);
 TracedFunction trace_mass_matrix(const Model& model);
 /// All body poses, 12 numbers each: the 3x4 matrix [R_WB | p_WB], row-major.
