@@ -18,7 +18,7 @@
 enum {
   probe_size = API(nq) + 5 + API(ny) + API(nv) + API(nv) * API(ny) + 3 * API(nv) + API(ny) + API(nv) * API(nv) +
                12 * API(num_bodies) + 12 * API(num_frames) + 6 * API(num_frames) * API(nv) + 3 + 6 * API(nv) +
-               API(num_distance_pairs) * (1 + 3 + 6 + API(nv))
+               API(num_distance_pairs) * (1 + 3 + 6 + API(nv)) + API(nq) + 1 + API(nv)
 };
 
 int c_probe_size(void) { return probe_size; }
@@ -30,8 +30,10 @@ int c_probe_size(void) { return probe_size; }
     S tau_out[API(nv)], M[API(nv) * API(nv)], X[12 * API(num_bodies)], XF[12 * API(num_frames)];           \
     S JF[6 * API(num_frames) * API(nv)], com[3], Ag[6 * API(nv)];                                          \
     S d[NUM_PAIRS], n[3 * NUM_PAIRS], w[6 * NUM_PAIRS], Jd[NUM_PAIRS * API(nv)];                           \
+    S q2[API(nq)], v2[API(nv)];                                                                           \
     S* at = out;                                                                                          \
-    API(closure_result_##S) r;                                                                            \
+    int i;                                                                                                \
+    API(closure_result_##S) r, r2;                                                                        \
     memcpy(q, q0, sizeof q);                                                                              \
     r = API(closure_positions_##S)(q, NULL);                                                              \
     API(forward_dynamics_##S)(q, vy, tau, qdd_y);                                                         \
@@ -48,6 +50,10 @@ int c_probe_size(void) { return probe_size; }
     API(center_of_mass_##S)(q, com);                                                                      \
     API(centroidal_momentum_matrix_##S)(q, Ag);                                                           \
     API(self_distances_##S)(q, d, n, w, Jd);                                                              \
+    memcpy(q2, q0, sizeof q2);                                                                            \
+    for (i = 0; i < API(nv); ++i) v2[i] = (S)1;                                                           \
+    for (i = 0; i < API(ny); ++i) v2[API(independent_v_index)[i]] = vy[i];                                \
+    r2 = API(close_loops_##S)(q2, v2, NULL);                                                              \
     memcpy(at, q, sizeof q), at += API(nq);                                                               \
     *at++ = (S)r.status, *at++ = (S)r.iterations, *at++ = r.residual, *at++ = r.pivot_ratio;              \
     *at++ = r.relative_pivot_ratio;                                                                       \
@@ -68,6 +74,9 @@ int c_probe_size(void) { return probe_size; }
     memcpy(at, n, 3 * API(num_distance_pairs) * sizeof(S)), at += 3 * API(num_distance_pairs);            \
     memcpy(at, w, 6 * API(num_distance_pairs) * sizeof(S)), at += 6 * API(num_distance_pairs);            \
     memcpy(at, Jd, API(num_distance_pairs) * API(nv) * sizeof(S)), at += API(num_distance_pairs) * API(nv); \
+    memcpy(at, q2, sizeof q2), at += API(nq);                                                             \
+    *at++ = (S)r2.iterations;                                                                             \
+    memcpy(at, v2, sizeof v2), at += API(nv);                                                             \
     return (int)(at - out);                                                                               \
   }
 

@@ -103,6 +103,33 @@ TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
   EXPECT_GT(result.pivot_ratio, 1e-5);
 }
 
+TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
+  // close_loops from a moved pose and an inconsistent v: the same q as closure_positions, and v's
+  // dependent entries those of full_velocities at the closed q (its independent ones kept), to
+  // 1e-13 relative; an unconverged closure leaves v alone.
+  std::mt19937_64 rng(31);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  VecX<double> moved = q, v_moved = v;
+  for (int z : dependent_coordinates(model)) moved[model.q_index_of_v(z)] += 1e-3 * unit(rng), v_moved[z] += unit(rng);
+  VecX<double> q_closed = moved, q_both = moved, v_both = v_moved;
+  const ClosureResult<double> expected = closure_positions<double>(model, data, q_closed);
+  const ClosureResult<double> result = close_loops<double>(model, data, q_both, v_both);
+  ASSERT_EQ(result.status, ClosureStatus::Converged);
+  EXPECT_EQ(result.iterations, expected.iterations);
+  EXPECT_EQ(q_both, q_closed);
+  VecX<double> vy(static_cast<int>(data.independent_v.size())), v_expected(model.nv());
+  for (int i = 0; i < vy.size(); ++i) vy[i] = v_moved[data.independent_v[static_cast<std::size_t>(i)]];
+  full_velocities<double>(model, data, q_closed, vy, v_expected);
+  EXPECT_LT((v_both - v_expected).cwiseAbs().maxCoeff(), 1e-13 * v_expected.cwiseAbs().maxCoeff());
+  EXPECT_GT((v_moved - v_expected).cwiseAbs().maxCoeff(), 1e-3) << "the projection did something";
+  VecX<double> nan_q = moved, untouched = v_moved;
+  nan_q[model.q_index_of_v(dependent_coordinates(model).front())] = std::nan("");
+  EXPECT_EQ(close_loops<double>(model, data, nan_q, untouched).status, ClosureStatus::NotConverged);
+  EXPECT_EQ(untouched, v_moved);
+}
+
 /// The generated code's float settings (closure_options_float): a float Newton's tolerances.
 ClosureOptions float_options() {
   ClosureOptions options;

@@ -118,9 +118,9 @@ void center_of_mass(const double* q, double* com);
 /// Cost: 0 operations: 0 additions/subtractions, 0 multiplications, 0 divisions, 0 negations, 0 sin/cos, 0 square roots.
 void contact_points(const double* q, double* p, double* J);
 
-/// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its force mapped to the joints by J^T. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
+/// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
-/// in  v: [3] velocities of every tree joint (the independent ones drive the dynamics, all move the contacts)
+/// in  v: [3] velocities of every tree joint (only the independent ones are read: the dependent ones are T vy)
 /// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
 /// in  ground: [4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
@@ -171,13 +171,19 @@ template <typename S> struct ClosureOptions {
 /// sqrt(2e-6 / 5e-3) = 2e-2 (the runtime's ClosureOptions::dead_point_tolerance says more).
 inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5, 1.4e-5};
 inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f, 2e-2f};
+/// The defaults for the scalar of the argument (for code templated on it, as Backend).
+inline constexpr ClosureOptions<double> default_closure_options(double) { return closure_options_double; }
+inline constexpr ClosureOptions<float> default_closure_options(float) { return closure_options_float; }
 /// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
 /// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
 /// allocation. Call it after every change of the independent coordinates (a simulation step):
 /// forward_dynamics and the maps need a closed q, and a status other than converged means they
-/// must not be used there.
+/// must not be used there. close_loops also makes v (nv) consistent when it converges: its
+/// dependent entries from its independent ones at the closed q (v = T vy, full_velocities'), from
+/// the factor of the Newton step that found q closed, in one pass where closure_positions and
+/// full_velocities take two (the simulator's projection after each step).
 ClosureResult<double> closure_positions(double* q, const ClosureOptions<double>& options = closure_options_double);
-
+ClosureResult<double> close_loops(double* q, double* v, const ClosureOptions<double>& options = closure_options_double);
 /// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
 constexpr int num_distance_pairs = 0;
 /// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.
@@ -214,6 +220,16 @@ template <typename S> struct BasicBackend {
   /// converged) to *subsystem if given.
   int closure_positions(S* q, int* subsystem = nullptr) const {
     const ClosureResult<S> r = four_bar::closure_positions(q);
+    if (subsystem) *subsystem = r.subsystem;
+    return static_cast<int>(r.status);
+  }
+  /// closure_positions, then (when it converged) v's dependent entries from its independent ones
+  /// at the closed q, in one pass (close_loops), closing to `tolerance` or the scalar's own
+  /// default tolerance, the larger; the same status and sub-system.
+  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr) const {
+    ClosureOptions<S> options = default_closure_options(S());
+    if (S(tolerance) > options.tolerance) options.tolerance = S(tolerance);
+    const ClosureResult<S> r = four_bar::close_loops(q, v, options);
     if (subsystem) *subsystem = r.subsystem;
     return static_cast<int>(r.status);
   }

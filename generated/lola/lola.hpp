@@ -141,15 +141,15 @@ void centroidal_momentum_matrix(const double* q, double* Ag);
 /// Cost: 2063 operations: 961 additions/subtractions, 1074 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
 void contact_points(const double* q, double* p, double* J);
 
-/// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its force mapped to the joints by J^T. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
+/// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
-/// in  v: [46] velocities of every tree joint (the independent ones drive the dynamics, all move the contacts)
+/// in  v: [46] velocities of every tree joint (only the independent ones are read: the dependent ones are T vy)
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// in  ground: [4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
 /// out contacts: [12 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 18932 operations: 8076 additions/subtractions, 10425 multiplications, 176 divisions, 87 negations, 68 sin/cos, 44 square roots, 56 max (selects).
+/// Cost: 18156 operations: 7615 additions/subtractions, 10110 multiplications, 176 divisions, 87 negations, 68 sin/cos, 44 square roots, 56 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
@@ -192,13 +192,19 @@ template <typename S> struct ClosureOptions {
 /// sqrt(2e-6 / 5e-3) = 2e-2 (the runtime's ClosureOptions::dead_point_tolerance says more).
 inline constexpr ClosureOptions<double> closure_options_double{1e-12, 20, 0.1, 1e-5, 1.4e-5};
 inline constexpr ClosureOptions<float> closure_options_float{2e-6f, 20, 0.1f, 1e-3f, 2e-2f};
+/// The defaults for the scalar of the argument (for code templated on it, as Backend).
+inline constexpr ClosureOptions<double> default_closure_options(double) { return closure_options_double; }
+inline constexpr ClosureOptions<float> default_closure_options(float) { return closure_options_float; }
 /// Closes the loops: Newton on the closures for the dependent coordinates (their entries of q are
 /// the warm start), the independent ones held; q (nq) is updated in place. Deterministic, no
 /// allocation. Call it after every change of the independent coordinates (a simulation step):
 /// forward_dynamics and the maps need a closed q, and a status other than converged means they
-/// must not be used there.
+/// must not be used there. close_loops also makes v (nv) consistent when it converges: its
+/// dependent entries from its independent ones at the closed q (v = T vy, full_velocities'), from
+/// the factor of the Newton step that found q closed, in one pass where closure_positions and
+/// full_velocities take two (the simulator's projection after each step).
 ClosureResult<double> closure_positions(double* q, const ClosureOptions<double>& options = closure_options_double);
-
+ClosureResult<double> close_loops(double* q, double* v, const ClosureOptions<double>& options = closure_options_double);
 /// Self-collision pairs the scene keeps (mbgen inspect lists them and why the others were pruned).
 constexpr int num_distance_pairs = 178;
 /// The two bodies of each pair (first, second). C++ has no empty arrays: one empty entry when there is no pair.
@@ -245,6 +251,16 @@ template <typename S> struct BasicBackend {
   /// converged) to *subsystem if given.
   int closure_positions(S* q, int* subsystem = nullptr) const {
     const ClosureResult<S> r = lola::closure_positions(q);
+    if (subsystem) *subsystem = r.subsystem;
+    return static_cast<int>(r.status);
+  }
+  /// closure_positions, then (when it converged) v's dependent entries from its independent ones
+  /// at the closed q, in one pass (close_loops), closing to `tolerance` or the scalar's own
+  /// default tolerance, the larger; the same status and sub-system.
+  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr) const {
+    ClosureOptions<S> options = default_closure_options(S());
+    if (S(tolerance) > options.tolerance) options.tolerance = S(tolerance);
+    const ClosureResult<S> r = lola::close_loops(q, v, options);
     if (subsystem) *subsystem = r.subsystem;
     return static_cast<int>(r.status);
   }

@@ -7,7 +7,7 @@
 
 namespace slider_crank {
 
-// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its force mapped to the joints by J^T. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
+// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
 // The scene lists no contact links: no sphere touches the ground, and this is full_accelerations
 // at the independent velocities of v (ground and law are not read, contacts has no entries).
 

@@ -14,13 +14,17 @@ std::string int_array(const std::string& name, const std::vector<int>& items) {
   return out + "};\n";
 }
 
-// The loop of the runtime's closure_positions, on the traced step's outputs. R: the number of
-// dependent coordinates; num_subsystems, subsystem_begin, dependent_q: see the tables above it.
-const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_positions_impl(S* q, const ClosureOptions<S>& options) {
-  S residual[R], pivots[R], step[R];
+// The loop of the runtime's closure_positions, on the traced step's outputs; with velocities,
+// close_loops': the step also gives the dependent velocities at its q, kept when that q is closed.
+// R: the number of dependent coordinates; num_subsystems, subsystem_begin, dependent_q,
+// dependent_v: see the tables above it.
+const char* kNewtonLoop = R"(template <typename S, bool kVelocities>
+ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
+  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   for (;; ++result.iterations) {
-    closure_newton_step<S>(q, residual, pivots, step);
+    if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, residual, pivots, step, vz);
+    else closure_newton_step<S>(q, residual, pivots, step);
     bool finite = true;
     int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);
@@ -52,7 +56,11 @@ const char* kNewtonLoop = R"(template <typename S> ClosureResult<S> closure_posi
     if (!(result.pivot_ratio >= options.singular_tolerance))
       return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
     if (result.residual < options.tolerance) {  // closed, but maybe within the tolerance's reach of a dead point
-      if (result.relative_pivot_ratio >= options.dead_point_tolerance) return result;
+      if (result.relative_pivot_ratio >= options.dead_point_tolerance) {
+        if constexpr (kVelocities)
+          for (int i = 0; i < R; ++i) v[dependent_v[i]] = vz[i];
+        return result;
+      }
       return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
     }
     if (result.iterations == options.max_iterations)
@@ -75,25 +83,30 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   std::string out;
   if (model.subsystems.empty()) {
     out += "// No loops: every configuration is closed.\n"
-           "template <typename S> ClosureResult<S> closure_positions_impl(S*, const ClosureOptions<S>&) {\n"
+           "template <typename S, bool kVelocities> ClosureResult<S> closure_positions_impl(S*, S*, const ClosureOptions<S>&) {\n"
            "  return {ClosureStatus::converged, 0, S(0), S(1), S(1), -1};\n}\n";
   } else {
-    const TracedFunction step = trace_closure_newton_step(model);
-    out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
-    const SplitStatements split = split_statements(step, "closure_newton_step", kMaxStatementsPerPart);
-    if (!split.parts.empty()) out += ctx.templates.render("noinline_macro", {});
-    out += split.parts;
-    out += "template <typename S> void closure_newton_step(const S* q, S* residual, S* pivots, S* step) {\n";
-    out += split.body + "}\n\n";
-    std::vector<int> begin{0}, dependent_q;
+    bool noinline_defined = false;
+    for (const bool with_velocities : {false, true}) {
+      const TracedFunction step = trace_closure_newton_step(model, with_velocities);
+      out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
+      const SplitStatements split = split_statements(step, step.name, kMaxStatementsPerPart);
+      if (!split.parts.empty() && !noinline_defined) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
+      out += split.parts;
+      out += with_velocities ? "template <typename S>\nvoid closure_newton_step_velocities(const S* q, const S* v, S* residual, "
+                               "S* pivots, S* step, S* vz) {\n"
+                             : "template <typename S> void closure_newton_step(const S* q, S* residual, S* pivots, S* step) {\n";
+      out += split.body + "}\n\n";
+    }
+    std::vector<int> begin{0}, dependent_q, dependent_v;
     for (const SubSystem& sub : model.subsystems) {
       begin.push_back(begin.back() + sub.rank());
-      for (int z : sub.dependent) dependent_q.push_back(model.q_index_of_v(z));
+      for (int z : sub.dependent) dependent_q.push_back(model.q_index_of_v(z)), dependent_v.push_back(z);
     }
     out += "// Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;\n"
-           "// entry i moves q[dependent_q[i]].\n";
+           "// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]].\n";
     out += fmt::format("constexpr int R = {};\nconstexpr int num_subsystems = {};\n", num_dependent(model), model.subsystems.size());
-    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q);
+    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v);
     // SubSystem::nominal_pivot_ratio holds two significant digits: printed back exactly.
     // (A variable template: the float code converts at compile time, no double arithmetic.)
     out += "// Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).\n";
@@ -105,7 +118,10 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   std::string entry_points;
   for (const std::string& s : scalar_types(ctx.scalars))
     entry_points += ctx.templates.render(
-        "closure_entry_point", {{"public_name", ctx.public_name("closure_positions", s)}, {"scalar", s}, {"robot", ctx.robot}});
+        "closure_entry_point", {{"public_name", ctx.public_name("closure_positions", s)},
+                                {"close_loops", ctx.public_name("close_loops", s)},
+                                {"scalar", s},
+                                {"robot", ctx.robot}});
   return ctx.templates.render("closure_positions_source", {{"banner", ctx.banner},
                                                            {"header", ctx.header},
                                                            {"robot", ctx.robot},

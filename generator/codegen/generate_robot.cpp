@@ -188,6 +188,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                             {{"robot", ctx.robot},
                                              {"scalar", s},
                                              {"closure_positions", ctx.public_name("closure_positions", s)},
+                                             {"close_loops", ctx.public_name("close_loops", s)},
                                              {"independent_velocities", ctx.public_name("independent_velocities", s)}});
   TemplateFields header_fields = {
       {"banner", ctx.banner},

@@ -188,10 +188,10 @@ TracedFunction trace_contact_accelerations(const Model& model, const std::vector
   f.doc = fmt::format(
       "Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the "
       "compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent {} built in; regularised Coulomb) at each "
-      "contact sphere, its force mapped to the joints by J^T. Also writes, per sphere, what the law gave. The "
-      "simulator's step (NAME::Backend::accelerations_with_contact).",
+      "contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per "
+      "sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).",
       exponent);
-  f.inputs = {closed_q_spec(model), v_spec(model, "v", "velocities of every tree joint (the independent ones drive the dynamics, all move the contacts)"),
+  f.inputs = {closed_q_spec(model), v_spec(model, "v", "velocities of every tree joint (only the independent ones are read: the dependent ones are T vy)"),
               v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)"),
               {"ground", sim::kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
               {"law", sim::kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
@@ -202,20 +202,11 @@ TracedFunction trace_contact_accelerations(const Model& model, const std::vector
                             n)}};
   Recording rec(f.graph);
   Data<Sym> data(model);
-  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), ground = inputs(3, sim::kGroundInputs),
-               law = inputs(4, sim::kLawInputs);
-  SymVec tau = inputs(2, model.nv());
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), tau = inputs(2, model.nv()),
+               ground = inputs(3, sim::kGroundInputs), law = inputs(4, sim::kLawInputs);
   std::vector<Sym> contacts(static_cast<std::size_t>(sim::kContactOutputs * n));
-  contact_joint_forces<Sym>(model, data, spheres, exponent, q, v.data(), ground.data(), law.data(), tau.data(), contacts.data());
-  std::vector<int> qdd;
-  if (model.subsystems.empty()) {
-    qdd = ids_of(aba<Sym>(model, data, q, v, tau));
-  } else {
-    SymVec vy(static_cast<int>(data.independent_v.size()));
-    for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
-    forward_dynamics_loops_independent<Sym>(model, data, q, vy, tau);
-    qdd = ids_of(data.ddq);
-  }
+  const std::vector<int> qdd =
+      ids_of(contact_forward_dynamics<Sym>(model, data, spheres, exponent, q, v, tau, ground.data(), law.data(), contacts.data()));
   std::vector<int> contact_ids;
   for (const Sym& x : contacts) contact_ids.push_back(x.id());
   f.output_ids = {qdd, contact_ids};

@@ -14,21 +14,26 @@ int num_dependent(const Model& model) {
   return n;
 }
 
-TracedFunction trace_closure_newton_step(const Model& model) {
+TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities) {
   if (model.subsystems.empty()) throw std::logic_error("trace_closure_newton_step: the model has no loops");
   const int r = num_dependent(model);
   TracedFunction f;
-  f.name = "closure_newton_step";
+  f.name = with_velocities ? "closure_newton_step_velocities" : "closure_newton_step";
   f.doc = "One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per "
-          "sub-system (runtime: detail::closure_newton_step).";
+          "sub-system (runtime: detail::closure_newton_step)";
+  f.doc += with_velocities ? ", and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor "
+                             "(detail::dependent_velocities_from_factor)."
+                           : ".";
   f.inputs = {q_spec(model)};
+  if (with_velocities) f.inputs.push_back(v_spec(model, "v", "joint velocities (the independent entries are read)"));
   f.outputs = {{"residual", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)},
                {"pivots", r, fmt::format("[{}] diagonal of each sub-system's R factor of Phi_z", r)},
                {"step", r, fmt::format("[{}] Newton step, to subtract from the dependent coordinates", r)}};
+  if (with_velocities) f.outputs.push_back({"vz", r, fmt::format("[{}] dependent velocities, in the step's order", r)});
   Recording rec(f.graph);
   Data<Sym> data(model);
   mbgen::detail::closure_newton_step<Sym>(model, data, inputs(0, model.nq()));
-  std::vector<int> residual, pivots, step;
+  std::vector<int> residual, pivots, step, vz;
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     const SubSystemWork<Sym>& w = data.subsystem[k];
@@ -40,6 +45,13 @@ TracedFunction trace_closure_newton_step(const Model& model) {
     }
   }
   f.output_ids = {residual, pivots, step};
+  if (with_velocities) {
+    SymVec v = inputs(1, model.nv());
+    mbgen::detail::dependent_velocities_from_factor<Sym>(model, data, v);
+    for (const SubSystem& sub : model.subsystems)
+      for (int z : sub.dependent) vz.push_back(v[z].id());
+    f.output_ids.push_back(vz);
+  }
   return f;
 }
 

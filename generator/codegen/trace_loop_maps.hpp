@@ -13,8 +13,10 @@ int num_dependent(const Model& model);
 /// closure_newton_step(q, residual, pivots, step): at q (nq), per sub-system in order, the kept
 /// closure rows (residual), the diagonal of Phi_z's Givens R factor (pivots) and the Newton step
 /// Phi_z^-1 Phi (step, to subtract from the dependent coordinates in SubSystem::dependent
-/// order); each num_dependent(model) long. Needs a model with loops.
-TracedFunction trace_closure_newton_step(const Model& model);
+/// order); each num_dependent(model) long. Needs a model with loops. with_velocities:
+/// closure_newton_step_velocities(q, v, residual, pivots, step, vz), also the dependent velocities
+/// from v's independent ones at q (vz, the same order), for close_loops.
+TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities = false);
 /// velocity_map(q, T): T (nv x ny, row-major) with v = T vy.
 TracedFunction trace_velocity_map(const Model& model);
 /// full_velocities(q, vy, v): v = T vy.

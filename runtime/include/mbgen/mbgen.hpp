@@ -7,6 +7,7 @@
 #include "mbgen/algorithm/closure_positions.hpp"
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
+#include "mbgen/algorithm/contact_dynamics.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
 #include "mbgen/algorithm/crba.hpp"
 #include "mbgen/algorithm/energy.hpp"

@@ -32,12 +32,12 @@ void add_rotor_to_parent(const Model& model, Data<S>& data, BodyIndex i, const S
 }  // namespace detail
 
 namespace detail {
-/// The recursion of aba() (below), with each sub-system's maps G, g already in data.subsystem.
-template <typename S>
-const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                             const ConstVecRef<S>& tau) {
+/// Pass 1 of aba() (below), root to leaves: joint transforms, body velocities data.v (body
+/// frame), velocity-product terms, and the bias forces pA = v x* I v. External forces on the
+/// bodies (the ground's contacts: contact_dynamics.hpp) are subtracted from data.pA between this
+/// pass and aba_force_passes.
+template <typename S> void aba_velocity_pass(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   data.v[kWorldBody] = Motion<S>::Zero();
-  // Pass 1, root to leaves: joint transforms, velocities, velocity-product terms, inertias.
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
     const Body& body = model.body(i);
@@ -50,6 +50,11 @@ const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRe
     data.IA[i] = I.matrix();
     data.pA[i] = data.v[i].cross(I * data.v[i]);
   }
+}
+
+/// Passes 2 and 3 of aba(): articulated inertias and bias forces leaves to root, then the
+/// accelerations root to leaves, into data.ddq. Needs aba_velocity_pass at the same (q, v).
+template <typename S> const VecX<S>& aba_force_passes(const Model& model, Data<S>& data, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   // Pass 2, leaves to root: articulated inertias and bias forces.
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
@@ -136,6 +141,14 @@ const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRe
     data.a[i] = a_prime + joint_velocity<S>(joint, qdd);
   }
   return data.ddq;
+}
+
+/// The recursion of aba() (below), with each sub-system's maps G, g already in data.subsystem.
+template <typename S>
+const VecX<S>& aba_recursion(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                             const ConstVecRef<S>& tau) {
+  aba_velocity_pass<S>(model, data, q, v);
+  return aba_force_passes<S>(model, data, v, tau);
 }
 
 }  // namespace detail

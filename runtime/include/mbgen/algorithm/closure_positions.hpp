@@ -109,6 +109,29 @@ template <typename S> void closure_newton_step(const Model& model, Data<S>& data
   }
 }
 
+/// The dependent velocities of v (nv) from its independent ones, v_z = -Phi_z^-1 Phi_y v_y per
+/// sub-system, with the factor of Phi_z and the Phi_q that the last closure_newton_step left (at
+/// its q): what full_velocities gives at that q, without a second Jacobian and factorisation.
+/// Uses the last column of each sub-system's rhs (the step's).
+template <typename S, typename V> void dependent_velocities_from_factor(const Model& model, Data<S>& data, V&& v) {
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    SubSystemWork<S>& w = data.subsystem[k];
+    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
+    for (int i = 0; i < r; ++i) {
+      S x = S(0);
+      for (int c = 0; c < p; ++c)
+        x += data.Phi_q(sub.rows[static_cast<std::size_t>(i)], sub.independent[static_cast<std::size_t>(c)]) *
+             v[sub.independent[static_cast<std::size_t>(c)]];
+      w.rhs(i, p) = x;
+    }
+    auto column = w.rhs.middleCols(p, 1);
+    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
+    upper_triangular_solve<S>(w.R, r, column, 1);
+    for (int d = 0; d < r; ++d) v[sub.dependent[static_cast<std::size_t>(d)]] = -w.rhs(d, p);
+  }
+}
+
 /// max |Phi| over the kept rows of every sub-system; false if one of them is not finite.
 template <typename S> bool kept_residual(const Model& model, const Data<S>& data, S& worst) {
   using std::abs;
@@ -187,6 +210,18 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
         if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
     }
   }
+}
+
+/// Closes the loops and makes v consistent with them in one pass: closure_positions, then, when
+/// it converged, the dependent entries of v (nv) from its independent ones at the closed q
+/// (v = T vy, as full_velocities), from the factor of the Newton step that found q closed. The
+/// simulator's projection after each step (sim::Simulator). v is left alone unless Converged.
+template <typename S>
+ClosureResult<S> close_loops(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, Eigen::Ref<VecX<S>> v,
+                             const ClosureOptions& options = {}) {
+  const ClosureResult<S> result = closure_positions<S>(model, data, q, options);
+  if (result.status == ClosureStatus::Converged) detail::dependent_velocities_from_factor<S>(model, data, v);
+  return result;
 }
 
 }  // namespace mbgen

@@ -1,7 +1,8 @@
 #pragma once
-// Where the contact spheres are and how they move, and the joint forces the ground exerts through
-// them (sim/contact.hpp): generic here, traced by the generator into NAME::contact_points and
-// (with the loop recursion after it) NAME::contact_accelerations.
+// Where the contact spheres are and how they move, and the forces the ground exerts through them
+// (sim/contact.hpp): as body forces for the articulated-body algorithm (contact_dynamics.hpp,
+// traced by the generator into NAME::contact_accelerations) or as joint forces for the
+// joint-space backends; generic here, and traced into NAME::contact_points.
 #include <vector>
 
 #include "mbgen/algorithm/jacobian.hpp"
@@ -41,43 +42,84 @@ void contact_points(const Model& model, Data<S>& data, const std::vector<sim::Co
   }
 }
 
+namespace detail {
+/// The law (sim::contact_force) at the spheres of one body: spheres[k] and the ones after it on
+/// the same body (contact_spheres lists a body's spheres together). X_WB: the body's pose;
+/// v_origin, omega: the velocity of its origin and its angular velocity, world axes. Writes
+/// sim::kContactOutputs numbers per sphere to out, adds their force (world) to `force` and their
+/// moment about the body's origin (world axes) to `moment`, and returns the index after them.
+template <typename S>
+std::size_t body_ground_wrench(const std::vector<sim::ContactSphere>& spheres, std::size_t k, double exponent, const SE3<S>& X_WB,
+                               const Vec3<S>& v_origin, const Vec3<S>& omega, const S* ground, const S* law, S* out,
+                               Vec3<S>& force, Vec3<S>& moment) {
+  const BodyIndex body = spheres[k].body;
+  const Vec3<S> n(ground[0], ground[1], ground[2]);
+  for (; k < spheres.size() && spheres[k].body == body; ++k) {
+    // origin to witness (the sphere's lowest point w = c - r n), world axes
+    const Vec3<S> r = X_WB.rotation * cast<S>(spheres[k].center) - S(spheres[k].radius) * n;
+    const sim::ContactForce<S> f =
+        sim::contact_force_at_witness<S>(X_WB.translation + r, v_origin + omega.cross(r), ground, law, exponent);
+    S* o = out + sim::kContactOutputs * k;
+    o[0] = f.penetration;
+    for (int i = 0; i < 3; ++i) o[1 + i] = f.point[i], o[4 + i] = f.force[i], o[7 + i] = f.slip_velocity[i];
+    force += f.force;
+    moment += r.cross(f.force);
+  }
+  return k;
+}
+}  // namespace detail
+
+/// The ground's forces on the bodies as external forces of the articulated-body algorithm: for
+/// each body with spheres, the law at its spheres (body_ground_wrench) moving with the body
+/// velocities data.v (body frame), its wrench about the body origin in body axes subtracted from
+/// the bias force data.pA. Needs data.X_WB (world poses) and aba_velocity_pass's data.v and
+/// data.pA at the same state; run between aba_velocity_pass and aba_force_passes
+/// (contact_dynamics.hpp). Writes sim::kContactOutputs numbers per sphere to out.
+template <typename S>
+void subtract_contact_forces(const std::vector<sim::ContactSphere>& spheres, double exponent, Data<S>& data, const S* ground,
+                             const S* law, S* out) {
+  std::size_t k = 0;
+  while (k < spheres.size()) {
+    const BodyIndex body = spheres[k].body;
+    const Mat3<S>& R = data.X_WB[body].rotation;
+    Vec3<S> force = Vec3<S>::Zero(), moment = Vec3<S>::Zero();
+    k = detail::body_ground_wrench<S>(spheres, k, exponent, data.X_WB[body], R * data.v[body].linear, R * data.v[body].angular,
+                                      ground, law, out, force, moment);
+    data.pA[body].linear -= R.transpose() * force;
+    data.pA[body].angular -= R.transpose() * moment;
+  }
+}
+
 /// The ground's joint forces, added to tau (nv): for each sphere the law (sim::contact_force) at
 /// its centre, moving with the velocities v (nv, every tree joint's), and J^T of its force at the
 /// witness. Writes sim::kContactOutputs numbers per sphere to `out` (penetration, witness,
-/// force, slip velocity). ground and law as sim::contact_inputs writes them. No Jacobian is
-/// stored: the spheres of one body (consecutive in `spheres`, as contact_spheres lists them) add
-/// their wrench about the world origin, and one pass down the body's chain maps it to its joints:
-/// tau_i += J_i^T [f; w x f], J_i the joint's world-axes column at the origin.
+/// force, slip velocity). ground and law as sim::contact_inputs writes them. What the
+/// joint-space backends (KKT, independent coordinates) add to their forces; the articulated-body
+/// one takes the same law as body forces (subtract_contact_forces). No Jacobian is stored: the
+/// spheres of one body add their wrench about the world origin, and one pass down the body's
+/// chain maps it to its joints: tau_i += J_i^T [f; m], J_i the joint's world-axes column at the
+/// origin.
 template <typename S>
 void contact_joint_forces(const Model& model, Data<S>& data, const std::vector<sim::ContactSphere>& spheres, double exponent,
                           const ConstVecRef<S>& q, const S* v, const S* ground, const S* law, S* tau, S* out) {
   compute_joint_jacobians<S>(model, data, q);
-  const auto chain_twist = [&](BodyIndex body, Vec3<S>& linear, Vec3<S>& angular) {
-    linear.setZero(), angular.setZero();
+  std::size_t k = 0;
+  while (k < spheres.size()) {
+    const BodyIndex body = spheres[k].body;
+    // The body's twist at the world origin, world axes: the sum of its chain's columns.
+    Vec3<S> linear = Vec3<S>::Zero(), omega = Vec3<S>::Zero(), force = Vec3<S>::Zero(), moment = Vec3<S>::Zero();
     for (BodyIndex j = body; j != kWorldBody; j = model.body(j).parent) {
       const Joint& joint = model.joint(model.body(j).joint);
       for (int col = 0; col < joint.nv; ++col) {
         const int i = joint.idx_v + col;
         linear += data.J.col(i).template head<3>() * v[i];
-        angular += data.J.col(i).template tail<3>() * v[i];
+        omega += data.J.col(i).template tail<3>() * v[i];
       }
     }
-  };
-  std::size_t k = 0;
-  while (k < spheres.size()) {
-    const BodyIndex body = spheres[k].body;
-    Vec3<S> linear, omega, force = Vec3<S>::Zero(), moment = Vec3<S>::Zero();
-    chain_twist(body, linear, omega);
-    for (; k < spheres.size() && spheres[k].body == body; ++k) {
-      const Vec3<S> c = data.X_WB[body].act(cast<S>(spheres[k].center));
-      const Vec3<S> v_c = linear + omega.cross(c);
-      const sim::ContactForce<S> f = sim::contact_force<S>(c, v_c, omega, spheres[k].radius, ground, law, exponent);
-      S* o = out + sim::kContactOutputs * k;
-      o[0] = f.penetration;
-      for (int r = 0; r < 3; ++r) o[1 + r] = f.point[r], o[4 + r] = f.force[r], o[7 + r] = f.slip_velocity[r];
-      force += f.force;
-      moment += f.point.cross(f.force);
-    }
+    const Vec3<S>& p = data.X_WB[body].translation;
+    k = detail::body_ground_wrench<S>(spheres, k, exponent, data.X_WB[body], linear + omega.cross(p), omega, ground, law, out,
+                                      force, moment);
+    moment += p.cross(force);  // about the world origin
     for (BodyIndex j = body; j != kWorldBody; j = model.body(j).parent) {
       const Joint& joint = model.joint(model.body(j).joint);
       for (int col = 0; col < joint.nv; ++col) {

@@ -25,14 +25,22 @@ ClosureStatus forward_dynamics_loops(const Model& model, Data<S>& data, const Co
   return ratio > S(options.singular_tolerance) ? ClosureStatus::Converged : ClosureStatus::Singular;
 }
 
+namespace detail {
+/// The sub-systems' maps G and g at (q, vy) and the full velocity T vy in data.v_full: what the
+/// recursion with sub-systems needs before its passes.
+template <typename S> void loop_maps(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy) {
+  subsystem_velocity_maps<S>(model, data, q);
+  expand_independent<S>(model, data, vy, false, data.v_full);
+  subsystem_acceleration_biases<S>(model, data, q, data.v_full);
+}
+}  // namespace detail
+
 /// The same with the velocity given in independent coordinates: vy (ny) for the coordinates
 /// Data::independent_v (every v index not dependent in a sub-system, ascending); the full
 /// velocity T vy is built in data.v_full. The form the generator traces.
 template <typename S>
 void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, const ConstVecRef<S>& tau) {
-  subsystem_velocity_maps<S>(model, data, q);
-  detail::expand_independent<S>(model, data, vy, false, data.v_full);
-  subsystem_acceleration_biases<S>(model, data, q, data.v_full);
+  detail::loop_maps<S>(model, data, q, vy);
   detail::aba_recursion<S>(model, data, q, data.v_full, tau);
 }
 

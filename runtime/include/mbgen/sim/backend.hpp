@@ -13,6 +13,11 @@
 //   int closure_positions(q, subsystem = nullptr) closes the loops in place: 0 converged,
 //                                                 1 not converged, 2 singular (dead point); the
 //                                                 failing sub-system to *subsystem (-1 if none)
+//   int close_loops(q, v, tol, subsystem = nullptr)  closure_positions to the residual tol (or the
+//                                                 scalar's default, the larger), then (converged)
+//                                                 v's dependent entries from its independent ones
+//                                                 at the closed q, in one pass: the simulator's
+//                                                 projection
 //   const char* subsystem_name(k)                 sub-system k's loop closures
 //   void full_velocities(q, vy, v)                v = T vy
 //   void velocity_map(q, T)                       nv x ny, row-major
@@ -35,6 +40,7 @@
 //   KktBackend          the O(n^3) full-coordinate reference with Lagrange multipliers and
 //                       Baumgarte gains: it reads all of v, so a drifting state is pulled back;
 //   IndependentBackend  the O(n^3) reference in independent coordinates (G^T M G ydd = ...).
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -43,6 +49,7 @@
 
 #include "mbgen/algorithm/center_of_mass.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
+#include "mbgen/algorithm/contact_dynamics.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/subsystem_maps.hpp"
@@ -104,6 +111,14 @@ template <typename S> class ModelBackend {
   int closure_positions(S* q, int* subsystem = nullptr) {
     Eigen::Map<VecX<S>> qm(q, nq());
     const ClosureResult<S> r = mbgen::closure_positions<S>(model_, data_, qm, closure_);
+    if (subsystem) *subsystem = r.subsystem;
+    return static_cast<int>(r.status);
+  }
+  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr) {
+    Eigen::Map<VecX<S>> qm(q, nq()), vm(v, nv());
+    ClosureOptions options = closure_;
+    options.tolerance = std::max(options.tolerance, tolerance);
+    const ClosureResult<S> r = mbgen::close_loops<S>(model_, data_, qm, vm, options);
     if (subsystem) *subsystem = r.subsystem;
     return static_cast<int>(r.status);
   }
@@ -171,8 +186,13 @@ template <typename S> class GenericBackend : public detail::ModelBackend<S> {
     forward_dynamics_loops_independent<S>(this->model_, this->data_, detail::ConstMap<S>(q, nq), this->vy_, detail::ConstMap<S>(tau, nv));
     Eigen::Map<VecX<S>>(qdd, nv) = this->data_.ddq;
   }
+  /// The ground's forces as external body forces of the recursion (contact_dynamics.hpp), as the
+  /// generated contact_accelerations: with loops, the contacts move with T vy too.
   void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) {
-    accelerations(q, v, this->with_contact_forces(q, v, tau, ground, law, contacts), qdd);
+    const int nq = this->nq(), nv = this->nv();
+    Eigen::Map<VecX<S>>(qdd, nv) =
+        contact_forward_dynamics<S>(this->model_, this->data_, this->contacts_, this->contact_exponent_, detail::ConstMap<S>(q, nq),
+                                    detail::ConstMap<S>(v, nv), detail::ConstMap<S>(tau, nv), ground, law, contacts);
   }
 };
 

@@ -107,29 +107,37 @@ template <typename T> T contact_spring_power(const T& delta, double exponent) {
   return pow(delta, exponent);
 }
 
-/// The law at one sphere, without a branch on the state (max and sqrt only, so that the generator
-/// traces it into the generated contact_accelerations; apart, every force term is exactly 0).
-/// c, v_c, omega: centre, centre velocity and body angular velocity (world); ground and law as
-/// contact_inputs writes them. Templated so that an automatic-differentiation scalar gives the
-/// stiff integrator its exact Jacobian (where delta > 0).
+/// The law at a witness point w (the sphere's lowest point, world) moving at v_w, without a branch
+/// on the state (max and sqrt only, so that the generator traces it into the generated
+/// contact_accelerations; apart, every force term is exactly 0). ground and law as contact_inputs
+/// writes them. Templated so that an automatic-differentiation scalar gives the stiff integrator
+/// its exact Jacobian (where delta > 0).
 template <typename T>
-ContactForce<T> contact_force(const Vec3<T>& c, const Vec3<T>& v_c, const Vec3<T>& omega, double radius, const T* ground,
-                              const T* law, double exponent) {
+ContactForce<T> contact_force_at_witness(const Vec3<T>& w, const Vec3<T>& v_w, const T* ground, const T* law, double exponent) {
   using std::sqrt;
   ContactForce<T> out;
   const Vec3<T> n(ground[0], ground[1], ground[2]);
-  out.penetration = ground[3] + T(radius) - n.dot(c);
-  out.point = c - T(radius) * n;
-  const Vec3<T> v_w = v_c + omega.cross(-T(radius) * n);
-  const T normal_rate = -n.dot(v_w);
-  out.slip_velocity = v_w - n * n.dot(v_w);
+  out.penetration = ground[3] - n.dot(w);  // = offset + r - n . c
+  out.point = w;
+  const T normal_velocity = n.dot(v_w);
+  out.slip_velocity = v_w - n * normal_velocity;
   const T spring = law[0] * contact_spring_power<T>(contact_max<T>(out.penetration, T(0)), exponent);
-  const T fn = contact_max<T>(spring * (T(1) + law[1] * normal_rate), T(0));
+  const T fn = contact_max<T>(spring * (T(1) - law[1] * normal_velocity), T(0));
   // max(|v_t|, v_s) as the root of the larger square: at zero slip the root's argument is v_s^2,
   // never 0, so its derivative stays finite.
   const T scale = sqrt(contact_max<T>(out.slip_velocity.squaredNorm(), law[3] * law[3]));
   out.force = fn * n - (law[2] * fn / scale) * out.slip_velocity;
   return out;
+}
+
+/// The law at one sphere: centre c, its velocity v_c and the body's angular velocity omega
+/// (world); the witness is w = c - r n, moving at v_c + omega x (-r n).
+template <typename T>
+ContactForce<T> contact_force(const Vec3<T>& c, const Vec3<T>& v_c, const Vec3<T>& omega, double radius, const T* ground,
+                              const T* law, double exponent) {
+  const Vec3<T> n(ground[0], ground[1], ground[2]);
+  const Vec3<T> to_witness = -T(radius) * n;
+  return contact_force_at_witness<T>(c + to_witness, v_c + omega.cross(to_witness), ground, law, exponent);
 }
 
 /// The law at one sphere as the simulator reports it (contact_force with the parameters of

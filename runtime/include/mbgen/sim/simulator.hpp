@@ -3,9 +3,9 @@
 // backend (sim/backend.hpp; a generated NAME::Backend or a runtime one), no allocation in a step.
 //
 // State: q (nq), every tree joint's position, and v (nv), every tree joint's velocity. With
-// `project` on (the default) every accepted step ends by re-closing the loops (the backend's
-// closure_positions, warm-started) and projecting the velocities (v = T vy from the independent
-// ones), so the state is exactly (closed q, vy), as the generated API wants; with it off the
+// `project` on (the default) every accepted step ends by re-closing the loops and projecting the
+// velocities (v = T vy from the independent ones) in one pass (the backend's close_loops,
+// warm-started: the last Newton step's factor gives the velocities), so the state is exactly (closed q, vy), as the generated API wants; with it off the
 // dependent coordinates are integrated as they come, and their drift (the distance Newton moves
 // them when the loops are closed on demand, closure_drift()) can be measured. A floating base's
 // quaternion is renormalised after every step and at every stage.
@@ -58,6 +58,13 @@ struct SimulatorOptions {
   double min_step = 1e-10;   ///< s: dormand_prince45 stops with step_rejected below it
   double max_step = 1e-2;    ///< s: dormand_prince45's largest step
   bool project = true;       ///< re-close the loops and project the velocities after each step
+  /// m or rad: the largest closure residual the projection leaves (or the backend scalar's own
+  /// Newton tolerance, the larger: 2e-6 for float). Why not the closure's 1e-12: the angular
+  /// closure rows drift by O(h^2) per step (their velocity rows are the position rows'
+  /// derivative only at closed poses; docs/simulation.md), 4e-12 rad per 1e-4 s step on Lola
+  /// standing, so a 1e-12 tolerance costs every step a second Newton evaluation and buys no
+  /// accuracy the integrator keeps: its own position error per step is larger.
+  double closure_tolerance = 1e-11;
   bool contact = true;       ///< the ground acts on the backend's contact spheres
   GroundPlane ground;
   ContactParameters contact_parameters;
@@ -87,7 +94,7 @@ template <typename Backend> class Simulator {
         nc_(backend_.num_contacts()) {
     const auto vec = [](int n) { return VecX<S>::Zero(n); };
     q_ = vec(nq_), v_ = vec(nv_), q_start_ = vec(nq_), v_start_ = vec(nv_), q_stage_ = vec(nq_), v_stage_ = vec(nv_);
-    q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), tau_passive_ = vec(nv_), vy_ = vec(ny_);
+    q_eval_ = vec(nq_), tau_control_ = vec(nv_), tau_total_ = vec(nv_), tau_passive_ = vec(nv_);
     for (int s = 0; s < kMaxStages; ++s) dq_[s] = vec(nq_), dv_[s] = vec(nv_);
     q_error_ = vec(nq_), v_error_ = vec(nv_);
     points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_), contact_out_ = vec(kContactOutputs * nc_);
@@ -276,14 +283,11 @@ template <typename Backend> class Simulator {
     return s;
   }
 
-  /// Closes the loops in q_ and sets v_ = T vy; returns the closure status (0 converged).
+  /// Closes the loops in q_ and sets v_ = T vy, in one pass (the backend's close_loops); returns
+  /// the closure status (0 converged).
   int project() {
     if (ny_ == nv_) return 0;
-    const int status = closure_status_ = backend_.closure_positions(q_.data(), &closure_subsystem_);
-    if (status != 0) return status;
-    for (int i = 0; i < ny_; ++i) vy_[i] = v_[backend_.independent_v_index()[i]];
-    backend_.full_velocities(q_.data(), vy_.data(), v_.data());
-    return 0;
+    return closure_status_ = backend_.close_loops(q_.data(), v_.data(), options_.closure_tolerance, &closure_subsystem_);
   }
 
   /// The work of the control and passive forces over the accepted step of length h, by the
@@ -383,21 +387,39 @@ template <typename Backend> class Simulator {
   /// An explicit Runge-Kutta step whose first stage (dq_[0], dv_[0]) is already evaluated.
   void explicit_rk(const ButcherTableau& tab, double h) {
     for (int s = 1; s < tab.stages; ++s) {
-      q_stage_ = q_;
-      v_stage_ = v_;
-      for (int j = 0; j < s; ++j)
-        if (tab.a[s][j] != 0) {
-          q_stage_ += S(h * tab.a[s][j]) * dq_[j];
-          v_stage_ += S(h * tab.a[s][j]) * dv_[j];
-        }
+      combine(q_, dq_, tab.a[s], s, h, q_stage_);
+      combine(v_, dv_, tab.a[s], s, h, v_stage_);
       evaluate(q_stage_, v_stage_, dq_[s], dv_[s], false);
       stage_power_[s] = power_;
     }
-    for (int s = 0; s < tab.stages; ++s)
-      if (tab.b[s] != 0) {
-        q_ += S(h * tab.b[s]) * dq_[s];
-        v_ += S(h * tab.b[s]) * dv_[s];
-      }
+    combine(q_, dq_, tab.b, tab.stages, h, q_);
+    combine(v_, dv_, tab.b, tab.stages, h, v_);
+  }
+
+  /// out = x + sum_j (h w[j]) d[j] over the n stages with w[j] != 0, in one pass (out may be x);
+  /// the terms added in stage order, as a sequence of axpys would.
+  static void combine(const VecX<S>& x, const VecX<S>* d, const double* w, int n, double h, VecX<S>& out) {
+    const S* terms[kMaxStages];
+    S weights[kMaxStages];
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      if (w[j] != 0) terms[m] = d[j].data(), weights[m++] = S(h * w[j]);
+    using Map = Eigen::Map<const VecX<S>>;
+    const int size = static_cast<int>(x.size());
+    const auto t = [&](int k) { return Map(terms[k], size); };
+    switch (m) {  // Eigen's vectorised expressions for the common shapes, element by element in stage order
+      case 0: out = x; return;
+      case 1: out = x + weights[0] * t(0); return;
+      case 2: out = x + weights[0] * t(0) + weights[1] * t(1); return;
+      case 3: out = x + weights[0] * t(0) + weights[1] * t(1) + weights[2] * t(2); return;
+      case 4: out = x + weights[0] * t(0) + weights[1] * t(1) + weights[2] * t(2) + weights[3] * t(3); return;
+      default:
+        for (int i = 0; i < size; ++i) {
+          S acc = x[i];
+          for (int k = 0; k < m; ++k) acc += weights[k] * terms[k][i];
+          out[i] = acc;
+        }
+    }
   }
 
   /// Dormand-Prince 5(4): the fifth-order solution advances, the embedded fourth-order one gives
@@ -526,7 +548,7 @@ template <typename Backend> class Simulator {
   Backend backend_;
   SimulatorOptions options_;
   int nq_, nv_, ny_, nc_;
-  VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, tau_passive_, vy_;
+  VecX<S> q_, v_, q_start_, v_start_, q_stage_, v_stage_, q_eval_, tau_control_, tau_total_, tau_passive_;
   VecX<S> dq_[kMaxStages], dv_[kMaxStages], q_error_, v_error_;
   VecX<S> points_, jacobians_, contact_out_;
   std::vector<ContactReport<S>> reports_;
