@@ -6,7 +6,10 @@
 // independent (the O(n^3) references). Compare with fd/lola/generated (one forward dynamics).
 #include "bench_sim.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <memory>
+#include <vector>
 
 #include "collision/contact_spheres.hpp"
 #include "lola.hpp"
@@ -80,8 +83,8 @@ void add_step(const std::string& backend_name, sim::Integrator integrator, std::
 }  // namespace
 
 /// One evaluation of the step's dynamics at the standing state: the generated
-/// contact_accelerations (12 pressing spheres, the law, J^T f, the closed-system forward
-/// dynamics), to set against fd/lola/generated.
+/// contact_accelerations (12 pressing spheres, the law, their wrenches as body forces of the
+/// closed-system forward dynamics), to set against fd/lola/generated.
 void add_contact_accelerations() {
   benchmark::RegisterBenchmark("contact_accelerations/lola/generated", [](benchmark::State& state) {
     const StandingLola& s = standing_lola();
@@ -100,8 +103,47 @@ void add_contact_accelerations() {
   });
 }
 
+/// The step's cost in forward dynamics calls, measured so that the VM's speed drifts cancel: blocks
+/// of 50 generated forward_dynamics calls (at the standing state) and 10 RK4 steps alternate, and
+/// the counter step_per_fd is the median over blocks of (step time) / (fd time), adjacent blocks
+/// sharing the machine's speed of the moment. (Separate benchmarks of the same run are minutes
+/// apart on this 2-core VM, whose speed changes by 2x in that time.)
+void add_step_per_fd() {
+  benchmark::RegisterBenchmark("sim_step_per_fd/lola/generated/rk4", [](benchmark::State& state) {
+    const StandingLola& s = standing_lola();
+    sim::Simulator<lola::Backend> sim(lola::Backend{});
+    sim.set_controller(controller(lola::Backend{}, s.q));
+    sim.set_state(s.q.data(), s.v.data());
+    VecX<double> vy(lola::ny), tau = VecX<double>::Zero(lola::nv), qdd(lola::ny);
+    lola::independent_velocities(s.v.data(), vy.data());
+    std::vector<double> ratios;
+    long blocks = 0;
+    using Clock = std::chrono::steady_clock;
+    for (auto _ : state) {
+      if (++blocks % 100 == 0) {  // back to the settled state every 1000 steps, untimed
+        state.PauseTiming();
+        sim.set_state(s.q.data(), s.v.data());
+        state.ResumeTiming();
+      }
+      const auto t0 = Clock::now();
+      for (int k = 0; k < 50; ++k) {
+        lola::forward_dynamics(s.q.data(), vy.data(), tau.data(), qdd.data());
+        benchmark::DoNotOptimize(qdd.data());
+        benchmark::ClobberMemory();
+      }
+      const auto t1 = Clock::now();
+      for (int k = 0; k < 10; ++k) benchmark::DoNotOptimize(sim.step());
+      const auto t2 = Clock::now();
+      ratios.push_back(std::chrono::duration<double>(t2 - t1).count() / 10 / (std::chrono::duration<double>(t1 - t0).count() / 50));
+    }
+    std::nth_element(ratios.begin(), ratios.begin() + static_cast<long>(ratios.size() / 2), ratios.end());
+    state.counters["step_per_fd"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+  });
+}
+
 void add_sim_benchmarks() {
   add_contact_accelerations();
+  add_step_per_fd();
   const StandingLola& s = standing_lola();
   const Model* model = &s.description.model;
   const std::vector<sim::ContactSphere>* spheres = &s.spheres;
