@@ -1,6 +1,7 @@
 // mbgen_sim_vs_mujoco: the Cassie MJCF of ../shared/robots dropped on the floor by MuJoCo 2.2
 // (Debian), with its own soft `connect` loops and soft contact, and by mbgen's simulator, with the
-// same description's loops closed exactly (docs/simulation.md, "Side by side with MuJoCo").
+// same description's loops closed exactly, through the generic backend and the generated one
+// (cassie_sim.hpp, built with this program) (docs/simulation.md, "Side by side with MuJoCo").
 //
 // Both start from mbgen's assembled pose (the loops closed), 5 cm above the floor, at rest, motors
 // off, with the file's joint springs and damping (MuJoCo's passive forces; mbgen applies the same
@@ -21,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "cassie_sim.hpp"
 #include "collision/contact_spheres.hpp"
 #include "examples/sim/run_scenario.hpp"
 #include "model/load_description.hpp"
@@ -123,6 +125,46 @@ struct Row {
   std::string status = "ok";
 };
 
+/// mbgen's drop with `backend` at step h, RK4, the passive forces evaluated at every stage: the
+/// CPU time per simulated second, the largest loop violation (max |Phi| of the kept rows, by the
+/// generic runtime in double, every ms) and penetration, where the pelvis ends.
+template <typename Backend, typename Passive>
+Row run_mbgen(Backend backend, const std::string& who, double h, const gen::Description& d, const VecX<double>& q0, double duration,
+              const Passive& passive) {
+  Row r;
+  r.who = who;
+  sim::SimulatorOptions o;
+  o.step = h;
+  if (d.scene && d.scene->contact) o.contact_parameters = d.scene->contact->parameters;
+  sim::Simulator<Backend> simulator(std::move(backend), o);
+  simulator.set_passive_forces(passive);
+  const VecX<double> v0 = VecX<double>::Zero(d.model.nv());
+  simulator.set_state(q0.data(), v0.data());
+  Data<double> check(d.model);
+  double cpu = 0;
+  for (int k = 1; k <= static_cast<int>(std::lround(duration / 1e-3)); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const sim::StepStatus s = simulator.run_until(k * 1e-3);
+    cpu += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    closure_residual<double>(d.model, check, simulator.q());
+    for (const SubSystem& sub : d.model.subsystems)
+      for (int row : sub.rows) r.loop_violation = std::max(r.loop_violation, std::abs(check.Phi[row]));
+    for (const auto& c : simulator.contacts()) r.penetration = std::max(r.penetration, double(c.penetration));
+    if (s != sim::StepStatus::ok) {
+      r.status = fmt::format("{} at {:.3f} s{}", sim::to_string(s), simulator.time(),
+                             s == sim::StepStatus::closure_lost
+                                 ? fmt::format(" ({}, {})", simulator.closure_status() == 2 ? "singular" : "not converged",
+                                               simulator.backend().subsystem_name(simulator.closure_subsystem()))
+                                 : "");
+      break;
+    }
+  }
+  r.cpu_per_second = cpu / std::max(simulator.time(), 1e-9);
+  r.pelvis = simulator.q().template head<3>();
+  r.end_time = simulator.time();
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -218,46 +260,22 @@ int main(int argc, char** argv) {
     }
     if (m->dof_damping[map.dof] != 0) damping.push_back({v, m->dof_damping[map.dof]});
   }
-  for (double h : {1e-4, 5e-4}) {
-    Row r;
-    r.who = fmt::format("mbgen generic O(n) (RK4, {} ms, exact loops, Hunt-Crossley)", 1e3 * h);
-    sim::SimulatorOptions o;
-    o.step = h;
-    if (d.scene && d.scene->contact) o.contact_parameters = d.scene->contact->parameters;
-    sim::Simulator<sim::GenericBackend<double>> simulator(sim::GenericBackend<double>(d.model, spheres), o);
-    const int nv = d.model.nv();
-    simulator.set_passive_forces([&](const double* q, const double* v, double* tau) {
-      for (std::size_t k = 0; k < stiffness.size(); ++k) {
-        const int iv = stiffness[k].first;
-        tau[iv] -= stiffness[k].second * (q[d.model.q_index_of_v(iv)] - spring_q[k]);
-      }
-      for (const auto& [iv, c] : damping) tau[iv] -= c * v[iv];
-    });
-    const VecX<double> v0 = VecX<double>::Zero(nv);
-    simulator.set_state(q0.data(), v0.data());
-    Data<double> check(d.model);
-    double cpu = 0;
-    for (int k = 1; k <= static_cast<int>(std::lround(duration / 1e-3)); ++k) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const sim::StepStatus s = simulator.run_until(k * 1e-3);
-      cpu += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      closure_residual<double>(d.model, check, simulator.q());
-      for (const SubSystem& sub : d.model.subsystems)
-        for (int row : sub.rows) r.loop_violation = std::max(r.loop_violation, std::abs(check.Phi[row]));
-      for (const auto& c : simulator.contacts()) r.penetration = std::max(r.penetration, double(c.penetration));
-      if (s != sim::StepStatus::ok) {
-        r.status = fmt::format("{} at {:.3f} s{}", sim::to_string(s), simulator.time(),
-                               s == sim::StepStatus::closure_lost
-                                   ? fmt::format(" ({}, {})", simulator.closure_status() == 2 ? "singular" : "not converged",
-                                                 simulator.backend().subsystem_name(simulator.closure_subsystem()))
-                                   : "");
-        break;
-      }
+  const auto passive = [&](const double* q, const double* v, double* tau) {
+    for (std::size_t k = 0; k < stiffness.size(); ++k) {
+      const int iv = stiffness[k].first;
+      tau[iv] -= stiffness[k].second * (q[d.model.q_index_of_v(iv)] - spring_q[k]);
     }
-    r.cpu_per_second = cpu / std::max(simulator.time(), 1e-9);
-    r.pelvis = simulator.q().head<3>();
-    r.end_time = simulator.time();
-    rows.push_back(r);
+    for (const auto& [iv, c] : damping) tau[iv] -= c * v[iv];
+  };
+  // The generated backend is the default description's (cassie_sim.hpp, built with this program).
+  const bool generated = mjcf == MBGEN_SHARED_ROBOTS "/cassie_mjcf/cassie.xml" &&
+                         extras == MBGEN_SOURCE_DIR "/examples/data/cassie_sim.yaml" && cassie_sim::nv == d.model.nv();
+  for (double h : {1e-4, 5e-4}) {
+    rows.push_back(run_mbgen(sim::GenericBackend<double>(d.model, spheres), fmt::format("mbgen generic O(n) (RK4, {} ms, exact loops, Hunt-Crossley)", 1e3 * h),
+                             h, d, q0, duration, passive));
+    if (generated)
+      rows.push_back(run_mbgen(cassie_sim::Backend{}, fmt::format("mbgen generated O(n) (RK4, {} ms, exact loops, Hunt-Crossley)", 1e3 * h),
+                               h, d, q0, duration, passive));
   }
 
   fmt::print("\nCassie (MJCF, {:.1f} kg, nv {}, 4 loops) dropped from 5 cm, passive, {:.1f} s:\n\n", d.model.total_mass(), d.model.nv(),
