@@ -3,7 +3,8 @@
 // the joints by contact_joint_forces (world-axes Jacobian columns, a different mapping) and solved
 // by a second algorithm: a tree (TALOS on two soles, the plain recursion and the O(n^3) mass
 // matrix solve) and a closed-loop robot (Lola on its feet, the recursion with sub-systems).
-// Each robot is lowered so that some spheres press and slip while others hang free.
+// Each robot is lowered 1-2 mm into a ground tilted by 0.05 rad about x, so that some spheres
+// press and slip while others hang free.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -22,19 +23,6 @@ gen::Description load(const std::string& urdf, const std::string& extras) {
   options.extras_file = extras;
   options.base = gen::BaseType::Floating;
   return gen::load_description(urdf, options);
-}
-
-/// The assembled pose lowered until the lowest sphere sinks `depth` into the level ground (the
-/// tests tilt the ground by 0.05 rad about x: one side presses, the other hangs free).
-VecX<double> pressing_pose(const gen::Description& d, const std::vector<sim::ContactSphere>& spheres, double depth) {
-  VecX<double> q = d.assembly.q.size() ? d.assembly.q : neutral_configuration<double>(d.model);  // a tree has no assembly
-  Data<double> data(d.model);
-  VecX<double> p(3 * spheres.size()), J(6 * d.model.nv() * spheres.size());
-  contact_points<double>(d.model, data, spheres, q, p.data(), J.data());
-  double lowest = 1e9;
-  for (std::size_t k = 0; k < spheres.size(); ++k) lowest = std::min(lowest, p[3 * k + 2] - spheres[k].radius);
-  q[2] -= lowest + depth;
-  return q;
 }
 
 struct Inputs {
@@ -70,7 +58,7 @@ TEST(ContactDynamics, TreeBodyForcesEqualTheMassMatrixSolveWithJointForces) {
   std::uniform_real_distribution<double> unit(-1, 1);
   Data<double> data(d.model), reference(d.model);
   for (int trial = 0; trial < 4; ++trial) {
-    const VecX<double> q = pressing_pose(d, spheres, 2e-3);
+    const VecX<double> q = sunk_into_ground(d, spheres, 2e-3);
     VecX<double> v(nv), tau(nv);
     for (int i = 0; i < nv; ++i) v[i] = 0.3 * unit(rng), tau[i] = 20 * unit(rng);
     VecX<double> out(sim::kContactOutputs * nc), out_joint(out.size());
@@ -99,7 +87,7 @@ TEST(ContactDynamics, LoopBodyForcesEqualTheRecursionWithJointForces) {
   std::uniform_real_distribution<double> unit(-1, 1);
   Data<double> data(d.model), reference(d.model);
   for (int trial = 0; trial < 4; ++trial) {
-    const VecX<double> q = pressing_pose(d, spheres, 1e-3);
+    const VecX<double> q = sunk_into_ground(d, spheres, 1e-3);
     const int ny = static_cast<int>(reference.independent_v.size());
     VecX<double> vy(ny), v(nv), tau(nv);
     for (int i = 0; i < ny; ++i) vy[i] = 0.3 * unit(rng);

@@ -27,18 +27,6 @@ gen::Description load_lola() {
   return gen::load_description(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", options);
 }
 
-/// Lola's assembled pose lowered until its lowest contact sphere sinks `depth` into the ground.
-VecX<double> standing_pose(const gen::Description& d, const std::vector<sim::ContactSphere>& spheres, double depth) {
-  VecX<double> q = d.assembly.q;
-  Data<double> data(d.model);
-  VecX<double> p(3 * spheres.size()), J(6 * d.model.nv() * spheres.size());
-  contact_points<double>(d.model, data, spheres, q, p.data(), J.data());
-  double lowest = 1e9;
-  for (std::size_t k = 0; k < spheres.size(); ++k) lowest = std::min(lowest, p[3 * k + 2] - spheres[k].radius);
-  q[2] -= lowest + depth;
-  return q;
-}
-
 TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
   const gen::Description d = load_lola();
   const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
@@ -80,7 +68,7 @@ TEST(GeneratedSimulation, ContactAccelerationsEqualTheGenericOnes) {
   std::uniform_real_distribution<double> unit(-1, 1);
   int pressing = 0, apart = 0;
   for (int trial = 0; trial < 4; ++trial) {
-    const VecX<double> q = standing_pose(d, spheres, 1e-3);
+    const VecX<double> q = sunk_into_ground(d, spheres, 1e-3);
     VecX<double> vy(generic.ny()), v(d.model.nv()), tau(d.model.nv());
     for (int i = 0; i < vy.size(); ++i) vy[i] = 0.3 * unit(rng);
     for (int i = 0; i < tau.size(); ++i) tau[i] = 20 * unit(rng);
@@ -117,7 +105,7 @@ TEST(GeneratedSimulation, ContactForcesAreJacobianTransposeTimesTheLaw) {
   sim::contact_inputs(ground, p, g, l);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(-1, 1);
-  const VecX<double> q = standing_pose(d, spheres, 1e-3);
+  const VecX<double> q = sunk_into_ground(d, spheres, 1e-3);
   VecX<double> vy(generic.ny()), v(d.model.nv());
   for (int i = 0; i < vy.size(); ++i) vy[i] = 0.3 * unit(rng);
   generic.full_velocities(q.data(), vy.data(), v.data());
@@ -202,7 +190,7 @@ TEST(GeneratedSimulation, AFailedClosureNamesItsSubSystem) {
 TEST(GeneratedSimulation, OneStepAgreesWithTheGenericBackend) {
   const gen::Description d = load_lola();
   const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
-  const VecX<double> q0 = standing_pose(d, spheres, 5e-4);
+  const VecX<double> q0 = sunk_into_ground(d, spheres, 5e-4);
   VecX<double> v0 = VecX<double>::Zero(d.model.nv());
   v0[0] = 0.05, v0[2] = -0.1, v0[4] = 0.2;  // sliding, sinking and pitching a little
   sim::GenericBackend<double> generic_backend(d.model, spheres);

@@ -28,6 +28,19 @@ inline std::vector<std::string> all_urdfs() {
 
 inline std::string shared_robot(const std::string& relative) { return std::string(MBGEN_SHARED_ROBOTS) + "/" + relative; }
 
+/// The description's assembled pose (its neutral one for a tree) lowered until its lowest contact
+/// sphere sinks `depth` into the level ground z = 0 (a floating base's z moved).
+inline VecX<double> sunk_into_ground(const gen::Description& d, const std::vector<sim::ContactSphere>& spheres, double depth) {
+  VecX<double> q = d.assembly.q.size() ? d.assembly.q : neutral_configuration<double>(d.model);
+  Data<double> data(d.model);
+  VecX<double> p(3 * static_cast<int>(spheres.size())), J(6 * d.model.nv() * static_cast<int>(spheres.size()));
+  contact_points<double>(d.model, data, spheres, q, p.data(), J.data());
+  double lowest = 1e9;
+  for (std::size_t k = 0; k < spheres.size(); ++k) lowest = std::min(lowest, p[3 * static_cast<int>(k) + 2] - spheres[k].radius);
+  q[2] -= lowest + depth;
+  return q;
+}
+
 /// A readable test-name suffix for a path: its parent folder and stem.
 inline std::string short_name(const std::string& path) {
   std::filesystem::path p(path);
