@@ -163,7 +163,7 @@ TEST(Inspect, ModelReductionsAndLeftOutFunctionsAreReported) {
   const std::string lola = std::string(MBGEN_SOURCE_DIR) + "/robots/lola/";
   const Outcome run = run_mbgen("inspect " + quote(lola + "lola.urdf") + " --extras " + quote(lola + "lola_legs.yaml") + " --samples 0");
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_NE(run.out.find("model reductions (scene: lock, merge_below):"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("model reductions (scene: lock, merge_below, loops):"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("lock: welded 10 joint(s): trunk_yaw at 0, trunk_roll at 0"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("removed: 10 DoF (46 -> 36), 10 bodies (41 -> 31)"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("loops: 6 closure(s), 4 sub-system(s) (whole robot: 6, 4)"), std::string::npos) << run.out;

@@ -170,7 +170,7 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
   }
   if (!reduction_report.empty()) {
-    out << "model reductions (scene: lock, merge_below):\n";
+    out << "model reductions (scene: lock, merge_below, loops):\n";
     for (const std::string& line : reduction_report) out << "  " << line << "\n";
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));

@@ -74,6 +74,10 @@ struct SceneSpec {
   int lock_line = 0;                        ///< the `lock:` line of the extras, for errors
   /// `merge_below:` lumps every limb lighter than this (kg) into its parent; 0: none.
   double merge_below = 0;
+  /// `loops:` exact (default, empty) or transmission: each sub-system replaced by the kinematic
+  /// map from its actuators to its output joints, the linkage's bodies lumped into their parents.
+  std::string loops;
+  int loops_line = 0;                       ///< the `loops:` line of the extras, for errors
 };
 
 /// Where each URDF element starts (1-based lines), so that later checks can point at it. For an
@@ -105,6 +109,15 @@ struct AssemblyReport {
   int iterations = 0;              ///< Levenberg-Marquardt iterations, all seeds
 };
 
+/// A linkage that `scene: loops: transmission` replaced (model/reduce_model.hpp): its actuators
+/// drive its output joints through the kinematic map of its loops.
+struct TransmissionSpec {
+  std::vector<std::string> closures;   ///< the loops it replaced
+  std::vector<std::string> actuators;  ///< the sub-system's independent joints, gone from the reduced model
+  std::vector<std::string> outputs;    ///< the joints they drive, kept in the reduced tree (as many)
+  std::vector<std::string> linkage;    ///< bodies on the actuators' side of the loops, lumped into their parents
+};
+
 struct Description {
   Model model;
   std::string description_file;       ///< as given on the command line
@@ -119,6 +132,12 @@ struct Description {
   std::vector<std::string> notes;
   /// What the scene's model reductions removed (reduce_model.hpp), one line each; `inspect` prints them.
   std::vector<std::string> reductions;
+  /// `loops: transmission`: the linkages replaced, and the whole robot with its loops whose
+  /// sub-systems have the outputs as independent coordinates, so that closure_positions maps
+  /// outputs to actuators and velocity_map's actuator rows are the map's Jacobian (the force
+  /// transmission: tau_outputs = J^T f_actuators). Empty without transmissions.
+  std::vector<TransmissionSpec> transmissions;
+  std::optional<Model> transmission_model;
 
   // Added with the YAML extras (issue 2, items 2 and 4).
   std::string robot_name;  ///< `robot:` of the extras (namespace of generated code); else the URDF's name

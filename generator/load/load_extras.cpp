@@ -289,7 +289,7 @@ void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d
 
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
-  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "lock", "merge_below", "outputs", "rotors", "scalar"});
+  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "lock", "loops", "merge_below", "outputs", "rotors", "scalar"});
   SceneSpec scene;
   if (node["lock"]) read_lock(x, node["lock"], d, scene);
   if (node["merge_below"]) {
@@ -301,6 +301,10 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
   if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body", "none"});
+  if (node["loops"]) {
+    scene.loops = one_of(x.path, node["loops"], "scene: loops", {"exact", "transmission"});
+    scene.loops_line = line_of(node["loops"]);
+  }
   if (const YAML::Node& c = node["collision"]) {
     require_map(x.path, c, "scene: collision", "{margin: 0.05, exclude: [[torso, pelvis]]}");
     reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "include", "margin", "prune_samples"});

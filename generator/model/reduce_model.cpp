@@ -9,6 +9,7 @@
 
 #include "load/load_error.hpp"
 #include "mbgen/joint.hpp"
+#include "model/transmissions.hpp"
 
 namespace mbgen::gen {
 
@@ -90,9 +91,9 @@ std::map<int, std::string> loop_bodies(const Description& d) {
 }  // namespace
 
 void reduce_model(Description& d) {
-  if (!d.scene || (d.scene->lock.empty() && d.scene->merge_below <= 0)) return;
+  if (!d.scene || (d.scene->lock.empty() && d.scene->merge_below <= 0 && d.scene->loops != "transmission")) return;
   const Model& m = d.model;
-  const std::map<int, std::string> on_loop = loop_bodies(d);
+  const std::map<int, std::string> on_loop = loop_bodies(d);  // the loops as read, transmissions or not
   std::map<std::string, double> values;
   for (const auto& [name, value] : d.scene->lock) {
     const Joint& joint = m.joint(*m.find_joint(name));
@@ -102,6 +103,9 @@ void reduce_model(Description& d) {
                       "lock the joints above the loop instead, or leave the loop's joints free");
     values[name] = value;
   }
+  // The linkages' joints, welded at the reference pose (their closures leave d.closures).
+  if (d.scene->loops == "transmission")
+    for (const auto& [name, value] : plan_transmissions(d)) values.emplace(name, value);
   const int nv_before = m.nv();
   const int bodies_before = m.num_bodies() - 1;
   if (!d.scene->lock.empty()) {

@@ -6,7 +6,9 @@
 //    its coordinate is gone;
 //  - `merge_below: m`: every limb (a body with everything below it) lighter than m kg, moving no
 //    loop and hanging from a moving body, is welded at the reference pose (joint values 0) into
-//    its parent.
+//    its parent;
+//  - `loops: transmission`: every sub-system of loops replaced by the map from its actuators to
+//    its output joints, the linkage welded at the reference pose (model/transmissions.hpp).
 // A joint that a loop closure needs (one on a loop's path) cannot be welded: the loop would lose
 // its freedom; that is a LoadError naming the loop. Mass and centre of mass are conserved at the
 // welded pose (welding to the world removes that body from the dynamics, as a fixed base does).
@@ -22,7 +24,8 @@ namespace mbgen::gen {
 /// of the input stay valid. Throws std::invalid_argument for an unknown or multi-DoF joint.
 Model weld_joints(const Model& model, const std::map<std::string, double>& values);
 
-/// Applies the scene's `lock` and `merge_below` to the description (model, drives, hints), and
+/// Applies the scene's `lock`, `merge_below` and `loops` to the description (model, drives, hints,
+/// closures), and
 /// records what each removed in description.reductions. Nothing happens without a scene asking.
 void reduce_model(Description& description);
 
