@@ -3,6 +3,9 @@
 //                          sub-systems as aggregate bodies (forward_dynamics_loops)
 //   fd/<robot>/reference   O(n^3): full coordinates with Lagrange multipliers (forward_dynamics_kkt)
 //   fd/<robot>/generated   the generated closed-system forward_dynamics (independent velocities)
+//   fd/lola_legs_transmission/{generic,generated}   the legs-only scene with the drive linkages
+//                          replaced by their transmissions (scene: loops): a tree, what the
+//                          reduction buys against fd/lola/*
 //   closure/<robot>/{generic,generated}   closure_positions: Newton for the dependent coordinates
 //                          from a pose whose dependent coordinates were moved by up to 1e-3
 //                          (a simulation step's warm start), to the 1e-12 tolerance
@@ -18,6 +21,7 @@
 
 #include "cassie_mjcf.hpp"
 #include "lola.hpp"
+#include "lola_legs_transmission.hpp"
 #include "loop_chain.hpp"
 #include "model/load_description.hpp"
 #include "pl_cassie_like.hpp"
@@ -80,7 +84,7 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
   robot->name = name;
   robot->urdf = urdf;
   robot->model = d.model;
-  robot->pool = consistent_pool(robot->model, d.assembly.q);
+  robot->pool = consistent_pool(robot->model, d.model.closures.empty() ? neutral_configuration<double>(d.model) : d.assembly.q);
   const Model* model = &robot->model;
   struct Generic {  // forward_dynamics_loops computes the sub-systems' maps in Data itself
     explicit Generic(const Model& m) : data(m) {}
@@ -114,7 +118,7 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                        return out->data();
                                      });
   }
-  if (generated) {
+  if (generated && !model->closures.empty()) {
     std::mt19937_64 rng(77);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     auto pool = std::make_shared<std::vector<ClosureSample>>();
@@ -147,6 +151,8 @@ void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
   add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics,
                         [](double* q) { lola::closure_positions(q); });
+  add_closed_loop_robot("lola_legs_transmission", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola_legs_transmission.yaml",
+                        &lola_legs_transmission::forward_dynamics);
   add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics,
                         [](double* q) { cassie_mjcf::closure_positions(q); });
   add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics,

@@ -2,12 +2,14 @@
 // against the whole robot:
 //  - a locked scene's forward dynamics equals the whole robot's with the joint held, computed
 //    independently: CRBA and RNEA of the whole model, the locked rows and columns removed
-//    (M_rr qdd_r = tau_r - h_r at v_locked = 0), 1e-10 relative;
+//    (M_rr qdd_r = tau_r - h_r at v_locked = 0), 1e-10 relative; and, over time, the whole robot
+//    with a stiff PD on the joints converges to it as the PD stiffens (w = 1e2, 1e3, 1e4 rad/s);
 //  - merge_below conserves the total mass and the centre of mass at the welded pose (1e-12);
 //  - what cannot be reduced is a LoadError naming the joint or loop.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <random>
@@ -87,6 +89,75 @@ TEST(ReduceModel, LockedSceneIsTheWholeRobotWithTheJointsHeld) {
   EXPECT_FALSE(R.find_joint("FL_KFE").has_value());
   EXPECT_EQ(reduced.reductions.size(), 2u);
   EXPECT_NE(reduced.reductions.back().find("3 DoF (18 -> 15)"), std::string::npos) << reduced.reductions.back();
+}
+
+/// RK4 on (q, v) for `duration` s at step h, the joint forces from tau(q, v); positions through
+/// integrate() (the base's quaternion stays on its manifold).
+template <typename Forces>
+void rk4(const Model& m, VecX<double>& q, VecX<double>& v, Forces tau, double h, double duration) {
+  Data<double> d(m);
+  const auto acc = [&](const VecX<double>& x, const VecX<double>& y) -> VecX<double> { return aba<double>(m, d, x, y, tau(x, y)); };
+  VecX<double> q2(m.nq()), q3(m.nq()), q4(m.nq()), next(m.nq());
+  for (long k = 0, steps = std::lround(duration / h); k < steps; ++k) {
+    const VecX<double> a1 = acc(q, v);
+    const VecX<double> v2 = v + a1 * (h / 2);
+    integrate<double>(m, q, v * (h / 2), q2);
+    const VecX<double> a2 = acc(q2, v2);
+    const VecX<double> v3 = v + a2 * (h / 2);
+    integrate<double>(m, q, v2 * (h / 2), q3);
+    const VecX<double> a3 = acc(q3, v3);
+    const VecX<double> v4 = v + a3 * h;
+    integrate<double>(m, q, v3 * h, q4);
+    const VecX<double> a4 = acc(q4, v4);
+    integrate<double>(m, q, (v + 2 * v2 + 2 * v3 + v4) * (h / 6), next);
+    q = next;
+    v += (a1 + 2 * a2 + 2 * a3 + a4) * (h / 6);
+  }
+}
+
+// The independent check of a lock: the whole robot with a stiff PD holding the joints converges
+// to the locked scene as the PD's natural frequency w grows (the joints' compliance falls as
+// 1/w^2), both falling freely for 0.1 s from the same state.
+TEST(ReduceModel, AStiffPdOnTheWholeRobotConvergesToTheLockedScene) {
+  const std::map<std::string, double> locked = {{"FL_HFE", 0.3}, {"FL_KFE", -0.6}, {"HR_HAA", 0.1}};
+  const gen::Description reduced = load_with("solo12/solo12.urdf", "scene:\n  lock: {FL_HFE: 0.3, FL_KFE: -0.6, HR_HAA: 0.1}\n");
+  const gen::Description whole = load_with("solo12/solo12.urdf", "scene:\n  lock: {FL_HFE: 0.3, FL_KFE: -0.6, HR_HAA: 0.1}\n", false);
+  const Model &W = whole.model, &R = reduced.model;
+  const CoordinateMap map = map_coordinates(W, R);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  VecX<double> qw = random_configuration<double>(W, rng), vw = VecX<double>::Zero(W.nv());
+  for (const auto& [name, value] : locked) qw[W.joint(*W.find_joint(name)).idx_q] = value;
+  VecX<double> qr(R.nq()), vr(R.nv());
+  for (int i = 0; i < R.nq(); ++i) qr[i] = qw[map.q[static_cast<std::size_t>(i)]];
+  for (int i = 0; i < R.nv(); ++i) vr[i] = vw[map.v[static_cast<std::size_t>(i)]] = 2 * u(rng);
+  const double h = 2e-5, duration = 0.1;
+  rk4(R, qr, vr, [&](const VecX<double>&, const VecX<double>&) { return VecX<double>::Zero(R.nv()); }, h, duration);
+  // Each locked joint's PD: kp = m w^2, kd = 2 m w (critically damped), m its diagonal of M.
+  Data<double> dw(W);
+  const MatX<double> M = crba<double>(W, dw, qw);
+  std::vector<double> errors;
+  for (double w : {1e2, 1e3, 1e4}) {
+    VecX<double> q = qw, v = vw;
+    rk4(W, q, v,
+        [&](const VecX<double>& x, const VecX<double>& y) {
+          VecX<double> tau = VecX<double>::Zero(W.nv());
+          for (const auto& [name, value] : locked) {
+            const Joint& j = W.joint(*W.find_joint(name));
+            const double m = M(j.idx_v, j.idx_v);
+            tau[j.idx_v] = -m * w * w * (x[j.idx_q] - value) - 2 * m * w * y[j.idx_v];
+          }
+          return tau;
+        },
+        h, duration);
+    double e = 0;
+    for (int i = 0; i < R.nq(); ++i) e = std::max(e, std::abs(q[map.q[static_cast<std::size_t>(i)]] - qr[i]));
+    errors.push_back(e);
+  }
+  std::printf("stiff PD against the locked scene after %g s: w = 1e2: %.2g, 1e3: %.2g, 1e4: %.2g\n", duration, errors[0], errors[1], errors[2]);
+  EXPECT_LT(errors[1], errors[0] / 30);
+  EXPECT_LT(errors[2], errors[1] / 30);
+  EXPECT_LT(errors[2], 1e-5);
 }
 
 TEST(ReduceModel, MergeBelowConservesMassAndCentreOfMass) {

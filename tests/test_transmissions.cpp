@@ -80,6 +80,9 @@ TEST(Transmissions, LolaBecomesATreeWithItsOutputsActuated) {
   EXPECT_EQ(reduced.transmissions[0].actuators, std::vector<std::string>({"knee_act_l"}));
   EXPECT_EQ(reduced.transmissions[0].outputs, std::vector<std::string>({"knee_l"}));
   EXPECT_EQ(reduced.transmissions[1].outputs, std::vector<std::string>({"ankle_pitch_l", "ankle_roll_l"}));
+  // What `mbgen inspect` prints under "model reductions".
+  ASSERT_FALSE(reduced.reductions.empty());
+  EXPECT_EQ(reduced.reductions[0], "loops: transmission: knee_loop_l: knee_act_l -> knee_l; linkage knee_nut_l, knee_rod_l (0.4 kg) lumped into its parents");
   const std::set<std::string> actuated(reduced.actuated_joints.begin(), reduced.actuated_joints.end());
   for (const char* j : {"knee_l", "ankle_pitch_l", "ankle_roll_r"}) EXPECT_TRUE(actuated.count(j)) << j;
   for (const std::string& a : lola_actuators()) EXPECT_FALSE(actuated.count(a)) << a;

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@
 #include "examples/study/stability_map.hpp"
 #include "examples/study/trajectory.hpp"
 #include "load/load_error.hpp"
+#include "mbgen/algorithm/transmission_map.hpp"
 #include "model/load_description.hpp"
 
 namespace robot = MBGEN_STUDY_NS;
@@ -43,15 +45,16 @@ namespace {
 constexpr const char* kUsage = R"(usage: mbgen_study [options]
   --grid full|small   the grid (default full: minutes; small: seconds, what the test suite runs)
   --out DIR           where study.csv, study.md and the charts go (default: study)
-  --scenario NAME     only this part: swing_four_bar, drop_lola, stability (the map), drift or reductions
-  --backends A,B,...  only these backends (generated, generic, independent, kkt)
+  --scenario NAME     only this part: swing_four_bar, drop_lola, push_lola, stability (the map), drift, dead_point or
+                      reductions
+  --backends A,B,...  only these backends (generated, generic, float, independent, kkt)
   --no-plot           no charts
   --check             exit 1 unless the study's invariants hold
 )";
 
 /// One configuration of the grid.
 struct Config {
-  std::string backend;  ///< generated, generic, kkt, independent
+  std::string backend;  ///< generated, generic, float (the generic O(n) in float), kkt, independent
   Integrator integrator = Integrator::rk4;
   double step = 1e-4;   ///< s: fixed step (dormand_prince45: its first step)
   double rtol = 0;      ///< dormand_prince45 only
@@ -100,7 +103,18 @@ Scenario make_scenario(const std::string& name, simulate::Scenario kind, const s
   s.duration = duration;
   s.generated = urdf == MBGEN_STUDY_DESCRIPTION && s.description.model.nq() == robot::nq;
   s.smooth = kind == simulate::Scenario::swing;
-  s.title = fmt::format("{} {} for {:g} s", kind == simulate::Scenario::swing ? "swing" : "drop", s.description.model.name, duration);
+  const char* kind_name = kind == simulate::Scenario::swing ? "swing" : kind == simulate::Scenario::push ? "push" : "drop";
+  s.title = fmt::format("{} {} for {:g} s", kind_name, s.description.model.name, duration);
+  return s;
+}
+
+/// The push: Lola standing (its lowest sphere 2 mm above the ground, settling for 0.1 s), then
+/// pushed at the base by 4 N s along +x over 0.05 s, 0.3 s in all: the stance's response to a
+/// disturbance, where the drop is an impact.
+Scenario push_scenario() {
+  Scenario s = make_scenario("push_lola", simulate::Scenario::push, MBGEN_STUDY_DESCRIPTION, 0.3);
+  s.options.height = 0.002;
+  s.options.settle = 0.1;
   return s;
 }
 
@@ -114,6 +128,9 @@ study::Trajectory run(const Scenario& s, const Config& c) {
     return study::run_trajectory(robot::Backend{}, robot::Backend{}, s.description, o, s.duration, kSamplePeriod);
   if (c.backend == "generic")
     return study::run_trajectory(sim::GenericBackend<double>(m, s.spheres), sim::GenericBackend<double>(m), s.description, o, s.duration,
+                                 kSamplePeriod);
+  if (c.backend == "float")  // the same O(n) recursion in single precision: float's error floor
+    return study::run_trajectory(sim::GenericBackend<float>(m, s.spheres), sim::GenericBackend<float>(m), s.description, o, s.duration,
                                  kSamplePeriod);
   if (c.backend == "kkt") {
     const BaumgarteGains gains{o.baumgarte, o.baumgarte};
@@ -228,18 +245,19 @@ int main(int argc, char** argv) {
 
   std::vector<Scenario> scenarios;
   std::vector<double> steps, rtols;
-  std::vector<std::string> backends = {"generated", "generic", "independent", "kkt"};
+  std::vector<std::string> backends = {"generated", "generic", "float", "independent", "kkt"};
   try {
     if (full) {
       scenarios.push_back(make_scenario("swing_four_bar", simulate::Scenario::swing, MBGEN_SOURCE_DIR "/robots/mechanisms/four_bar.urdf", 1.0));
       scenarios.push_back(make_scenario("drop_lola", simulate::Scenario::drop, MBGEN_STUDY_DESCRIPTION, 0.3));
+      scenarios.push_back(push_scenario());
       steps = {1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2};  // the drop's controller (1 kHz) caps them at 1e-3
       rtols = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
     } else {
       scenarios.push_back(make_scenario("swing_four_bar", simulate::Scenario::swing, MBGEN_SOURCE_DIR "/robots/mechanisms/four_bar.urdf", 0.5));
       steps = {2.5e-4, 5e-4, 1e-3, 2e-3, 5e-3};
       rtols = {1e-4, 1e-6, 1e-8};
-      backends = {"generic", "independent", "kkt"};
+      backends = {"generic", "float", "independent", "kkt"};
     }
   } catch (const gen::LoadError& e) {
     fmt::print(stderr, "{}\n", e.what());
@@ -248,7 +266,8 @@ int main(int argc, char** argv) {
   if (!only_scenario.empty()) {
     scenarios.erase(std::remove_if(scenarios.begin(), scenarios.end(), [&](const Scenario& s) { return s.name != only_scenario; }),
                     scenarios.end());
-    if (scenarios.empty() && only_scenario != "stability" && only_scenario != "drift" && only_scenario != "reductions") return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
+    if (scenarios.empty() && only_scenario != "stability" && only_scenario != "drift" && only_scenario != "reductions" &&
+        only_scenario != "dead_point") return fmt::print(stderr, "mbgen_study: no scenario '{}' in the {} grid\n", only_scenario, grid_name), 2;
   }
   if (!only_backends.empty()) {
     std::vector<std::string> chosen;
@@ -258,7 +277,7 @@ int main(int argc, char** argv) {
       start = comma + 1;
     }
     for (const std::string& b : chosen)
-      if (b != "generated" && b != "generic" && b != "independent" && b != "kkt")
+      if (b != "generated" && b != "generic" && b != "float" && b != "independent" && b != "kkt")
         return fmt::print(stderr, "mbgen_study: unknown backend '{}'\n{}", b, kUsage), 2;
     backends = chosen;
   }
@@ -363,8 +382,9 @@ int main(int argc, char** argv) {
         failures.push_back(fmt::format("{} ({}, {}): error {:.2g} not above the reference's own {:.2g}", s.name, p.config.curve(),
                                        parameter(p.config), p.error.largest(), self_error));
     // Error falls with the step at the integrator's order (within 0.5) in the smooth scenario, for
-    // the backends that integrate the exact closed-system ODE; KKT with Baumgarte is reported, not
-    // held to it (its stages leave the constraint manifold, where the stabilisation changes the ODE).
+    // the backends that integrate the exact closed-system ODE in double; KKT with Baumgarte is
+    // reported, not held to it (its stages leave the constraint manifold, where the stabilisation
+    // changes the ODE), nor is float (its round-off floor flattens the curve within the range).
     if (s.smooth) {
       int checked = 0;
       report += "Measured orders (the slope of log error against log step, least squares over the points between 100x the "
@@ -374,7 +394,7 @@ int main(int argc, char** argv) {
         const int expected = sim::order_of(any.config.integrator);
         fmt::print("  {}: measured order {:.2f} (expected {})\n", curve, order, expected);
         report += fmt::format("| {} | {} | {:.2f} | {} |\n", any.config.backend, sim::to_string(any.config.integrator), order, expected);
-        if (any.config.backend == "kkt") continue;
+        if (any.config.backend == "kkt" || any.config.backend == "float") continue;
         ++checked;
         if (!(order >= expected - 0.5))
           failures.push_back(fmt::format("{}: {}: measured order {:.2f}, expected {}", s.name, curve, order, expected));
@@ -508,6 +528,76 @@ int main(int argc, char** argv) {
                                      largest["KKT, no Baumgarte"]));
   }
 
+  // The slider-crank's dead points (crank in line with the rod, q_crank = -pi/2 + k pi), per
+  // backend: the mechanism swinging freely through them for 1 s, RK4 at 1e-4 s, driven once by
+  // the crank (independent: crank_joint; the map from crank to slider is regular everywhere) and
+  // once by the slider (independent: slider_joint, as Lola's knee nut drives its crank; that map
+  // is singular at a dead point, where the slider stands still while the crank turns).
+  if (only_scenario.empty() || only_scenario == "dead_point") {
+    const std::string urdf = MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf";
+    const std::string yaml = MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.yaml";
+    struct Variant {
+      std::string name, backend;
+      bool project;
+    };
+    const std::vector<Variant> variants = {{"O(n), projected", "generic", true},
+                                           {"independent coordinates O(n^3), projected", "independent", true},
+                                           {"KKT, Baumgarte 20/s, not projected", "kkt", false}};
+    report += "## The slider-crank's dead points\n\nThe slider-crank (robots/mechanisms) swinging freely for 1 s, RK4 at h = 1e-4 s, "
+              "driven by the crank (6 rad/s at the start) or by the slider (-0.3 m/s at the start: the same motion). Dead points "
+              "passed: how often the crank crossed q = -pi/2 + k pi (crank in line with the rod). Deviation: the largest difference "
+              "of the crank angle from the crank-driven O(n) run's (the same motion), over their common samples. Largest |Phi|: the "
+              "loop's violation, computed by the generic runtime in double.\n\n| independent coordinate | backend | status | stopped "
+              "at [s] | dead points passed | deviation [rad] | largest \\|Phi\\| |\n|---|---|---|---|---|---|---|\n";
+    fmt::print("dead points: slider_crank, RK4 at h = 1e-4 s\n");
+    study::Trajectory crank_driven;
+    for (const std::string driver : {"crank_joint", "slider_joint"}) {
+      std::string extras = yaml;
+      if (driver == "slider_joint") {
+        std::ifstream in(yaml);
+        std::stringstream text;
+        text << in.rdbuf();
+        std::string content = text.str();
+        content.replace(content.find("independent: [crank_joint]"), 26, "independent: [slider_joint]");
+        extras = (std::filesystem::temp_directory_path() / "mbgen_study_slider_driven.yaml").string();
+        std::ofstream(extras) << content;
+      }
+      Scenario sc = make_scenario("dead_point_slider_crank", simulate::Scenario::swing, urdf, 1.0, extras);
+      sc.options.swing_speed = driver == "crank_joint" ? 6.0 : -0.3;  // at the start dx/dtheta = -r
+      const Model& m = sc.description.model;
+      const int crank = m.joint(*m.find_joint("crank_joint")).idx_q;
+      Data<double> check(m);
+      for (const Variant& v : variants) {
+        Scenario s = sc;
+        s.options.simulator.project = v.project;
+        const study::Trajectory t = run(s, {v.backend, Integrator::rk4, 1e-4, 0});
+        int passed = 0;
+        double violation = 0;
+        for (std::size_t k = 0; k < t.q.size(); ++k) {
+          violation = std::max(violation, simulate::loop_violation(m, check, t.q[k]));
+          if (k > 0 && std::floor((t.q[k][crank] + M_PI / 2) / M_PI) != std::floor((t.q[k - 1][crank] + M_PI / 2) / M_PI)) ++passed;
+        }
+        if (crank_driven.q.empty()) crank_driven = t;  // the first run: crank-driven, O(n)
+        double deviation = 0;
+        for (std::size_t k = 0; k < std::min(t.q.size(), crank_driven.q.size()); ++k)
+          deviation = std::max(deviation, std::abs(t.q[k][crank] - crank_driven.q[k][crank]));
+        report += fmt::format("| {} | {} | {} | {:.3f} | {} | {:.2g} | {:.2g} |\n", driver, v.name, sim::to_string(t.status), t.end_time,
+                              passed, deviation, violation);
+        fmt::print("  {} driving, {}: {} at {:.3f} s, {} dead points passed, deviation {:.2g} rad, max |Phi| {:.2g}\n", driver, v.name,
+                   sim::to_string(t.status), t.end_time, passed, deviation, violation);
+        // Through a dead point a backend either stops with a status or follows the motion: never a
+        // silent fold back onto the other branch.
+        if (t.finished(1.0) && !(deviation < 1e-6))
+          failures.push_back(fmt::format("dead points: {} driving, {}: finished {:.2g} rad away from the crank-driven motion", driver,
+                                         v.name, deviation));
+        if (driver == "crank_joint" && v.backend == "generic" && !(t.finished(1.0) && passed >= 2))
+          failures.push_back(fmt::format("dead points: the crank-driven O(n) backend stopped with {} at {:.3f} s after {} dead points",
+                                         sim::to_string(t.status), t.end_time, passed));
+      }
+    }
+    report += "\n";
+  }
+
   // Model reductions: the drop of Lola with each of the scene's reductions (docs/extras.md), the
   // generic backend and RK4 at 1e-4 s, against the whole model's reference: the error each
   // reduction causes and the speed it gains. A welded joint is compared at its welded value.
@@ -532,7 +622,10 @@ int main(int argc, char** argv) {
         {"whole model", lola_yaml},
         {"lock: upper body (lola_legs.yaml)", std::filesystem::path(lola_yaml).replace_filename("lola_legs.yaml").string()},
         {"merge_below: 2 kg", variant_extras("merge_below", "  merge_below: 2")},
-        {"rotors: none", variant_extras("rotors_none", "  rotors: none")}};
+        {"rotors: none", variant_extras("rotors_none", "  rotors: none")},
+        {"loops: transmission", variant_extras("transmission", "  loops: transmission")},
+        {"lock + loops: transmission (lola_legs_transmission.yaml)",
+         std::filesystem::path(lola_yaml).replace_filename("lola_legs_transmission.yaml").string()}};
     fmt::print("model reductions: {}, generic backend, RK4 at h = 1e-4 s\n", whole.title);
     const study::Trajectory reference = run(whole, {"generic", Integrator::dormand_prince45, 1e-4, kReferenceRtol});
     if (!reference.finished(duration)) {
@@ -554,19 +647,29 @@ int main(int argc, char** argv) {
       const Model& R = v.description.model;
       study::Trajectory t = run(v, {"generic", Integrator::rk4, 1e-4, 0});
       // Into the whole model's coordinates: the reduced model's joints by name, the welded ones at
-      // their lock value (0 for merge_below).
+      // their lock value (0 for merge_below), a transmission's linkage where its map closes it.
       std::map<std::string, double> welded;
       if (v.description.scene)
         for (const auto& [name, value] : v.description.scene->lock) welded[name] = value;
+      std::optional<TransmissionMap<double>> map;
+      if (v.description.transmission_model) {
+        std::vector<std::string> actuators;
+        for (const gen::TransmissionSpec& ts : v.description.transmissions) actuators.insert(actuators.end(), ts.actuators.begin(), ts.actuators.end());
+        map.emplace(*v.description.transmission_model, R, actuators, neutral_configuration<double>(*v.description.transmission_model));
+      }
       for (std::size_t k = 0; k < t.q.size(); ++k) {
         VecX<double> q = VecX<double>::Zero(W.nq());
         if (W.floating_base()) q[6] = 1;
+        VecX<double> a(map ? map->num_actuators() : 0);
+        const bool mapped = map && map->evaluate(t.q[k].data(), a.data()) == ClosureStatus::Converged;
         for (int j = 1; j < W.num_joints(); ++j) {
           const Joint& wj = W.joint(JointIndex(j));
           if (const auto rj = R.find_joint(wj.name))
             for (int i = 0; i < wj.nq; ++i) q[wj.idx_q + i] = t.q[k][R.joint(*rj).idx_q + i];
           else if (welded.count(wj.name))
             q[wj.idx_q] = welded[wj.name];
+          else if (mapped)
+            q[wj.idx_q] = map->linkage_q()[map->linkage_model().joint(*map->linkage_model().find_joint(wj.name)).idx_q];
         }
         t.q[k] = q;
       }
