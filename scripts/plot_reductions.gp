@@ -10,8 +10,8 @@ set logscale y
 set format y "10^{%L}"
 set xlabel "speed-up over the whole model (CPU time per simulated second, same integrator and step)"
 set ylabel "error: largest deviation from the whole model's reference [m, rad]"
-set xrange [0.8:*]
-set offsets 0, 0.3, 0, 0
+set xrange [0.6:*]
+set offsets 0, 1.0, 0, 0
 set grid
 unset key
 # Labels above the even rows and below the odd ones: reductions of equal error stay readable.

@@ -131,13 +131,7 @@ TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
 }
 
 /// The generated code's float settings (closure_options_float): a float Newton's tolerances.
-ClosureOptions float_options() {
-  ClosureOptions options;
-  options.tolerance = 2e-6;
-  options.singular_tolerance = 1e-3;
-  options.dead_point_tolerance = 2e-2;
-  return options;
-}
+ClosureOptions float_options() { return default_closure_options<float>(); }
 
 TEST_P(LoopMapsTest, NewtonOnRegularPosesIsConvergedInDoubleAndFloat) {
   // No false dead point: from seeded random closed poses (spread 0.05, as test_generated) with

@@ -3,7 +3,8 @@
 // generated as slider_crank_slider_driven) has its dead point at the stroke end
 // (slider_joint = 0.06 m), where crank and rod are in line and Phi_z is singular, and no closed
 // pose beyond it. Status singular there in double and in float, as the generic runtime's
-// (test_closure_positions); q stays finite.
+// (test_closure_positions); q stays finite. The runtime's options per scalar
+// (default_closure_options<S>, which the simulator's generic backends take) are the generated ones.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mbgen/algorithm/closure_positions.hpp"
 #include "slider_crank_slider_driven.hpp"
 
 namespace robot = slider_crank_slider_driven;
@@ -68,5 +70,18 @@ TEST(GeneratedDeadPoint, NanSliderIsNotConverged) {
 
 TEST(GeneratedDeadPoint, DoubleReportsSingularAtTheStrokeEnd) { approach_the_stroke_end<double>(); }
 TEST(GeneratedDeadPoint, FloatReportsSingularAtTheStrokeEnd) { approach_the_stroke_end<float>(); }
+
+template <typename S> void expect_same_options(const mbgen::ClosureOptions& runtime, const robot::ClosureOptions<S>& generated) {
+  EXPECT_EQ(S(runtime.tolerance), generated.tolerance);
+  EXPECT_EQ(runtime.max_iterations, generated.max_iterations);
+  EXPECT_EQ(S(runtime.max_step), generated.max_step);
+  EXPECT_EQ(S(runtime.singular_tolerance), generated.singular_tolerance);
+  EXPECT_EQ(S(runtime.dead_point_tolerance), generated.dead_point_tolerance);
+}
+
+TEST(GeneratedDeadPoint, RuntimeOptionsPerScalarAreTheGeneratedOnes) {
+  expect_same_options(mbgen::default_closure_options<double>(), robot::closure_options_double);
+  expect_same_options(mbgen::default_closure_options<float>(), robot::closure_options_float);
+}
 
 }  // namespace

@@ -84,6 +84,10 @@ struct Scenario {
 /// sample, which would make the larger steps equal).
 constexpr double kSamplePeriod = 1e-2;
 constexpr double kReferenceRtol = 1e-10;
+/// The contact-free swing's reference is cheap (0.012 CPU s per simulated s at 1e-10) and the
+/// grid's best runs come within its own error there (KKT with Dormand-Prince at 1e-9: 3e-9
+/// against 4.4e-9): two decades tighter.
+constexpr double kSmoothReferenceRtol = 1e-12;
 
 /// `extras`: the YAML extras; empty: the URDF's name with .yaml, if there is one.
 Scenario make_scenario(const std::string& name, simulate::Scenario kind, const std::string& urdf, double duration,
@@ -154,7 +158,11 @@ std::vector<Config> grid(const Scenario& s, const std::vector<double>& steps, co
       for (double h : steps)  // a controlled scenario's steps end at each controller call: no longer than its period
         if (s.smooth || h <= s.options.simulator.control_period * (1 + 1e-9)) configs.push_back({b, i, h, 0});
     }
-    for (double r : rtols) configs.push_back({b, Integrator::dormand_prince45, 1e-4, r});
+    // float's round-off (6e-8 relative) puts tolerances below 1e-5 out of its reach: the step
+    // controller shrinks the step until round-off passes the test by chance (the drop's float
+    // runs below 1e-5 had not finished after twelve minutes of CPU).
+    for (double r : rtols)
+      if (b != "float" || r >= 1e-5) configs.push_back({b, Integrator::dormand_prince45, 1e-4, r});
   }
   return configs;
 }
@@ -291,12 +299,13 @@ int main(int argc, char** argv) {
   std::vector<std::string> failures;
 
   for (const Scenario& s : scenarios) {
-    fmt::print("{}: the reference (generic, dormand_prince45, rtol {:g})...\n", s.title, kReferenceRtol);
+    const double reference_rtol = s.smooth ? kSmoothReferenceRtol : kReferenceRtol;
+    fmt::print("{}: the reference (generic, dormand_prince45, rtol {:g})...\n", s.title, reference_rtol);
     std::fflush(stdout);
-    const Config reference_config{"generic", Integrator::dormand_prince45, 1e-4, kReferenceRtol};
+    const Config reference_config{"generic", Integrator::dormand_prince45, 1e-4, reference_rtol};
     const study::Trajectory reference = run(s, reference_config);
     Config half = reference_config;
-    half.rtol = kReferenceRtol / 2;
+    half.rtol = reference_rtol / 2;
     const study::Trajectory check_run = run(s, half);
     if (!reference.finished(s.duration) || !check_run.finished(s.duration)) {
       fmt::print(stderr, "mbgen_study: {}: the reference run stopped with {} at t = {:g} s\n", s.name, sim::to_string(reference.status),
@@ -306,7 +315,7 @@ int main(int argc, char** argv) {
     const bool floating = s.description.model.floating_base();
     const double self_error = study::deviation(reference, check_run, floating).largest();
     fmt::print("  reference: {} steps, CPU {:.3g} s per simulated s; its own error {:.2g} (rtol {:g} against {:g})\n",
-               reference.statistics.accepted_steps, reference.cpu_seconds / s.duration, self_error, kReferenceRtol, kReferenceRtol / 2);
+               reference.statistics.accepted_steps, reference.cpu_seconds / s.duration, self_error, reference_rtol, reference_rtol / 2);
 
     std::vector<Point> points;
     for (const Config& c : grid(s, steps, rtols, backends)) {
@@ -348,7 +357,7 @@ int main(int argc, char** argv) {
     report += fmt::format("## {}\n\nReference: generic O(n), dormand_prince45 at rtol {:g}: {} steps, {:.3g} CPU s per simulated s; "
                           "its own error (against rtol {:g}) {:.2g}. Error: the largest deviation from it of the base position (m), "
                           "the base orientation (rad) and every joint (rad, m) over the {:g} s, sampled every {:g} s.\n\n",
-                          s.title, kReferenceRtol, reference.statistics.accepted_steps, reference.cpu_seconds / s.duration, kReferenceRtol / 2,
+                          s.title, reference_rtol, reference.statistics.accepted_steps, reference.cpu_seconds / s.duration, reference_rtol / 2,
                           self_error, s.duration, kSamplePeriod);
     report += "The Pareto front (no other run is both cheaper and more accurate):\n\n| backend | integrator | step or tolerance | CPU s per "
               "simulated s | error | energy error [J] |\n|---|---|---|---|---|---|\n";

@@ -15,6 +15,7 @@
 // (what float needs: see dead_point_tolerance). q is left at the last finite iterate. No
 // allocation.
 #include <cmath>
+#include <type_traits>
 
 #include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/givens_qr.hpp"
@@ -70,6 +71,19 @@ struct ClosureOptions {
   /// >= 8e-2 after moves of 0.3 rad (docs/loops.md): a factor 4 or more either side.
   double dead_point_tolerance = 1.4e-5;
 };
+
+/// The options for scalar S: ClosureOptions{} in double; in float the generated code's
+/// closure_options_float (a float Newton stops at ~1e-6 of residual: tolerance 2e-6, singular
+/// below a pivot ratio of 1e-3, a dead point below a relative one of 2e-2, as derived above).
+template <typename S> ClosureOptions default_closure_options() {
+  ClosureOptions options;
+  if constexpr (std::is_same_v<S, float>) {
+    options.tolerance = 2e-6;
+    options.singular_tolerance = 1e-3;
+    options.dead_point_tolerance = 2e-2;
+  }
+  return options;
+}
 
 template <typename S> struct ClosureResult {
   ClosureStatus status = ClosureStatus::Converged;

@@ -172,7 +172,7 @@ template <typename S> class ModelBackend {
 /// the generated backend (same algorithm, interpreted).
 template <typename S> class GenericBackend : public detail::ModelBackend<S> {
  public:
-  explicit GenericBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = {})
+  explicit GenericBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = default_closure_options<S>())
       : detail::ModelBackend<S>(model, std::move(contacts), closure) {}
 
   void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
@@ -201,7 +201,7 @@ template <typename S> class GenericBackend : public detail::ModelBackend<S> {
 template <typename S> class KktBackend : public detail::ModelBackend<S> {
  public:
   explicit KktBackend(const Model& model, BaumgarteGains gains = {}, std::vector<ContactSphere> contacts = {},
-                      ClosureOptions closure = {})
+                      ClosureOptions closure = default_closure_options<S>())
       : detail::ModelBackend<S>(model, std::move(contacts), closure), gains_(gains), ws_(model) {}
 
   void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
@@ -222,7 +222,7 @@ template <typename S> class KktBackend : public detail::ModelBackend<S> {
 /// The O(n^3) reference in independent coordinates: G^T M G ydd = G^T (tau - C - g - M g_acc).
 template <typename S> class IndependentBackend : public detail::ModelBackend<S> {
  public:
-  explicit IndependentBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = {})
+  explicit IndependentBackend(const Model& model, std::vector<ContactSphere> contacts = {}, ClosureOptions closure = default_closure_options<S>())
       : detail::ModelBackend<S>(model, std::move(contacts), closure), ws_(model) {}
 
   void accelerations(const S* q, const S* v, const S* tau, S* qdd) {
