@@ -26,7 +26,7 @@
 # num_contact_spheres = 0, or a call of full_accelerations) for a description without SSV pairs
 # or a scene without contact.
 set(MBGEN_GENERATED_FUNCTIONS
-    forward_dynamics full_accelerations inverse_dynamics mass_matrix forward_kinematics frame_poses frame_jacobians
+    forward_dynamics full_accelerations inverse_dynamics actuator_forces mass_matrix forward_kinematics frame_poses frame_jacobians
     center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
     self_distances contact_points contact_accelerations)
 

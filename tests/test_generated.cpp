@@ -26,6 +26,8 @@
 
 #include MBGEN_GENERATED_HEADER
 #include "malloc_guard.hpp"
+#include "model/actuated_coordinates.hpp"
+#include "model/topology.hpp"
 #include "test_support.hpp"
 
 namespace gen_ns = MBGEN_GENERATED_NS;
@@ -288,6 +290,47 @@ TEST_F(GeneratedTest, ClosedSystemDoubleEqualsGeneric) { compare_closed<double>(
 
 TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(gen_ns::has_loops ? 1e-2 : 1e-4, 20); }
 
+// actuator_forces: the description's actuated set, the generic function's values (1e-12 relative
+// to the forces' size), and forward dynamics with them giving back the accelerations (1e-10).
+TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
+  const Actuation act = gen::description_actuation(description);
+  ASSERT_EQ(gen_ns::na, act.num_actuators());
+  for (int i = 0; i < gen_ns::na; ++i) {
+    EXPECT_EQ(gen_ns::actuated_v_index[i], act.actuated_v[static_cast<std::size_t>(i)]);
+    EXPECT_EQ(gen_ns::actuated_joint_names[i], gen::coordinate_name(closed, act.actuated_v[static_cast<std::size_t>(i)]));
+  }
+  std::mt19937_64 rng(2027);
+  const int ny = gen_ns::ny, na = gen_ns::na;
+  std::vector<double> f(static_cast<std::size_t>(std::max(na, 1))), r(static_cast<std::size_t>(ny)), ydd_back(static_cast<std::size_t>(ny));
+  double worst_generic = 0, worst_round_trip = 0;
+  int states = 0;
+  for (int trial = 0; trial < 80 && states < 20; ++trial) {
+    VecX<double> q, v;
+    if (!draw_state(rng, q, v)) continue;
+    ++states;
+    VecX<double> vy(ny);
+    for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+    const VecX<double> ydd = random_vector<double>(ny, rng, 5.0);
+    VecX<double> f_expected(na), r_expected(ny);
+    actuator_forces<double>(closed, closed_data, act, q, vy, ydd, f_expected, r_expected);
+    gen_ns::actuator_forces(q.data(), vy.data(), ydd.data(), f.data(), r.data());
+    VecX<double> both(na + ny), both_expected(na + ny);
+    for (int i = 0; i < na; ++i) both[i] = f[static_cast<std::size_t>(i)];
+    for (int i = 0; i < ny; ++i) both[na + i] = r[static_cast<std::size_t>(i)];
+    both_expected << f_expected, r_expected;
+    worst_generic = std::max(worst_generic, relative_error(both, both_expected));
+    VecX<double> tau = VecX<double>::Zero(closed.nv());
+    for (int i = 0; i < na; ++i) tau[gen_ns::actuated_v_index[i]] += f[static_cast<std::size_t>(i)];
+    for (int i = 0; i < ny; ++i) tau[gen_ns::independent_v_index[i]] += r[static_cast<std::size_t>(i)];
+    gen_ns::forward_dynamics(q.data(), vy.data(), tau.data(), ydd_back.data());
+    worst_round_trip = std::max(worst_round_trip, relative_error(Eigen::Map<const VecX<double>>(ydd_back.data(), ny), ydd));
+  }
+  EXPECT_GE(states, 10);
+  EXPECT_LT(worst_generic, 1e-12) << "actuator_forces vs generic";
+  EXPECT_LT(worst_round_trip, 1e-10) << "forward_dynamics(actuator_forces) vs ydd";
+  RecordProperty("actuator_forces", std::to_string(worst_generic));
+}
+
 // Non-finite input gives non-finite output where the output depends on it, and the closure
 // says not_converged: a NaN never turns into a plausible number (docs/reliability.md).
 TEST_F(GeneratedTest, NonFiniteInputsGiveNonFiniteOutputs) {
@@ -324,6 +367,7 @@ TEST_F(GeneratedTest, NoAllocation) {
   gen_ns::forward_dynamics(q.data(), v.data(), v.data(), out.data());
   gen_ns::full_accelerations(q.data(), v.data(), v.data(), out.data());
   gen_ns::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
+  gen_ns::actuator_forces(q.data(), v.data(), v.data(), out.data(), out.data() + gen_ns::nv);
   gen_ns::mass_matrix(q.data(), out.data());
   gen_ns::forward_kinematics(q.data(), out.data());
   gen_ns::frame_poses(q.data(), out.data());

@@ -39,6 +39,12 @@ constexpr bool has_loops = true;
 inline constexpr const char* independent_joint_names[] = {"ankle_act_lat", "ankle_act_med"};
 // The v index of each independent coordinate (ascending).
 inline constexpr int independent_v_index[] = {2, 5};
+// The actuated coordinates (the description's actuated joints; without any named, every
+// independent coordinate but a floating base): actuator_forces returns one force per entry.
+constexpr int na = 2;
+inline constexpr const char* actuated_joint_names[] = {"ankle_act_lat", "ankle_act_med"};
+// The v index of each actuated coordinate (-1 alone when nothing is actuated).
+inline constexpr int actuated_v_index[] = {2, 5};
 inline constexpr const char* body_names[] = {"ankle_act_lat_cross", "ankle_act_lat_housing", "ankle_act_lat_rod", "ankle_act_med_cross", "ankle_act_med_housing", "ankle_act_med_rod", "ankle_cross", "foot_body"};
 inline constexpr const char* frame_names[] = {"foot"};
 constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
@@ -86,6 +92,15 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// out tau: [8] joint forces
 /// Cost: 392 operations: 145 additions/subtractions, 228 multiplications, 0 divisions, 7 negations, 12 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
+
+/// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
+/// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [2] independent velocities, independent_joint_names order
+/// in  ydd: [2] independent accelerations, independent_joint_names order
+/// out tau_a: [2] actuator forces (N m or N), actuated_joint_names order
+/// out residual: [2] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
+/// Cost: 1522 operations: 567 additions/subtractions, 840 multiplications, 44 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [8] joint positions
@@ -206,6 +221,8 @@ template <typename S> struct BasicBackend {
   int ny() const { return ankle_2dof::ny; }
   bool floating_base() const { return ankle_2dof::floating_base; }
   const int* independent_v_index() const { return ankle_2dof::independent_v_index; }
+  int na() const { return ankle_2dof::na; }
+  const int* actuated_v_index() const { return ankle_2dof::actuated_v_index; }
   int num_contacts() const { return ankle_2dof::num_contact_spheres; }
   double contact_radius(int k) const { return (void)k, 0.0; }
   const char* contact_name(int k) const { return (void)k, ""; }
@@ -244,6 +261,10 @@ template <typename S> struct BasicBackend {
   void full_velocities(const S* q, const S* vy, S* v) const { ankle_2dof::full_velocities(q, vy, v); }
   void velocity_map(const S* q, S* T) const { ankle_2dof::velocity_map(q, T); }
   void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { ankle_2dof::inverse_dynamics(q, v, qdd, tau); }
+  /// The closed system's inverse dynamics for the actuators: tau_a (na) and the residual (ny).
+  void actuator_forces(const S* q, const S* vy, const S* ydd, S* tau_a, S* residual) const {
+    ankle_2dof::actuator_forces(q, vy, ydd, tau_a, residual);
+  }
   void mass_matrix(const S* q, S* M) const { ankle_2dof::mass_matrix(q, M); }
   void center_of_mass(const S* q, S* com) const { ankle_2dof::center_of_mass(q, com); }
   void contact_points(const S* q, S* p, S* J) const { ankle_2dof::contact_points(q, p, J); }
@@ -255,6 +276,14 @@ template <typename S> struct BasicBackend {
   }
   /// The exponent of the law contact_accelerations is built for (the scene's `contact: exponent`).
   double contact_exponent() const { return 1.5; }
+
+  // What the differential IK (mbgen/control/differential_ik.hpp) reads: the frames of
+  // frame_poses / frame_jacobians, and the self-collision pairs.
+  int num_frames() const { return ankle_2dof::num_frames; }
+  const char* frame_name(int k) const { return ankle_2dof::frame_names[k]; }
+  int num_distance_pairs() const { return ankle_2dof::num_distance_pairs; }
+  // task_kinematics: left out (the scene generates no centroidal_momentum_matrix)
+  // self_distances: left out (the scene generates no self_distances)
 };
 using Backend = BasicBackend<double>;
 }  // namespace ankle_2dof

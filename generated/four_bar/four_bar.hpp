@@ -39,6 +39,12 @@ constexpr bool has_loops = true;
 inline constexpr const char* independent_joint_names[] = {"crank_joint"};
 // The v index of each independent coordinate (ascending).
 inline constexpr int independent_v_index[] = {0};
+// The actuated coordinates (the description's actuated joints; without any named, every
+// independent coordinate but a floating base): actuator_forces returns one force per entry.
+constexpr int na = 1;
+inline constexpr const char* actuated_joint_names[] = {"crank_joint"};
+// The v index of each actuated coordinate (-1 alone when nothing is actuated).
+inline constexpr int actuated_v_index[] = {0};
 inline constexpr const char* body_names[] = {"crank", "coupler", "rocker"};
 inline constexpr const char* frame_names[] = {"coupler", "rocker"};
 constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
@@ -86,6 +92,15 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// out tau: [3] joint forces
 /// Cost: 85 operations: 28 additions/subtractions, 46 multiplications, 0 divisions, 5 negations, 6 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
+
+/// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
+/// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [1] independent velocities, independent_joint_names order
+/// in  ydd: [1] independent accelerations, independent_joint_names order
+/// out tau_a: [1] actuator forces (N m or N), actuated_joint_names order
+/// out residual: [1] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
+/// Cost: 256 operations: 93 additions/subtractions, 141 multiplications, 7 divisions, 7 negations, 6 sin/cos, 1 square roots, 1 max (selects).
+void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [3] joint positions
@@ -201,6 +216,8 @@ template <typename S> struct BasicBackend {
   int ny() const { return four_bar::ny; }
   bool floating_base() const { return four_bar::floating_base; }
   const int* independent_v_index() const { return four_bar::independent_v_index; }
+  int na() const { return four_bar::na; }
+  const int* actuated_v_index() const { return four_bar::actuated_v_index; }
   int num_contacts() const { return four_bar::num_contact_spheres; }
   double contact_radius(int k) const { return (void)k, 0.0; }
   const char* contact_name(int k) const { return (void)k, ""; }
@@ -239,6 +256,10 @@ template <typename S> struct BasicBackend {
   void full_velocities(const S* q, const S* vy, S* v) const { four_bar::full_velocities(q, vy, v); }
   void velocity_map(const S* q, S* T) const { four_bar::velocity_map(q, T); }
   void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { four_bar::inverse_dynamics(q, v, qdd, tau); }
+  /// The closed system's inverse dynamics for the actuators: tau_a (na) and the residual (ny).
+  void actuator_forces(const S* q, const S* vy, const S* ydd, S* tau_a, S* residual) const {
+    four_bar::actuator_forces(q, vy, ydd, tau_a, residual);
+  }
   void mass_matrix(const S* q, S* M) const { four_bar::mass_matrix(q, M); }
   void center_of_mass(const S* q, S* com) const { four_bar::center_of_mass(q, com); }
   void contact_points(const S* q, S* p, S* J) const { four_bar::contact_points(q, p, J); }
@@ -250,6 +271,14 @@ template <typename S> struct BasicBackend {
   }
   /// The exponent of the law contact_accelerations is built for (the scene's `contact: exponent`).
   double contact_exponent() const { return 1.5; }
+
+  // What the differential IK (mbgen/control/differential_ik.hpp) reads: the frames of
+  // frame_poses / frame_jacobians, and the self-collision pairs.
+  int num_frames() const { return four_bar::num_frames; }
+  const char* frame_name(int k) const { return four_bar::frame_names[k]; }
+  int num_distance_pairs() const { return four_bar::num_distance_pairs; }
+  // task_kinematics: left out (the scene generates no frame_jacobians, centroidal_momentum_matrix)
+  // self_distances: left out (the scene generates no self_distances)
 };
 using Backend = BasicBackend<double>;
 }  // namespace four_bar

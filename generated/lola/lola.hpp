@@ -39,6 +39,12 @@ constexpr bool has_loops = true;
 inline constexpr const char* independent_joint_names[] = {"root_joint[0]", "root_joint[1]", "root_joint[2]", "root_joint[3]", "root_joint[4]", "root_joint[5]", "trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "ankle_act_lat_l", "ankle_act_med_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "ankle_act_lat_r", "ankle_act_med_r", "toe_r"};
 // The v index of each independent coordinate (ascending).
 inline constexpr int independent_v_index[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 24, 27, 30, 31, 32, 33, 34, 39, 42, 45};
+// The actuated coordinates (the description's actuated joints; without any named, every
+// independent coordinate but a floating base): actuator_forces returns one force per entry.
+constexpr int na = 24;
+inline constexpr const char* actuated_joint_names[] = {"hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "ankle_act_lat_l", "ankle_act_med_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "ankle_act_lat_r", "ankle_act_med_r", "toe_r", "trunk_yaw", "trunk_roll", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "head_pan", "head_tilt"};
+// The v index of each actuated coordinate (-1 alone when nothing is actuated).
+inline constexpr int actuated_v_index[] = {16, 17, 18, 19, 24, 27, 30, 31, 32, 33, 34, 39, 42, 45, 6, 7, 10, 11, 12, 13, 14, 15, 8, 9};
 inline constexpr const char* body_names[] = {"pelvis", "trunk_link", "torso", "neck", "head", "shoulder_l", "upper_arm_l", "forearm_l", "shoulder_r", "upper_arm_r", "forearm_r", "hip_yaw_link_l", "hip_roll_link_l", "thigh_l", "knee_nut_l", "knee_rod_l", "shank_l", "ankle_act_lat_cross_l", "ankle_act_lat_housing_l", "ankle_act_lat_rod_l", "ankle_act_med_cross_l", "ankle_act_med_housing_l", "ankle_act_med_rod_l", "ankle_cross_l", "foot_body_l", "toe_link_l", "hip_yaw_link_r", "hip_roll_link_r", "thigh_r", "knee_nut_r", "knee_rod_r", "shank_r", "ankle_act_lat_cross_r", "ankle_act_lat_housing_r", "ankle_act_lat_rod_r", "ankle_act_med_cross_r", "ankle_act_med_housing_r", "ankle_act_med_rod_r", "ankle_cross_r", "foot_body_r", "toe_link_r"};
 inline constexpr const char* frame_names[] = {"foot_l", "foot_r", "torso"};
 constexpr int num_contact_spheres = 12;  // ground-contact spheres (0: the scene has no contact)
@@ -97,6 +103,15 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// out tau: [46] joint forces
 /// Cost: 5467 operations: 2345 additions/subtractions, 3050 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
+
+/// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
+/// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
+/// in  vy: [30] independent velocities, independent_joint_names order
+/// in  ydd: [30] independent accelerations, independent_joint_names order
+/// out tau_a: [24] actuator forces (N m or N), actuated_joint_names order
+/// out residual: [30] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
+/// Cost: 9846 operations: 4141 additions/subtractions, 5433 multiplications, 102 divisions, 62 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [47] joint positions
@@ -232,6 +247,8 @@ template <typename S> struct BasicBackend {
   int ny() const { return lola::ny; }
   bool floating_base() const { return lola::floating_base; }
   const int* independent_v_index() const { return lola::independent_v_index; }
+  int na() const { return lola::na; }
+  const int* actuated_v_index() const { return lola::actuated_v_index; }
   int num_contacts() const { return lola::num_contact_spheres; }
   double contact_radius(int k) const { return lola::contact_sphere_radius[k]; }
   const char* contact_name(int k) const { return lola::contact_sphere_names[k]; }
@@ -270,6 +287,10 @@ template <typename S> struct BasicBackend {
   void full_velocities(const S* q, const S* vy, S* v) const { lola::full_velocities(q, vy, v); }
   void velocity_map(const S* q, S* T) const { lola::velocity_map(q, T); }
   void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) const { lola::inverse_dynamics(q, v, qdd, tau); }
+  /// The closed system's inverse dynamics for the actuators: tau_a (na) and the residual (ny).
+  void actuator_forces(const S* q, const S* vy, const S* ydd, S* tau_a, S* residual) const {
+    lola::actuator_forces(q, vy, ydd, tau_a, residual);
+  }
   void mass_matrix(const S* q, S* M) const { lola::mass_matrix(q, M); }
   void center_of_mass(const S* q, S* com) const { lola::center_of_mass(q, com); }
   void contact_points(const S* q, S* p, S* J) const { lola::contact_points(q, p, J); }
@@ -281,6 +302,22 @@ template <typename S> struct BasicBackend {
   }
   /// The exponent of the law contact_accelerations is built for (the scene's `contact: exponent`).
   double contact_exponent() const { return 1.5; }
-};
+
+  // What the differential IK (mbgen/control/differential_ik.hpp) reads: the frames of
+  // frame_poses / frame_jacobians, and the self-collision pairs.
+  int num_frames() const { return lola::num_frames; }
+  const char* frame_name(int k) const { return lola::frame_names[k]; }
+  int num_distance_pairs() const { return lola::num_distance_pairs; }
+  /// Per frame its pose (12: [R_WF | p_WF] row-major) and its Jacobian (6 x nv row-major, world
+  /// axes), the centre of mass and the centroidal momentum matrix (6 x nv row-major), at q.
+  void task_kinematics(const S* q, S* X_WF, S* J, S* com, S* Ag) const {
+    lola::frame_poses(q, X_WF);
+    lola::frame_jacobians(q, J);
+    lola::center_of_mass(q, com);
+    lola::centroidal_momentum_matrix(q, Ag);
+  }  /// The scene's self-collision pairs: distances, normals, witness points and Jacobians (self_distances).
+  void self_distances(const S* q, S* distance, S* normal, S* witness, S* J) const {
+    lola::self_distances(q, distance, normal, witness, J);
+  }};
 using Backend = BasicBackend<double>;
 }  // namespace lola

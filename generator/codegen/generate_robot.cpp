@@ -15,6 +15,7 @@
 #include "collision/collision_scene.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
+#include "model/actuated_coordinates.hpp"
 #include "model/topology.hpp"
 #include "mbgen/mbgen.hpp"
 
@@ -131,6 +132,9 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   add("full_velocities", [&] { return trace_full_velocities(model); });
   add("acceleration_bias", [&] { return trace_acceleration_bias(model); });
   add("inverse_dynamics", [&] { return trace_inverse_dynamics(tree); });
+  // The closed system's inverse dynamics for the description's actuated set.
+  const Actuation actuation = gen::description_actuation(description, options.notes);
+  add("actuator_forces", [&] { return trace_actuator_forces(model, actuation); });
   add("mass_matrix", [&] { return trace_mass_matrix(tree); });
   add("forward_kinematics", [&] { return trace_forward_kinematics(tree); });
   if (!frames.empty()) {
@@ -179,6 +183,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const std::vector<int> independent = Data<double>(model).independent_v;
   std::vector<std::string> independent_names;
   for (int v : independent) independent_names.push_back(gen::coordinate_name(model, v));
+  std::vector<std::string> actuated_names;
+  for (int v : actuation.actuated_v) actuated_names.push_back(gen::coordinate_name(model, v));
   std::string declarations, scalar_declarations;
   for (const TracedFunction& f : functions) declarations += emit_declaration(f, ctx);
   for (const std::string& f : selection.left_out)
@@ -203,6 +209,10 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       {"has_loops", loops ? "true" : "false"},
       {"independent_joint_names", quoted_list(independent_names)},
       {"independent_v_index", fmt::format("{}", fmt::join(independent, ", "))},
+      {"na", std::to_string(actuation.num_actuators())},
+      // C++ has no empty arrays: one placeholder entry when nothing is actuated.
+      {"actuated_joint_names", actuated_names.empty() ? std::string("\"\"") : quoted_list(actuated_names)},
+      {"actuated_v_index", actuation.actuated_v.empty() ? std::string("-1") : fmt::format("{}", fmt::join(actuation.actuated_v, ", "))},
       {"body_names", quoted_list(body_names)},
       {"frame_names", frame_names.empty() ? std::string()
                                           : templates.render("frame_names", {{"robot", ctx.robot}, {"names", quoted_list(frame_names)}})},
@@ -233,6 +243,18 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const std::vector<std::string> scalars = scalar_types(options.scalars);
   const bool has_double = std::find(scalars.begin(), scalars.end(), "double") != scalars.end();
   const Vec3<double>& g = model.gravity;
+  // The differential IK's members, when the scene generates what they call.
+  const auto member_note = [&](const char* member, const std::string& missing) {
+    return fmt::format("  // {}: left out (the scene generates no {})\n", member, missing);
+  };
+  std::vector<std::string> kinematics_missing;
+  for (const char* f : {"frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix"})
+    if (!selection.emits(f) || (frames.empty() && std::string(f).rfind("frame_", 0) == 0)) kinematics_missing.push_back(f);
+  const std::string kinematics_member = kinematics_missing.empty()
+                                            ? templates.render("backend_kinematics", {{"robot", ctx.robot}})
+                                            : member_note("task_kinematics", fmt::format("{}", fmt::join(kinematics_missing, ", ")));
+  const std::string distances_member = selection.emits("self_distances") ? templates.render("backend_distances", {{"robot", ctx.robot}})
+                                                                         : member_note("self_distances", "self_distances");
   header_fields.push_back(
       {"backend",
        !selection.backend
@@ -246,7 +268,10 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                     {"contact_radius", contacts.empty() ? std::string("(void)k, 0.0") : fmt::format("{}::contact_sphere_radius[k]", ctx.robot)},
                                     {"contact_name", contacts.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::contact_sphere_names[k]", ctx.robot)},
                                     {"contact_exponent", number(contact_exponent)},
-                                    {"subsystem_name", subsystem_name_statements(model)}})});
+                                    {"subsystem_name", subsystem_name_statements(model)},
+                                    {"frame_name", frame_names.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::frame_names[k]", ctx.robot)},
+                                    {"kinematics", kinematics_member},
+                                    {"distances", distances_member}})});
 
   std::vector<GeneratedFile> files;
   files.push_back({ctx.header, templates.render("header", header_fields)});

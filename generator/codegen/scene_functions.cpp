@@ -11,7 +11,7 @@ namespace mbgen::codegen {
 
 const std::vector<std::string>& all_functions() {
   static const std::vector<std::string> functions = {
-      "forward_dynamics", "full_accelerations", "inverse_dynamics", "mass_matrix", "forward_kinematics", "frame_poses",
+      "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "forward_kinematics", "frame_poses",
       "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
   return functions;
@@ -25,7 +25,7 @@ namespace {
 const std::map<std::string, std::vector<std::string>>& output_functions() {
   static const std::map<std::string, std::vector<std::string>> table = {
       {"forward_dynamics", {"forward_dynamics", "full_accelerations", "velocity_map", "full_velocities", "acceleration_bias"}},
-      {"inverse_dynamics", {"inverse_dynamics"}},
+      {"inverse_dynamics", {"inverse_dynamics", "actuator_forces"}},
       {"mass_matrix", {"mass_matrix"}},
       {"forward_kinematics", {"forward_kinematics", "frame_poses"}},
       {"jacobians", {"frame_poses", "frame_jacobians"}},
@@ -33,7 +33,7 @@ const std::map<std::string, std::vector<std::string>>& output_functions() {
       {"centroidal_momentum", {"centroidal_momentum_matrix"}},
       {"distances", {"self_distances"}},
       {kSimulationOutput,
-       {"full_accelerations", "velocity_map", "full_velocities", "inverse_dynamics", "mass_matrix", "center_of_mass",
+       {"full_accelerations", "velocity_map", "full_velocities", "inverse_dynamics", "actuator_forces", "mass_matrix", "center_of_mass",
         "contact_points", "contact_accelerations"}},
   };
   return table;

@@ -80,6 +80,28 @@ TracedFunction trace_full_accelerations(const Model& model) {
   return f;
 }
 
+TracedFunction trace_actuator_forces(const Model& model, const Actuation& actuation) {
+  const int na = actuation.num_actuators(), ny = num_independent(model);
+  TracedFunction f;
+  f.name = "actuator_forces";
+  f.doc = "Inverse dynamics of the closed system for its actuators: the forces of the actuated joints "
+          "(actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every "
+          "other joint passive, and the residual: the generalized forces on the independent coordinates no actuator "
+          "reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus "
+          "the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent "
+          "coordinate of its loops is solved for through them; at its dead point the result is not finite.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "vy", "independent velocities"), y_spec(model, "ydd", "independent accelerations")};
+  f.outputs = {{"tau_a", na, fmt::format("[{}] actuator forces (N m or N), actuated_joint_names order", na)},
+               y_spec(model, "residual", "generalized forces no actuator supplies (zero where the actuators reach)")};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq()), vy = inputs(1, ny), ydd = inputs(2, ny);
+  SymVec tau_a(na), residual(ny);
+  actuator_forces<Sym>(model, data, actuation, q, vy, ydd, tau_a, residual);
+  f.output_ids = {ids_of(tau_a), ids_of(residual)};
+  return f;
+}
+
 TracedFunction trace_inverse_dynamics(const Model& model) {
   TracedFunction f;
   f.name = "inverse_dynamics";

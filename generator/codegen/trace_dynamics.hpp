@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "codegen/traced_function.hpp"
+#include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/model.hpp"
 #include "mbgen/sim/contact.hpp"
 
@@ -19,6 +20,9 @@ TracedFunction trace_forward_dynamics_loops(const Model& model);
 /// else trace_forward_dynamics of the tree (inspect and mbgen_study count its operations).
 TracedFunction trace_generated_forward_dynamics(const Model& model);
 TracedFunction trace_full_accelerations(const Model& model);
+/// The closed system's inverse dynamics for the actuators (algorithm/actuator_forces.hpp): the
+/// actuated coordinates' forces and the residual on the independent ones, from (q, vy, ydd).
+TracedFunction trace_actuator_forces(const Model& model, const Actuation& actuation);
 TracedFunction trace_mass_matrix(const Model& model);
 /// All body poses, 12 numbers each: the 3x4 matrix [R_WB | p_WB], row-major.
 TracedFunction trace_forward_kinematics(const Model& model);

@@ -31,7 +31,12 @@ template <typename S> struct SubSystemWork {
         R(MatX<S>::Zero(s.rank(), s.rank())),
         rhs(MatX<S>::Zero(s.rank(), p(s) + 1)),
         rotation_c(VecX<S>::Zero(s.rank() * (s.rank() - 1) / 2 + 1)),
-        rotation_s(rotation_c) {
+        rotation_s(rotation_c),
+        actuator_B(MatX<S>::Zero(p(s), p(s))),
+        actuator_rhs(VecX<S>::Zero(p(s))),
+        actuator_f(VecX<S>::Zero(p(s))),
+        actuator_c(VecX<S>::Zero(p(s) * (p(s) - 1) / 2 + 1)),
+        actuator_s(actuator_c) {
     auto fail = [&](const std::string& what) {
       throw std::invalid_argument("sub-system of closure(s) rooted at body '" + model.body(s.root).name + "': " + what);
     };
@@ -83,6 +88,12 @@ template <typename S> struct SubSystemWork {
   MatX<S> rhs;         ///< rank x (p + 1): [Phi_y | gamma], then Phi_z^-1 [Phi_y | gamma]
   VecX<S> rotation_c;  ///< the Givens rotations of Phi_z's factorisation (cosines, sines)
   VecX<S> rotation_s;
+
+  // Actuator forces through a dependent actuator (algorithm/actuator_forces.hpp): B f = tau_y's
+  // share, B = Q R by Givens rotations.
+  MatX<S> actuator_B;  ///< p x p: d q_actuator / d y, then its R factor
+  VecX<S> actuator_rhs, actuator_f;
+  VecX<S> actuator_c, actuator_s;
 
   std::vector<int> parent_local;    ///< per body: its parent's position in bodies, or -1 (the root)
   /// Per coordinate: its column among the independent coordinates (>= 0), or -1 - its row among

@@ -40,19 +40,39 @@ template <typename S> S collision_potential(const collision::CollisionData<S>& c
   return p;
 }
 
-/// dP/dq (nv) from the distances and distance Jacobians in cd; returns the number of active pairs.
-template <typename S, typename Out>
-int collision_potential_gradient(const collision::CollisionData<S>& cd, const CollisionPotentialOptions& o, Out&& gradient) {
+namespace detail {
+/// dP/dq from pair i's distance distance_of(i) and the Jacobian's row i, i < pairs.
+template <typename S, typename DistanceOf, typename Jacobian, typename Out>
+int potential_gradient(int pairs, const DistanceOf& distance_of, const Jacobian& jacobian, const CollisionPotentialOptions& o,
+                       Out&& gradient) {
   const S da(o.activation_distance), k(o.stiffness);
   gradient.setZero();
   int active = 0;
-  for (std::size_t i = 0; i < cd.distances.size(); ++i) {
-    const S gap = da - cd.distances[i].result.distance;
+  for (int i = 0; i < pairs; ++i) {
+    const S gap = da - distance_of(i);
     if (!(gap > S(0))) continue;
-    gradient -= (k * gap) * cd.jacobian.row(static_cast<int>(i)).transpose();
+    gradient -= (k * gap) * jacobian.row(i).transpose();
     ++active;
   }
   return active;
+}
+}  // namespace detail
+
+/// dP/dq (nv) from `pairs` distances and the distance Jacobian's rows (pairs x nv, any Eigen
+/// expression: the generated self_distances' row-major array mapped); returns the number of
+/// active pairs.
+template <typename S, typename Jacobian, typename Out>
+int collision_potential_gradient(int pairs, const S* distance, const Jacobian& jacobian, const CollisionPotentialOptions& o,
+                                 Out&& gradient) {
+  return detail::potential_gradient<S>(pairs, [&](int i) { return distance[i]; }, jacobian, o, gradient);
+}
+
+/// dP/dq (nv) from the distances and distance Jacobians in cd; returns the number of active pairs.
+template <typename S, typename Out>
+int collision_potential_gradient(const collision::CollisionData<S>& cd, const CollisionPotentialOptions& o, Out&& gradient) {
+  return detail::potential_gradient<S>(
+      static_cast<int>(cd.distances.size()), [&](int i) { return cd.distances[static_cast<std::size_t>(i)].result.distance; },
+      cd.jacobian, o, gradient);
 }
 
 }  // namespace mbgen::control

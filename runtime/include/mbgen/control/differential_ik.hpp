@@ -27,25 +27,30 @@
 //     that respects them (direction kept: primary and secondary are slowed together, the
 //     null-space property holds). v = T c.
 //
-// Allocation: the constructor sizes everything from the model and the task list; step() does
+// Backends. The step reads the robot through a backend (sim/backend.hpp: task_kinematics,
+// velocity_map, self_distances, the sizes): BasicDifferentialIk<NAME::Backend> runs on the
+// generated functions, DifferentialIk<S> on the generic runtime (GenericBackend<S> over a Model,
+// its frames the tasks', its pairs the collision model's). The same step, the same arithmetic
+// after the backend's outputs: generated equals generic to round-off (test_differential_ik).
+// A task's frame must be one of the backend's frames (a generated backend's: the scene's
+// `jacobians:`).
+//
+// Allocation: the constructor sizes everything from the backend and the task list; step() does
 // not allocate and does not throw (tests/test_differential_ik.cpp checks it under a malloc guard).
 // Errors in the configuration throw std::invalid_argument at construction, naming what is wrong.
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Cholesky>
 
-#include "mbgen/algorithm/centroidal.hpp"
-#include "mbgen/algorithm/subsystem_maps.hpp"
 #include "mbgen/control/collision_potential.hpp"
 #include "mbgen/control/damped_least_squares.hpp"
 #include "mbgen/control/task.hpp"
-#include "mbgen/data.hpp"
+#include "mbgen/sim/backend.hpp"
 
 namespace mbgen::control {
 
@@ -58,7 +63,7 @@ struct DifferentialIkOptions {
   DampingOptions damping{0.0, 1e-2, 1e-2, 1e-10};  ///< primary stack (singular region 0.01, max damping 0.01)
   std::vector<double> weights;          ///< per solved coordinate, > 0; empty: all 1
   std::vector<double> velocity_limits;  ///< per solved coordinate, > 0 (inf allowed); empty: none
-  /// Self-collision avoidance: needs the collision model given to the constructor.
+  /// Self-collision avoidance: needs the backend's pairs (a collision model for DifferentialIk).
   bool collision_avoidance = false;
   CollisionPotentialOptions collision;
   AngularMomentumOptions angular_momentum;
@@ -73,24 +78,36 @@ struct StepReport {
   double limit_scale = 1;   ///< factor applied to respect the velocity limits (1: none active)
 };
 
-template <typename S> class DifferentialIk {
+template <typename Backend> class BasicDifferentialIk {
  public:
-  /// tasks: the primary stack (at least one). collision_model: the scene's compounds and kept
-  /// pairs (needed iff options.collision_avoidance). The model and the collision model are kept
-  /// by reference: they must outlive the controller.
-  DifferentialIk(const Model& model, const std::vector<TaskSpec>& tasks, const DifferentialIkOptions& options = {},
-                 const collision::CollisionModel* collision_model = nullptr)
-      : model_(model), options_(options), collision_model_(collision_model), data_(model),
-        loops_(!model.subsystems.empty()), nc_(static_cast<int>(data_.independent_v.size())),
-        m_(count_rows(tasks)), dls_(m_, nc_, options.damping) {
-    if (!model.closures.empty() && model.subsystems.empty())
-      throw std::invalid_argument("DifferentialIk: model '" + model.name +
-                                  "' has closures but no sub-systems: load it through the topology stage (gen::load_description)");
+  using S = typename Backend::Scalar;
+
+  /// tasks: the primary stack (at least one), each frame one of the backend's frames. The
+  /// backend is kept (a generated one is an empty struct; GenericBackend holds its Model by
+  /// reference).
+  BasicDifferentialIk(Backend backend, const std::vector<TaskSpec>& tasks, const DifferentialIkOptions& options = {})
+      : backend_(std::move(backend)), options_(options), nv_(backend_.nv()), loops_(backend_.ny() < backend_.nv()),
+        nc_(backend_.ny()), nf_(backend_.num_frames()), m_(count_rows(tasks)), dls_(m_, nc_, options.damping) {
     int row = 0;
     for (const TaskSpec& spec : tasks) {
       for (const Task& t : tasks_)
         if (t.spec.name == spec.name) throw std::invalid_argument("DifferentialIk: two tasks named '" + spec.name + "'");
-      tasks_.push_back(resolve_task(model, spec, row));
+      Task task;
+      task.spec = spec;
+      task.row = row;
+      check_gain(spec);
+      if (spec.kind != TaskKind::CenterOfMass) {
+        task.slot = -1;
+        std::string frames;
+        for (int k = 0; k < nf_; ++k) {
+          if (spec.frame == backend_.frame_name(k)) task.slot = k;
+          frames += (k ? ", " : "") + std::string(backend_.frame_name(k));
+        }
+        if (task.slot < 0)
+          throw std::invalid_argument("task '" + spec.name + "': frame '" + spec.frame + "' is not among the backend's frames (" + frames +
+                                      "): generate it (the scene's `jacobians:`)");
+      }
+      tasks_.push_back(task);
       row += task_rows(spec.kind);
     }
     targets_.assign(tasks_.size(), TaskTarget<S>{});
@@ -114,28 +131,28 @@ template <typename S> class DifferentialIk {
         limits_[i] = S(l);
       }
     }
+    pairs_ = 0;
     if (options.collision_avoidance) {
-      if (!collision_model) throw std::invalid_argument("DifferentialIk: collision_avoidance needs a collision model (the scene's compounds and pairs)");
       check(options.collision);
-      for (const collision::CollisionPair& p : collision_model->pairs)
-        for (int c : {p.first, p.second})
-          if (c < 0 || c >= static_cast<int>(collision_model->compounds.size()) ||
-              collision_model->compounds[static_cast<std::size_t>(c)].shapes.empty() ||
-              !(collision_model->compounds[static_cast<std::size_t>(c)].body.value() < model.num_bodies()))
-            throw std::invalid_argument("DifferentialIk: collision pair refers to compound " + std::to_string(c) +
-                                        ", which is missing, empty or on a body the model does not have");
-      collision_data_.emplace(model, *collision_model);
+      pairs_ = backend_.num_distance_pairs();
     }
     if (options.angular_momentum.enabled && (!(options.angular_momentum.weight > 0) || !std::isfinite(options.angular_momentum.weight)))
       throw std::invalid_argument("DifferentialIk: angular_momentum.weight must be finite and > 0, got " +
                                   std::to_string(options.angular_momentum.weight));
-    J_ = MatX<S>::Zero(m_, model.nv());
+    mass_ = S(backend_.total_mass());
+    X_WF_.assign(static_cast<std::size_t>(12 * std::max(nf_, 1)), S(0));
+    frame_J_.assign(static_cast<std::size_t>(6 * nv_ * std::max(nf_, 1)), S(0));
+    Ag_ = RowMatX::Zero(6, nv_);
+    distance_.assign(static_cast<std::size_t>(std::max(pairs_, 1)), S(0));
+    normal_.assign(static_cast<std::size_t>(3 * std::max(pairs_, 1)), S(0));
+    witness_.assign(static_cast<std::size_t>(6 * std::max(pairs_, 1)), S(0));
+    distance_J_ = RowMatX::Zero(std::max(pairs_, 1), nv_);
+    J_ = MatX<S>::Zero(m_, nv_);
     xd_ = VecX<S>::Zero(m_);
     A_ = MatX<S>::Zero(m_, nc_);
-    T_ = MatX<S>::Zero(model.nv(), loops_ ? nc_ : 0);
-    Jcom_ = Mat3X<S>::Zero(3, model.nv());
-    frame_J_ = Mat6X<S>::Zero(6, model.nv());
-    gradient_ = VecX<S>::Zero(model.nv());
+    T_ = RowMatX::Zero(nv_, loops_ ? nc_ : 0);
+    Jcom_ = Mat3X<S>::Zero(3, nv_);
+    gradient_ = VecX<S>::Zero(nv_);
     gradient_c_ = VecX<S>::Zero(nc_);
     Bk_ = Mat3X<S>::Zero(3, nc_);
     C_ = Eigen::Matrix<S, Eigen::Dynamic, 3>::Zero(nc_, 3);
@@ -148,7 +165,6 @@ template <typename S> class DifferentialIk {
     collision_ = VecX<S>::Zero(nc_);
   }
 
-  const Model& model() const { return model_; }
   int num_tasks() const { return static_cast<int>(tasks_.size()); }
   int primary_rows() const { return m_; }
   /// Number of solved coordinates: nv for a tree, ny (independent velocities) with loops.
@@ -169,12 +185,11 @@ template <typename S> class DifferentialIk {
   /// happened; on !ok, v is zero.
   StepReport step(const ConstVecRef<S>& q, Eigen::Ref<VecX<S>> v) {
     StepReport report;
-    centroidal_momentum_matrix<S>(model_, data_, q);  // joint Jacobians, frame poses, CoM, A_G
-    Jcom_ = data_.Ag.template topRows<3>() / data_.mass;
-    for (std::size_t i = 0; i < tasks_.size(); ++i)
-      task_rows_and_velocity<S>(model_, data_, tasks_[i], targets_[i], Jcom_, J_, xd_, frame_J_);
+    backend_.task_kinematics(q.data(), X_WF_.data(), frame_J_.data(), com_.data(), Ag_.data());
+    Jcom_ = Ag_.template topRows<3>() / mass_;
+    for (std::size_t i = 0; i < tasks_.size(); ++i) write_task_rows(tasks_[i], targets_[i]);
     if (loops_) {
-      mbgen::velocity_map<S>(model_, data_, q, T_);
+      backend_.velocity_map(q.data(), T_.data());
       A_.noalias() = J_ * T_;
     } else {
       A_ = J_;
@@ -191,10 +206,9 @@ template <typename S> class DifferentialIk {
 
     // Collision: u_c = -D T^T dP/dq, projected into the null space.
     uc_.setZero();
-    if (collision_data_) {
-      collision::compute_distances<S>(model_, data_, *collision_model_, *collision_data_);
-      collision::compute_distance_jacobians<S>(model_, data_, *collision_model_, *collision_data_);
-      report.active_pairs = collision_potential_gradient<S>(*collision_data_, options_.collision, gradient_);
+    if (pairs_ > 0) {
+      backend_.self_distances(q.data(), distance_.data(), normal_.data(), witness_.data(), distance_J_.data());
+      report.active_pairs = collision_potential_gradient<S>(pairs_, distance_.data(), distance_J_, options_.collision, gradient_);
       to_coordinates(gradient_, gradient_c_);
       uc_ = -scale_.cwiseProduct(gradient_c_);
       dls_.project_to_null(uc_);
@@ -202,9 +216,9 @@ template <typename S> class DifferentialIk {
     u2_ = uc_;
     if (options_.angular_momentum.enabled) {
       if (loops_) {
-        Bk_.noalias() = data_.Ag.template bottomRows<3>() * T_;
+        Bk_.noalias() = Ag_.template bottomRows<3>() * T_;
       } else {
-        Bk_ = data_.Ag.template bottomRows<3>();
+        Bk_ = Ag_.template bottomRows<3>();
       }
       Bk_.array().rowwise() *= scale_.transpose().array();
       for (int k = 0; k < 3; ++k) {
@@ -243,25 +257,73 @@ template <typename S> class DifferentialIk {
   // Results of the last step (for logging and tests).
   const MatX<S>& primary_jacobian() const { return J_; }          ///< m x nv, world axes
   const VecX<S>& primary_velocity() const { return xd_; }         ///< m: desired task velocity incl. feedback
-  const MatX<S>& velocity_map() const { return T_; }              ///< nv x ny (loops only; empty for a tree)
+  /// nv x ny (loops only; empty for a tree).
+  const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& velocity_map() const { return T_; }
   const VecX<S>& coordinates_velocity() const { return c_; }      ///< nc: the solved velocity (after limits)
   /// nc: the secondary part D u2 of the solved velocity (before limits): in null(J T).
   const VecX<S>& secondary_velocity() const { return secondary_; }
   const VecX<S>& collision_velocity() const { return collision_; }  ///< nc: D N u_c (before limits)
   const VecX<S>& collision_gradient() const { return gradient_; }          ///< nv: dP/dq
-  const collision::CollisionData<S>* collision_data() const { return collision_data_ ? &*collision_data_ : nullptr; }
-  Data<S>& data() { return data_; }
+  /// The distances of the last step's pairs (collision avoidance on; else empty).
+  const S* distances() const { return distance_.data(); }
+  int num_pairs() const { return pairs_; }
+  const Vec3<S>& center_of_mass() const { return com_; }          ///< of the last step's q
+  /// Centroidal momentum matrix of the last step's q (6 x nv, world axes, about the CoM).
+  const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& centroidal_momentum_matrix() const { return Ag_; }
+  Backend& backend() { return backend_; }
 
  private:
+  using RowMatX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  using FrameJacobian = Eigen::Map<const Eigen::Matrix<S, 6, Eigen::Dynamic, Eigen::RowMajor>>;
+
   static int count_rows(const std::vector<TaskSpec>& tasks) {
     if (tasks.empty()) throw std::invalid_argument("DifferentialIk: needs at least one primary task");
     int m = 0;
     for (const TaskSpec& t : tasks) m += task_rows(t.kind);
     return m;
   }
+  static void check_gain(const TaskSpec& spec) {
+    if (!(spec.gain >= 0) || !std::isfinite(spec.gain))
+      throw std::invalid_argument("task '" + spec.name + "': gain must be finite and >= 0, got " + std::to_string(spec.gain));
+  }
   std::string size_message(const char* what, std::size_t got) const {
     return std::string("DifferentialIk: ") + what + " has " + std::to_string(got) + " entries, expected " + std::to_string(nc_) +
            (loops_ ? " (one per independent velocity: the model has closed loops)" : " (one per velocity coordinate, nv)");
+  }
+  /// The task's Jacobian rows into J_ and its desired velocity into xd_ (task.hpp's law).
+  void write_task_rows(const Task& task, const TaskTarget<S>& target) {
+    const S gain(task.spec.gain);
+    if (task.spec.kind == TaskKind::CenterOfMass) {
+      J_.middleRows(task.row, 3) = Jcom_;
+      xd_.template segment<3>(task.row) = target.velocity.template head<3>() + gain * (target.position - com_);
+      return;
+    }
+    const S* X = X_WF_.data() + 12 * task.slot;
+    Mat3<S> R;
+    Vec3<S> p;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) R(r, c) = X[4 * r + c];
+      p[r] = X[4 * r + 3];
+    }
+    const FrameJacobian Jf(frame_J_.data() + 6 * nv_ * task.slot, 6, nv_);
+    const Vec3<S> linear = target.velocity.template head<3>() + gain * (target.position - p);
+    const Vec3<S> angular = target.velocity.template tail<3>() + gain * orientation_error<S>(target.rotation, R);
+    switch (task.spec.kind) {
+      case TaskKind::FramePose:
+        J_.middleRows(task.row, 6) = Jf;
+        xd_.template segment<3>(task.row) = linear;
+        xd_.template segment<3>(task.row + 3) = angular;
+        break;
+      case TaskKind::FramePosition:
+        J_.middleRows(task.row, 3) = Jf.template topRows<3>();
+        xd_.template segment<3>(task.row) = linear;
+        break;
+      case TaskKind::FrameOrientation:
+        J_.middleRows(task.row, 3) = Jf.template bottomRows<3>();
+        xd_.template segment<3>(task.row) = angular;
+        break;
+      case TaskKind::CenterOfMass: break;
+    }
   }
   /// x_c = T^T x (covector: gradient in solved coordinates).
   void to_coordinates(const VecX<S>& x, VecX<S>& x_c) const {
@@ -272,23 +334,74 @@ template <typename S> class DifferentialIk {
     }
   }
 
-  const Model& model_;
-  DifferentialIkOptions options_;
-  const collision::CollisionModel* collision_model_;
-  Data<S> data_;
-  bool loops_;
-  int nc_, m_;
-  DampedLeastSquares<S> dls_;
+ protected:
+  Backend backend_;
   std::vector<Task> tasks_;
+
+ private:
+  DifferentialIkOptions options_;
+  int nv_;
+  bool loops_;
+  int nc_, nf_, m_, pairs_ = 0;
+  DampedLeastSquares<S> dls_;
   std::vector<TaskTarget<S>> targets_;
-  std::optional<collision::CollisionData<S>> collision_data_;
+  S mass_ = S(1);
   VecX<S> scale_, limits_;  ///< D = W^-1/2 (diagonal), velocity limits
-  MatX<S> J_, A_, T_;
+  std::vector<S> X_WF_, frame_J_, distance_, normal_, witness_;
+  Vec3<S> com_ = Vec3<S>::Zero();
+  RowMatX Ag_, distance_J_, T_;
+  MatX<S> J_, A_;
   Eigen::Matrix<S, Eigen::Dynamic, 3> C_;  ///< N (Bk D)^T
   VecX<S> xd_;
   Mat3X<S> Jcom_, Bk_;
-  Mat6X<S> frame_J_;
   VecX<S> gradient_, gradient_c_, column_, u1_, u2_, uc_, c_, secondary_, collision_;
+};
+
+/// The differential IK on the generic runtime: GenericBackend<S> over the model, with the tasks'
+/// frames and the collision model's pairs. The model and the collision model are kept by
+/// reference: they must outlive the controller. Tasks are resolved against the model too
+/// (Task::frame), so a caller can read the model's frames for them.
+template <typename S> class DifferentialIk : public BasicDifferentialIk<sim::GenericBackend<S>> {
+  using Base = BasicDifferentialIk<sim::GenericBackend<S>>;
+
+ public:
+  DifferentialIk(const Model& model, const std::vector<TaskSpec>& tasks, const DifferentialIkOptions& options = {},
+                 const collision::CollisionModel* collision_model = nullptr)
+      : Base(make_backend(model, tasks, options, collision_model), tasks, options) {
+    for (Task& t : this->tasks_)
+      if (t.spec.kind != TaskKind::CenterOfMass) t.frame = *model.find_frame(t.spec.frame);
+  }
+  const Model& model() const { return this->backend_.model(); }
+
+ private:
+  static sim::GenericBackend<S> make_backend(const Model& model, const std::vector<TaskSpec>& tasks, const DifferentialIkOptions& options,
+                                             const collision::CollisionModel* collision_model) {
+    if (!model.closures.empty() && model.subsystems.empty())
+      throw std::invalid_argument("DifferentialIk: model '" + model.name +
+                                  "' has closures but no sub-systems: load it through the topology stage (gen::load_description)");
+    if (tasks.empty()) throw std::invalid_argument("DifferentialIk: needs at least one primary task");
+    std::vector<std::string> frames;
+    for (const TaskSpec& spec : tasks) {
+      (void)resolve_task(model, spec, 0);  // the model's own messages: an unknown frame, a bad gain
+      if (spec.kind != TaskKind::CenterOfMass && std::find(frames.begin(), frames.end(), spec.frame) == frames.end())
+        frames.push_back(spec.frame);
+    }
+    sim::GenericBackend<S> backend(model);
+    backend.set_frames(frames);
+    if (options.collision_avoidance) {
+      if (!collision_model) throw std::invalid_argument("DifferentialIk: collision_avoidance needs a collision model (the scene's compounds and pairs)");
+      check(options.collision);
+      for (const collision::CollisionPair& p : collision_model->pairs)
+        for (int c : {p.first, p.second})
+          if (c < 0 || c >= static_cast<int>(collision_model->compounds.size()) ||
+              collision_model->compounds[static_cast<std::size_t>(c)].shapes.empty() ||
+              !(collision_model->compounds[static_cast<std::size_t>(c)].body.value() < model.num_bodies()))
+            throw std::invalid_argument("DifferentialIk: collision pair refers to compound " + std::to_string(c) +
+                                        ", which is missing, empty or on a body the model does not have");
+      backend.set_collision_model(collision_model);
+    }
+    return backend;
+  }
 };
 
 }  // namespace mbgen::control

@@ -1,6 +1,6 @@
 #pragma once
-// Primary tasks of the differential IK (differential_ik.hpp): Jacobian rows and a desired task
-// velocity  xd_des = xd_ff + gain * error(pose_ref, pose).
+// Primary tasks of the differential IK (differential_ik.hpp, which writes their rows): Jacobian
+// rows and a desired task velocity  xd_des = xd_ff + gain * error(pose_ref, pose).
 //
 // Every task is expressed in world axes (LocalWorldAligned): linear velocity of the frame origin
 // (or of the centre of mass) and angular velocity of the frame. The orientation error is
@@ -47,10 +47,12 @@ template <typename S> struct TaskTarget {
   Vec6<S> velocity = Vec6<S>::Zero();         ///< feed-forward [linear; angular] (the relevant half is used)
 };
 
-/// A TaskSpec resolved against a model: frame index and the task's first row in the stack.
+/// A TaskSpec resolved: the task's first row in the stack, its frame among the backend's
+/// (slot) and, when resolved against a model (the generic DifferentialIk), the model's frame.
 struct Task {
   TaskSpec spec;
   FrameIndex frame;
+  int slot = -1;
   int row = 0;
   int rows() const { return task_rows(spec.kind); }
 };
@@ -77,44 +79,6 @@ inline Task resolve_task(const Model& model, const TaskSpec& spec, int row) {
     task.frame = *f;
   }
   return task;
-}
-
-/// Writes the task's Jacobian rows (rows() x nv) into J and its desired velocity into xd, both
-/// starting at task.row. Needs compute_joint_jacobians (data.J, data.X_WF) and, for the centre of
-/// mass, data.com and Jcom (the linear rows of the centroidal momentum matrix over the mass).
-template <typename S, typename JOut, typename XOut>
-void task_rows_and_velocity(const Model& model, const Data<S>& data, const Task& task, const TaskTarget<S>& target,
-                            const Mat3X<S>& Jcom, JOut&& J, XOut&& xd, Mat6X<S>& frame_jacobian_buffer) {
-  const S gain(task.spec.gain);
-  switch (task.spec.kind) {
-    case TaskKind::CenterOfMass:
-      J.middleRows(task.row, 3) = Jcom;
-      xd.template segment<3>(task.row) = target.velocity.template head<3>() + gain * (target.position - data.com);
-      return;
-    case TaskKind::FramePose:
-    case TaskKind::FramePosition:
-    case TaskKind::FrameOrientation: break;
-  }
-  frame_jacobian<S>(model, data, task.frame, ReferenceFrame::LocalWorldAligned, frame_jacobian_buffer);
-  const SE3<S>& X = data.X_WF[task.frame];
-  const Vec3<S> linear = target.velocity.template head<3>() + gain * (target.position - X.translation);
-  const Vec3<S> angular = target.velocity.template tail<3>() + gain * orientation_error<S>(target.rotation, X.rotation);
-  switch (task.spec.kind) {
-    case TaskKind::FramePose:
-      J.middleRows(task.row, 6) = frame_jacobian_buffer;
-      xd.template segment<3>(task.row) = linear;
-      xd.template segment<3>(task.row + 3) = angular;
-      break;
-    case TaskKind::FramePosition:
-      J.middleRows(task.row, 3) = frame_jacobian_buffer.template topRows<3>();
-      xd.template segment<3>(task.row) = linear;
-      break;
-    case TaskKind::FrameOrientation:
-      J.middleRows(task.row, 3) = frame_jacobian_buffer.template bottomRows<3>();
-      xd.template segment<3>(task.row) = angular;
-      break;
-    case TaskKind::CenterOfMass: break;
-  }
 }
 
 }  // namespace mbgen::control

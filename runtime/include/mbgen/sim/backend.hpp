@@ -22,6 +22,11 @@
 //   void full_velocities(q, vy, v)                v = T vy
 //   void velocity_map(q, T)                       nv x ny, row-major
 //   void inverse_dynamics(q, v, qdd, tau)         the spanning tree's (no closure forces)
+//   int na(); const int* actuated_v_index()       the actuated coordinates (v indices)
+//   void actuator_forces(q, vy, ydd, tau_a, r)    the closed system's inverse dynamics for the
+//                                                 actuators (algorithm/actuator_forces.hpp): na
+//                                                 forces and the residual r (ny) on coordinates no
+//                                                 actuator reaches (the floating base)
 //   void mass_matrix(q, M)                        the tree's, nv x nv
 //   void center_of_mass(q, com)
 //   void contact_points(q, p, J)                  algorithm/contact_points.hpp: per sphere its
@@ -33,6 +38,17 @@
 //   double contact_exponent()                     the law's exponent it computes with; a backend
 //                                                 with set_contact_exponent(e) takes any
 //
+// and what the differential IK (control/differential_ik.hpp) asks of it:
+//   int num_frames(); const char* frame_name(k)   the frames it computes (generated: the scene's
+//                                                 `jacobians:`; runtime: set_frames)
+//   void task_kinematics(q, X_WF, J, com, Ag)     per frame its pose (12: [R | p] row-major) and
+//                                                 its Jacobian (6 x nv row-major, world axes at
+//                                                 the frame origin), the centre of mass, the
+//                                                 centroidal momentum matrix (6 x nv row-major)
+//   int num_distance_pairs()
+//   void self_distances(q, d, normal, witness, J) the generated self_distances' layout (runtime:
+//                                                 the pairs of set_collision_model)
+//
 // All arrays are raw pointers (the generated API's form); no call allocates after construction.
 // Backends differ only in how `accelerations` obtains qdd:
 //   GenericBackend      the O(n) recursion with sub-systems (what the generator traces): it reads
@@ -41,18 +57,22 @@
 //                       Baumgarte gains: it reads all of v, so a drifting state is pulled back;
 //   IndependentBackend  the O(n^3) reference in independent coordinates (G^T M G ydd = ...).
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/algorithm/center_of_mass.hpp"
+#include "mbgen/algorithm/centroidal.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
 #include "mbgen/algorithm/contact_dynamics.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/subsystem_maps.hpp"
+#include "mbgen/collision/compound_distance.hpp"
 
 namespace mbgen::sim {
 
@@ -85,6 +105,7 @@ template <typename S> class ModelBackend {
       if (!c.body.valid() || c.body == kWorldBody || c.body.value() >= model.num_bodies())
         throw std::invalid_argument("sim backend: contact sphere '" + c.name + "' is not on a moving body of '" + model.name + "'");
     vy_ = VecX<S>::Zero(static_cast<int>(data_.independent_v.size()));
+    actuation_ = make_actuation(model, default_actuated_v(model));
     tau_contact_ = VecX<S>::Zero(model.nv());
     for (const SubSystem& s : model.subsystems) {
       std::string name;
@@ -99,6 +120,12 @@ template <typename S> class ModelBackend {
   int ny() const { return static_cast<int>(data_.independent_v.size()); }
   bool floating_base() const { return model_.floating_base(); }
   const int* independent_v_index() const { return data_.independent_v.data(); }
+  int na() const { return actuation_.num_actuators(); }
+  const int* actuated_v_index() const { return actuation_.actuated_v.data(); }
+  /// The actuated coordinates (v indices; default: the independent ones but a floating base, as
+  /// the generator takes them when a description names none). Throws std::invalid_argument as
+  /// make_actuation does. Allocates: call it at setup.
+  void set_actuated(const std::vector<int>& actuated_v) { actuation_ = make_actuation(model_, actuated_v); }
   int num_contacts() const { return static_cast<int>(contacts_.size()); }
   double contact_radius(int k) const { return contacts_[static_cast<std::size_t>(k)].radius; }
   const char* contact_name(int k) const { return contacts_[static_cast<std::size_t>(k)].name.c_str(); }
@@ -133,6 +160,10 @@ template <typename S> class ModelBackend {
   void inverse_dynamics(const S* q, const S* v, const S* qdd, S* tau) {
     Eigen::Map<VecX<S>>(tau, nv()) = rnea<S>(model_, data_, ConstMap<S>(q, nq()), ConstMap<S>(v, nv()), ConstMap<S>(qdd, nv()));
   }
+  void actuator_forces(const S* q, const S* vy, const S* ydd, S* tau_a, S* residual) {
+    mbgen::actuator_forces<S>(model_, data_, actuation_, ConstMap<S>(q, nq()), ConstMap<S>(vy, ny()), ConstMap<S>(ydd, ny()),
+                              Eigen::Map<VecX<S>>(tau_a, na()), Eigen::Map<VecX<S>>(residual, ny()));
+  }
   void mass_matrix(const S* q, S* M) { RowMajorMap<S>(M, nv(), nv()) = crba<S>(model_, data_, ConstMap<S>(q, nq())); }
   void center_of_mass(const S* q, S* com) {
     const Vec3<S>& c = mbgen::center_of_mass<S>(model_, data_, ConstMap<S>(q, nq()));
@@ -141,6 +172,64 @@ template <typename S> class ModelBackend {
   void contact_points(const S* q, S* p, S* J) { mbgen::contact_points<S>(model_, data_, contacts_, ConstMap<S>(q, nq()), p, J); }
   double contact_exponent() const { return contact_exponent_; }
   void set_contact_exponent(double e) { contact_exponent_ = e; }
+
+  /// The frames task_kinematics computes (none by default). Throws std::invalid_argument for a
+  /// name the model does not have. Allocates: call it at setup.
+  void set_frames(const std::vector<std::string>& names) {
+    frames_.clear();
+    frame_names_ = names;
+    for (const std::string& name : names) {
+      const auto f = model_.find_frame(name);
+      if (!f) throw std::invalid_argument("backend: no frame named '" + name + "' in model '" + model_.name + "' (a URDF link or fixed joint name)");
+      frames_.push_back(*f);
+    }
+    frame_J_ = Mat6X<S>::Zero(6, model_.nv());
+  }
+  int num_frames() const { return static_cast<int>(frames_.size()); }
+  const char* frame_name(int k) const { return frame_names_[static_cast<std::size_t>(k)].c_str(); }
+  /// Frame poses and Jacobians, centre of mass and centroidal momentum matrix from one pass of the
+  /// kinematics (centroidal_momentum_matrix computes the joint Jacobians and frame placements).
+  void task_kinematics(const S* q, S* X_WF, S* J, S* com, S* Ag) {
+    const int nv = model_.nv();
+    const Mat6X<S>& A = mbgen::centroidal_momentum_matrix<S>(model_, data_, ConstMap<S>(q, nq()));
+    for (std::size_t k = 0; k < frames_.size(); ++k) {
+      const SE3<S>& X = data_.X_WF[frames_[k]];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) X_WF[12 * k + 4 * r + c] = X.rotation(r, c);
+        X_WF[12 * k + 4 * r + 3] = X.translation[r];
+      }
+      frame_jacobian<S>(model_, data_, frames_[k], ReferenceFrame::LocalWorldAligned, frame_J_);
+      RowMajorMap<S>(J + 6 * nv * k, 6, nv) = frame_J_;
+    }
+    for (int i = 0; i < 3; ++i) com[i] = data_.com[i];
+    RowMajorMap<S>(Ag, 6, nv) = A;
+  }
+  /// The self-collision pairs self_distances computes (none by default; nullptr: none again). The
+  /// collision model is kept by reference: it must outlive the backend. Allocates: call it at setup.
+  void set_collision_model(const collision::CollisionModel* cm) {
+    collision_model_ = cm;
+    collision_data_.reset();
+    if (cm) collision_data_.emplace(model_, *cm);
+  }
+  int num_distance_pairs() const { return collision_model_ ? static_cast<int>(collision_model_->pairs.size()) : 0; }
+  /// Per pair: distance, unit normal from the first body to the second (3), witness points (6:
+  /// first, second) and the distance's Jacobian row (nv), as the generated self_distances.
+  void self_distances(const S* q, S* distance, S* normal, S* witness, S* J) {
+    if (!collision_model_) return;
+    compute_joint_jacobians<S>(model_, data_, ConstMap<S>(q, nq()));
+    collision::compute_distances<S>(model_, data_, *collision_model_, *collision_data_);
+    collision::compute_distance_jacobians<S>(model_, data_, *collision_model_, *collision_data_);
+    for (std::size_t k = 0; k < collision_data_->distances.size(); ++k) {
+      const auto& r = collision_data_->distances[k].result;
+      distance[k] = r.distance;
+      for (int i = 0; i < 3; ++i) {
+        normal[3 * k + i] = r.normal[i];
+        witness[6 * k + i] = r.point1[i];
+        witness[6 * k + 3 + i] = r.point2[i];
+      }
+    }
+    RowMajorMap<S>(J, num_distance_pairs(), model_.nv()) = collision_data_->jacobian;
+  }
 
  protected:
   /// tau plus the ground's joint forces (contact_joint_forces, the generic twin of the generated
@@ -160,7 +249,13 @@ template <typename S> class ModelBackend {
   Data<S> data_;
   std::vector<ContactSphere> contacts_;
   std::vector<std::string> subsystem_names_;
+  std::vector<FrameIndex> frames_;
+  std::vector<std::string> frame_names_;
+  Mat6X<S> frame_J_ = Mat6X<S>::Zero(6, 0);
+  const collision::CollisionModel* collision_model_ = nullptr;
+  std::optional<collision::CollisionData<S>> collision_data_;
   ClosureOptions closure_;
+  Actuation actuation_;
   VecX<S> vy_, tau_contact_;
   double gravity_[3] = {0, 0, 0};
   double contact_exponent_ = ContactParameters{}.exponent;
