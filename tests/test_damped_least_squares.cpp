@@ -15,6 +15,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
+#include <Eigen/SVD>
 #include <cstdio>
 #include <random>
 
@@ -205,18 +206,54 @@ TEST(DampedLeastSquares, NegativeOptionsAreRefusedWithAMessage) {
 }
 
 TEST(DampedLeastSquares, DoesNotAllocate) {
-  const MatX<double> A = random_matrix(18, 40, 7);
+  // Both paths: a regular matrix (the fast path) and one with a singular value in the region.
+  MatX<double> regular = random_matrix(18, 40, 7), near_singular = regular;
+  near_singular.row(17) = near_singular.row(16) + 1e-4 * near_singular.row(3);
   const VecX<double> e = random_matrix(18, 1, 8);
-  DampedLeastSquares<double> dls(18, 40, DampingOptions{0.0, 0.05, 0.02, 1e-10});
-  VecX<double> x(40), v = random_matrix(40, 1, 9);
-  {
-    MallocGuard guard;
-    dls.compute(A);
-    dls.solve(e, x);
-    dls.project_to_null(v);
-    EXPECT_EQ(guard.count(), 0u);
+  for (const MatX<double>* A : {&regular, &near_singular}) {
+    DampedLeastSquares<double> dls(18, 40, DampingOptions{0.01, 0.05, 0.02, 1e-10});
+    VecX<double> x(40), v = random_matrix(40, 1, 9);
+    {
+      MallocGuard guard;
+      dls.compute(*A);
+      dls.solve(e, x);
+      dls.project_to_null(v);
+      EXPECT_EQ(guard.count(), 0u);
+    }
+    EXPECT_EQ(dls.exact_singular_values(), A == &near_singular);
+    EXPECT_LT((*A * v).norm(), 1e-13);
   }
-  EXPECT_LT((A * v).norm(), 1e-13);
+}
+
+// The fast path (no singular value in the singular region: the eigen-decomposition skipped) gives
+// the same solution as the full scheme, with and without constant damping: against the closed
+// forms, and against the eigen path on the same matrix (forced by a wider singular region whose
+// schedule still leaves these singular values undamped: max_damping 0).
+TEST(DampedLeastSquares, FastPathEqualsTheFullScheme) {
+  const MatX<double> A = random_matrix(18, 30, 11);
+  const VecX<double> e = random_matrix(18, 1, 12);
+  const Eigen::JacobiSVD<MatX<double>> svd(A);
+  const double sigma_min = svd.singularValues()[17];
+  for (double lambda : {0.0, 0.05}) {
+    DampedLeastSquares<double> fast(18, 30, DampingOptions{lambda, 1e-2, 1e-2, 1e-10});
+    DampedLeastSquares<double> full(18, 30, DampingOptions{lambda, 10.0, 0.0, 1e-10});
+    ASSERT_TRUE(fast.compute(A));
+    ASSERT_TRUE(full.compute(A));
+    EXPECT_FALSE(fast.exact_singular_values());
+    EXPECT_TRUE(full.exact_singular_values());
+    EXPECT_GE(fast.smallest_singular_value(), 1e-2);
+    EXPECT_LE(fast.smallest_singular_value(), sigma_min * (1 + 1e-12));
+    EXPECT_NEAR(full.smallest_singular_value(), sigma_min, 1e-13);
+    VecX<double> x_fast(30), x_full(30);
+    fast.solve(e, x_fast);
+    full.solve(e, x_full);
+    const MatX<double> normal = A * A.transpose() + lambda * lambda * MatX<double>::Identity(18, 18);
+    const VecX<double> reference = A.transpose() * normal.ldlt().solve(e);
+    EXPECT_LT((x_fast - reference).norm(), 1e-12 * reference.norm()) << "lambda " << lambda;
+    EXPECT_LT((x_fast - x_full).norm(), 1e-12 * reference.norm()) << "lambda " << lambda;
+    std::printf("  18 x 30, lambda_0 %.2f: sigma_min %.3f, fast path's bound %.3f, |x_fast - x_full| / |x| %.1e\n", lambda,
+                sigma_min, fast.smallest_singular_value(), (x_fast - x_full).norm() / reference.norm());
+  }
 }
 
 }  // namespace

@@ -44,6 +44,16 @@
 // u kappa^2 instead of the SVD's u kappa (the Gram matrix squares the condition number); the
 // default options of the differential IK never run undamped.
 //
+// Fast path. When A has full row rank (m <= n) and no singular value can lie in the singular
+// region, every lambda_i is lambda_0 and the eigen-decomposition is not needed: with R square
+// (m x m) and sigma_min(R) >= 1 / |R^-1|_F (the Frobenius norm bounds the spectral one), a bound
+// >= epsilon proves it. Then x = Q R^-T P^T e (lambda_0 = 0: the exact pseudo-inverse, by one
+// triangular solve, backward stable) or x = Q (R R^T + lambda_0^2 I)^-1 R P^T e (Cholesky, the
+// Gram matrix's accuracy as above). R^-1 costs m^3 / 3, against the eigen-solver's ~10 m^3: the
+// differential IK's regular steps take this path (18 x 30: docs/control.md has the figures).
+// smallest_singular_value() is then the bound 1 / |R^-1|_F (<= sigma_min), and singular_values()
+// is not computed (exact_singular_values() says which).
+//
 // The null-space projector comes from the QR alone: N = I - Q_r Q_r^T, with Q_r the first r
 // columns of Q, applied as v <- H_0 .. H_{r-1} diag(0_r, I) H_{r-1} .. H_0 v with the Householder
 // reflectors (no explicit Q). Q is orthogonal to round-off, so N is symmetric and idempotent to
@@ -67,6 +77,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -90,7 +101,8 @@ template <typename S> class DampedLeastSquares {
         r_(MatX<S>::Zero(k_, std::max(m, 0))), gram_(MatX<S>::Zero(k_, k_)), tri_(std::max(k_, 1)), eig_(std::max(k_, 1)),
         w_(MatX<S>::Zero(k_, k_)), rtw_(MatX<S>::Zero(std::max(m, 0), k_)), sigma_(VecX<S>::Zero(k_)),
         sorted_sigma_(VecX<S>::Zero(k_)), permuted_e_(VecX<S>::Zero(std::max(m, 0))), coeffs_(VecX<S>::Zero(k_)),
-        coeffs2_(VecX<S>::Zero(k_)), diag_(VecX<S>::Zero(k_)), subdiag_(VecX<S>::Zero(std::max(k_ - 1, 0))) {
+        coeffs2_(VecX<S>::Zero(k_)), diag_(VecX<S>::Zero(k_)), subdiag_(VecX<S>::Zero(std::max(k_ - 1, 0))),
+        r_inverse_(MatX<S>::Zero(m <= n ? std::max(m, 0) : 0, m <= n ? std::max(m, 0) : 0)), llt_(m <= n ? std::max(m, 0) : 0) {
     if (m < 0 || n < 0) throw std::invalid_argument("DampedLeastSquares: negative size " + std::to_string(m) + " x " + std::to_string(n));
     if (!(options.constant >= 0) || !(options.singular_region >= 0) || !(options.max_damping >= 0) || !(options.rank_tolerance >= 0))
       throw std::invalid_argument("DampedLeastSquares: damping options must be non-negative (constant, singular_region, max_damping, rank_tolerance)");
@@ -103,6 +115,8 @@ template <typename S> class DampedLeastSquares {
   /// Decomposes A (rows() x cols()). Returns false (and keeps nothing usable) if A is not finite.
   bool compute(const MatX<S>& A) {
     valid_ = false;
+    fast_ = false;
+    exact_sigma_ = false;
     rank_ = 0;
     if (!A.allFinite()) return false;
     if (k_ == 0) {
@@ -125,6 +139,11 @@ template <typename S> class DampedLeastSquares {
       rank_ = j + 1;
     }
 
+    if (fast_path()) {
+      valid_ = true;
+      return true;
+    }
+    exact_sigma_ = true;
     gram_.noalias() = r_ * r_.transpose();
     tri_.compute(gram_);
     // Through plain vectors: computeFromTridiagonal takes the sub-diagonal as a VectorX, and
@@ -155,9 +174,12 @@ template <typename S> class DampedLeastSquares {
   /// Number of QR pivots |R_jj| above rank_tolerance * |R_00| (the dimension of the range of A^T
   /// the projector removes).
   int rank() const { return rank_; }
-  /// The min(m, n) singular values of A, decreasing.
+  /// The min(m, n) singular values of A, decreasing (when exact_singular_values()).
   const VecX<S>& singular_values() const { return sorted_sigma_; }
-  S smallest_singular_value() const { return k_ ? sorted_sigma_[k_ - 1] : S(0); }
+  /// Whether the last compute() found the singular values (false on the fast path).
+  bool exact_singular_values() const { return exact_sigma_; }
+  /// sigma_min of A; on the fast path the lower bound 1 / |R^-1|_F (>= singular_region).
+  S smallest_singular_value() const { return fast_ ? sigma_bound_ : (k_ ? sorted_sigma_[k_ - 1] : S(0)); }
 
   /// lambda_i^2 for singular value sigma.
   S damping_squared(const S& sigma) const {
@@ -178,6 +200,18 @@ template <typename S> class DampedLeastSquares {
     }
     const auto& perm = qr_.colsPermutation().indices();
     for (int j = 0; j < m_; ++j) permuted_e_[j] = e[perm[j]];  // P^T e
+    if (fast_) {
+      if (options_.constant == 0) {  // x = Q R^-T P^T e
+        x.head(k_) = permuted_e_;
+        r_.topLeftCorner(k_, k_).template triangularView<Eigen::Upper>().transpose().solveInPlace(x.head(k_));
+      } else {  // x = Q (R R^T + lambda_0^2 I)^-1 R P^T e
+        coeffs_.noalias() = r_ * permuted_e_;
+        x.head(k_) = llt_.solve(coeffs_);
+      }
+      x.tail(n_ - k_).setZero();
+      for (int j = k_ - 1; j >= 0; --j) reflect_qr(j, x);
+      return;
+    }
     coeffs_.noalias() = r_ * permuted_e_;                       // R P^T e
     coeffs2_.noalias() = w_.transpose() * coeffs_;
     for (int i = 0; i < k_; ++i) {
@@ -199,6 +233,24 @@ template <typename S> class DampedLeastSquares {
   }
 
  private:
+  /// The fast path's test and factor (see the file comment): true when it applies.
+  bool fast_path() {
+    if (!(m_ <= n_ && rank_ == m_)) return false;
+    r_inverse_.setIdentity();
+    r_.topLeftCorner(k_, k_).template triangularView<Eigen::Upper>().solveInPlace(r_inverse_);
+    const S bound = S(1) / r_inverse_.norm();
+    if (!(bound >= S(options_.singular_region))) return false;
+    if (options_.constant != 0) {
+      gram_.noalias() = r_ * r_.transpose();
+      gram_.diagonal().array() += S(options_.constant) * S(options_.constant);
+      llt_.compute(gram_);
+      if (llt_.info() != Eigen::Success) return false;
+    }
+    sigma_bound_ = bound;
+    fast_ = true;
+    return true;
+  }
+
   /// y <- (I - tau h h^T) y with h = [0 (offset), 1, essential].
   template <typename Ess, typename Vec> static void reflect(const Ess& essential, const S& tau, int offset, Vec&& y) {
     const int len = static_cast<int>(essential.size());
@@ -225,8 +277,11 @@ template <typename S> class DampedLeastSquares {
   Eigen::SelfAdjointEigenSolver<MatX<S>> eig_;
   MatX<S> w_, rtw_;
   VecX<S> sigma_, sorted_sigma_, permuted_e_, coeffs_, coeffs2_, diag_, subdiag_;
+  MatX<S> r_inverse_;  ///< fast path: R^-1 (m x m), for the bound on sigma_min
+  Eigen::LLT<MatX<S>> llt_;
+  S sigma_bound_ = S(0);
   int rank_ = 0;
-  bool valid_ = false;
+  bool valid_ = false, fast_ = false, exact_sigma_ = false;
 };
 
 }  // namespace mbgen::control
