@@ -154,12 +154,18 @@ TEST(DifferentialIk, WeightsGiveTheWeightedMinimumNormSolution) {
   EXPECT_LT(error, 1e-9);
 }
 
-TEST(DifferentialIk, SecondaryVelocityMinimisesItsCostInTheNullSpace) {
+// Per-axis weights w: the cost's momentum term becomes rho/2 |diag(sqrt(w)) (Bk (v1 + x) - k_des)|^2;
+// (1, 1, 1) is the plain objective, (0, 0, 1) the vertical component alone.
+class SecondaryVelocity : public ::testing::TestWithParam<Vec3<double>> {};
+
+TEST_P(SecondaryVelocity, MinimisesItsCostInTheNullSpace) {
   const Model model = talos();
   const VecX<double> q = talos_pose(model, 6);
+  const Vec3<double> w = GetParam();
   DifferentialIkOptions options;
   options.angular_momentum.enabled = true;
   options.angular_momentum.weight = 50.0;
+  options.angular_momentum.axis_weights = {w.x(), w.y(), w.z()};
   DifferentialIk<double> ik(model, talos_tasks(), options);
   set_targets_near(ik, model, q, 7);
   ik.angular_momentum_target = Vec3<double>(4.0, -3.0, 2.0);
@@ -168,24 +174,28 @@ TEST(DifferentialIk, SecondaryVelocityMinimisesItsCostInTheNullSpace) {
   const MatX<double>& J = ik.primary_jacobian();
   const VecX<double> secondary = ik.secondary_velocity();
   const VecX<double> primary = v - secondary;
-  // KKT of  min 1/2 |x|^2 + rho/2 |Bk (v1 + x) - k_des|^2  s.t.  J x = 0  (W = I, no collision term).
+  // KKT of  min 1/2 |x|^2 + rho/2 |W^1/2 (Bk (v1 + x) - k_des)|^2  s.t.  J x = 0  (W = I, no collision term).
   Data<double> data(model);
   const Mat3X<double> Bk = centroidal_momentum_matrix<double>(model, data, q).bottomRows<3>();
   const int n = model.nv(), m = static_cast<int>(J.rows());
   MatX<double> kkt = MatX<double>::Zero(n + m, n + m);
-  kkt.topLeftCorner(n, n) = MatX<double>::Identity(n, n) + 50.0 * Bk.transpose() * Bk;
+  kkt.topLeftCorner(n, n) = MatX<double>::Identity(n, n) + 50.0 * Bk.transpose() * w.asDiagonal() * Bk;
   kkt.topRightCorner(n, m) = J.transpose();
   kkt.bottomLeftCorner(m, n) = J;
   VecX<double> rhs = VecX<double>::Zero(n + m);
-  rhs.head(n) = 50.0 * Bk.transpose() * (ik.angular_momentum_target - Bk * primary);
+  rhs.head(n) = 50.0 * Bk.transpose() * w.asDiagonal() * (ik.angular_momentum_target - Bk * primary);
   const VecX<double> reference = kkt.fullPivLu().solve(rhs).head(n);
   const double error = (secondary - reference).norm() / reference.norm();
   const double leak = (J * secondary).cwiseAbs().maxCoeff() / (J.norm() * secondary.norm());
-  std::printf("  secondary vs KKT: relative difference %.2e; |J v_secondary| / (|J| |v_secondary|) = %.2e\n", error, leak);
+  std::printf("  axis weights (%g, %g, %g): secondary vs KKT: relative difference %.2e; |J v_secondary| / (|J| |v_secondary|) = %.2e\n",
+              w.x(), w.y(), w.z(), error, leak);
   EXPECT_LT(error, 1e-8);
   EXPECT_LT(leak, 1e-12);
   EXPECT_LT((J * v - ik.primary_velocity()).cwiseAbs().maxCoeff(), 1e-10);
 }
+
+INSTANTIATE_TEST_SUITE_P(DifferentialIk, SecondaryVelocity,
+                         ::testing::Values(Vec3<double>(1, 1, 1), Vec3<double>(0, 0, 1), Vec3<double>(0.5, 2, 0)));
 
 TEST(DifferentialIk, AngularMomentumFollowsItsTargetWhileTheFeetStayPut) {
   const Model model = talos();
@@ -485,6 +495,13 @@ TEST(DifferentialIk, ConstructionErrorsSayWhatIsWrong) {
               DifferentialIk<double>(model, {{"a", TaskKind::CenterOfMass, "", 1.0}, {"a", TaskKind::CenterOfMass, "", 1.0}});
             }),
             "DifferentialIk: two tasks named 'a'");
+  {
+    DifferentialIkOptions momentum;
+    momentum.angular_momentum.enabled = true;
+    momentum.angular_momentum.axis_weights = {1.0, -1.0, 1.0};
+    EXPECT_EQ(error_of([&] { DifferentialIk<double>(model, {{"tip", TaskKind::FramePose, "link3", 1.0}}, momentum); }),
+              "DifferentialIk: angular_momentum.axis_weights[1] = -1.000000 must be finite and >= 0");
+  }
   const gen::Description d = lola();
   options.collision_avoidance = false;
   options.weights.assign(static_cast<std::size_t>(d.model.nv()), 1.0);

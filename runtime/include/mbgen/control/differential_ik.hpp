@@ -19,7 +19,8 @@
 //     angular rows of the centroidal momentum matrix (times T). The minimiser in closed form:
 //        C = N (Bk D)^T (n x 3),  s = (I / rho + C^T C)^-1 (r - C^T u_c),  r = k_des - Bk D u1,
 //        u2 = N u_c + C s,
-//     a 3 x 3 solve whatever the robot. Every term of u2 lies in range(N), so A u2 = 0 to
+//     a 3 x 3 solve whatever the robot. Per-axis weights w (AngularMomentumOptions::axis_weights)
+//     scale Bk's rows and k_des by sqrt(w): rho w_i weighs axis i, and w_i = 0 drops it. Every term of u2 lies in range(N), so A u2 = 0 to
 //     round-off: the secondary objectives never disturb the primary tasks. The first term keeps
 //     the collision motion as it is when the momentum objective is off; rho weighs momentum
 //     tracking against it (1/rho acts as the damping of the momentum objective).
@@ -39,6 +40,7 @@
 // not allocate and does not throw (tests/test_differential_ik.cpp checks it under a malloc guard).
 // Errors in the configuration throw std::invalid_argument at construction, naming what is wrong.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -57,6 +59,9 @@ namespace mbgen::control {
 struct AngularMomentumOptions {
   bool enabled = false;
   double weight = 1e4;  ///< rho: weight of |k - k_des|^2 against |u2 - u_c|^2 (kg m^2/s)^-2
+  /// Per world axis (x, y, z), >= 0, multiplying rho: (0, 0, 1) tracks the vertical component
+  /// alone (a walker's arms compensating its legs' yaw momentum), leaving pitch and roll free.
+  std::array<double, 3> axis_weights{1.0, 1.0, 1.0};
 };
 
 struct DifferentialIkOptions {
@@ -139,6 +144,13 @@ template <typename Backend> class BasicDifferentialIk {
     if (options.angular_momentum.enabled && (!(options.angular_momentum.weight > 0) || !std::isfinite(options.angular_momentum.weight)))
       throw std::invalid_argument("DifferentialIk: angular_momentum.weight must be finite and > 0, got " +
                                   std::to_string(options.angular_momentum.weight));
+    for (int i = 0; i < 3; ++i) {
+      const double w = options.angular_momentum.axis_weights[static_cast<std::size_t>(i)];
+      if (!(w >= 0) || !std::isfinite(w))
+        throw std::invalid_argument("DifferentialIk: angular_momentum.axis_weights[" + std::to_string(i) + "] = " + std::to_string(w) +
+                                    " must be finite and >= 0");
+      axis_scale_[i] = std::sqrt(S(w));
+    }
     mass_ = S(backend_.total_mass());
     X_WF_.assign(static_cast<std::size_t>(12 * std::max(nf_, 1)), S(0));
     frame_J_.assign(static_cast<std::size_t>(6 * nv_ * std::max(nf_, 1)), S(0));
@@ -221,12 +233,13 @@ template <typename Backend> class BasicDifferentialIk {
         Bk_ = Ag_.template bottomRows<3>();
       }
       Bk_.array().rowwise() *= scale_.transpose().array();
+      Bk_.array().colwise() *= axis_scale_.array();  // per-axis weights: rows scaled by their square roots
       for (int k = 0; k < 3; ++k) {
         column_ = Bk_.row(k).transpose();
         dls_.project_to_null(column_);
         C_.col(k) = column_;
       }
-      const Vec3<S> r = angular_momentum_target - Bk_ * u1_;
+      const Vec3<S> r = axis_scale_.cwiseProduct(angular_momentum_target) - Bk_ * u1_;
       Mat3<S> M;
       M.noalias() = C_.transpose() * C_;
       M.diagonal().array() += S(1) / S(options_.angular_momentum.weight);
@@ -346,6 +359,7 @@ template <typename Backend> class BasicDifferentialIk {
   DampedLeastSquares<S> dls_;
   std::vector<TaskTarget<S>> targets_;
   S mass_ = S(1);
+  Vec3<S> axis_scale_ = Vec3<S>::Ones();
   VecX<S> scale_, limits_;  ///< D = W^-1/2 (diagonal), velocity limits
   std::vector<S> X_WF_, frame_J_, distance_, normal_, witness_;
   Vec3<S> com_ = Vec3<S>::Zero();

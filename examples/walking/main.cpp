@@ -1,0 +1,334 @@
+// mbgen_walk: the thesis' controller experiment on the generated code (docs/control.md, "Walking").
+//
+// A walking pattern (walking_pattern.hpp: LIPM centre of mass from footsteps, swing-foot
+// trajectories) tracked at 1 kHz by the differential IK running on the generated functions
+// (BasicDifferentialIk<robot::Backend>: feet, CoM, torso orientation; the loops re-closed by the
+// generated Newton after each step), in four configurations: plain, + self-collision avoidance,
+// + angular-momentum tracking (target zero), + both; two walks: straight, and narrow steps while
+// turning (the swing leg brushing past the stance leg). From each run and the generated
+// closed-system inverse dynamics (actuator_forces: the residual on the floating base is the
+// wrench the ground must supply) it reports per time step the smallest self-distance per pair
+// group, the vertical angular momentum about the CoM and the ground's yaw torque about the
+// vertical through the ZMP (the stance foot's centre in single support), writes
+// <out>/walk_<variant>_<config>.csv, the charts (scripts/plot_walking.gp), and prints the peaks.
+//
+//   mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check]
+//
+// --check verifies what the method guarantees, exit 1 if not: every step's velocity achieves the
+// primary task velocity whatever the secondary objectives add (|J v - xd| <= 1e-12 |J| |v|: the
+// null-space property); the task error along the whole walk stays within 1 mm of the plain
+// run's (the secondary motion changes it only through the 1 kHz integration of a different joint
+// motion); the loops close at every step; and the ground wrench from actuator_forces equals the
+// rate of change of the centroidal momentum minus gravity at the same (q, v, a) (the generated
+// centroidal momentum matrix, differentiated along v), to 1e-6 relative.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include MBGEN_WALK_HEADER
+#include "examples/walking/walking_pattern.hpp"
+#include "mbgen/algorithm/configuration.hpp"
+#include "mbgen/control/differential_ik.hpp"
+#include "model/load_description.hpp"
+
+namespace robot = MBGEN_WALK_NS;
+using namespace mbgen;
+
+namespace {
+
+constexpr double kDt = 1e-3;
+constexpr double kBound = 0.0;  ///< m: the distance no pair may go below (contact)
+constexpr double kCrouch = 0.04;  ///< m the CoM goes down before walking
+
+struct Config {
+  const char* name;
+  bool avoidance, momentum;
+};
+constexpr Config kConfigs[] = {{"plain", false, false}, {"avoidance", true, false}, {"momentum", false, true}, {"both", true, true}};
+
+struct Variant {
+  const char* name;
+  walking::PatternOptions options;
+};
+
+/// The pair groups reported: between the two legs, and an arm against anything else.
+enum Group { kLegs = 0, kArms = 1, kGroups = 2 };
+int group_of(const char* a, const char* b) {
+  const auto arm = [](const std::string& s) { return s.find("arm") != std::string::npos; };
+  const auto side = [](const std::string& s) { return s.size() > 2 && s[s.size() - 2] == '_' ? s.back() : ' '; };
+  if (arm(a) || arm(b)) return kArms;
+  if (side(a) != ' ' && side(b) != ' ' && side(a) != side(b)) return kLegs;
+  return -1;
+}
+
+struct Row {
+  double t, d[kGroups], k_z, yaw_torque, task_error, wrench_mismatch, primary_residual;
+  VecX<double> q, v, vy;
+};
+
+/// Rotation about z by yaw.
+Mat3<double> yaw_rotation(double yaw) { return Eigen::AngleAxisd(yaw, Vec3<double>::UnitZ()).toRotationMatrix(); }
+
+struct RunResult {
+  std::vector<Row> rows;
+  double peak_d[kGroups] = {1e9, 1e9}, peak_k = 0, peak_yaw = 0, peak_task = 0, peak_mismatch = 0, peak_primary = 0;
+  int closest[kGroups] = {-1, -1};  ///< the pair at each group's smallest distance
+  double closest_time[kGroups] = {0, 0};
+};
+
+RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::WalkingPattern& pattern, const Config& config) {
+  const Model& model = d.model;
+  control::DifferentialIkOptions options;
+  options.collision_avoidance = config.avoidance;
+  options.collision = {0.05, 100.0};
+  options.angular_momentum.enabled = config.momentum;
+  options.angular_momentum.weight = 1e4;
+  options.angular_momentum.axis_weights = {0.0, 0.0, 1.0};  // the vertical component: the arms against the legs' yaw
+  const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
+                                                {"right_foot", control::TaskKind::FramePose, "foot_r", 20.0},
+                                                {"com", control::TaskKind::CenterOfMass, "", 20.0},
+                                                {"torso", control::TaskKind::FrameOrientation, "torso", 20.0}};
+  robot::Backend backend;
+  control::BasicDifferentialIk<robot::Backend> ik(backend, tasks, options);
+  const int nq = robot::nq, nv = robot::nv, ny = robot::ny, nf = robot::num_frames, np = robot::num_distance_pairs;
+  std::vector<double> X(12 * nf), J(6 * nv * nf), com(3), Ag(6 * nv);
+  backend.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
+  int slot[3] = {-1, -1, -1};
+  for (int k = 0; k < nf; ++k)
+    for (int f = 0; f < 3; ++f)
+      if (std::string(robot::frame_names[k]) == tasks[static_cast<std::size_t>(f == 2 ? 3 : f)].frame) slot[f] = k;
+  const auto rotation = [&](int k) {
+    Mat3<double> R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = X[static_cast<std::size_t>(12 * k + 4 * r + c)];
+    return R;
+  };
+  const auto position = [&](int k) {
+    return Vec3<double>(X[static_cast<std::size_t>(12 * k + 3)], X[static_cast<std::size_t>(12 * k + 7)], X[static_cast<std::size_t>(12 * k + 11)]);
+  };
+  const Mat3<double> R_foot0[2] = {rotation(slot[0]), rotation(slot[1])}, R_torso0 = rotation(slot[2]);
+  const Vec3<double> com0(com[0], com[1], com[2]);
+
+  RunResult result;
+  VecX<double> q = q0, v(nv), next(nq);
+  std::vector<double> distance(static_cast<std::size_t>(std::max(np, 1))), normal(3 * distance.size()), witness(6 * distance.size()),
+      distance_J(distance.size() * static_cast<std::size_t>(nv));
+  for (int k = 0; k < pattern.samples(); ++k) {
+    const walking::PatternSample& s = pattern.sample(k);
+    for (int f = 0; f < 2; ++f) {
+      control::TaskTarget<double>& t = ik.target(f);
+      t.position = s.foot[f];  // the pattern starts from the feet at q0
+      t.rotation = yaw_rotation(s.foot_yaw[f]) * R_foot0[f];
+      t.velocity << s.foot_velocity[f], 0, 0, s.foot_yaw_rate[f];
+    }
+    control::TaskTarget<double>& c = ik.target(2);
+    // The CoM goes down by kCrouch over the first half second (knees bent further: the trailing
+    // leg then keeps its knee off the linkage's dead point at the stride's end), then stays.
+    const double ramp = std::min(1.0, s.t / 0.5);
+    c.position = Vec3<double>(s.com.x(), s.com.y(), com0.z() - kCrouch * ramp * ramp * (3 - 2 * ramp));
+    c.velocity.head<3>() = s.com_velocity;
+    c.velocity[2] = s.t < 0.5 ? -kCrouch * 6 * ramp * (1 - ramp) / 0.5 : 0.0;
+    control::TaskTarget<double>& torso = ik.target(3);
+    const double yaw = 0.5 * (s.foot_yaw[0] + s.foot_yaw[1]), yaw_rate = 0.5 * (s.foot_yaw_rate[0] + s.foot_yaw_rate[1]);
+    torso.rotation = yaw_rotation(yaw) * R_torso0;
+    torso.velocity << 0, 0, 0, 0, 0, yaw_rate;
+    const control::StepReport report = ik.step(q, v);
+    if (!report.ok) throw std::runtime_error(fmt::format("{}: the IK failed at t = {:.3f} s", config.name, s.t));
+    Row row;
+    row.t = s.t;
+    row.yaw_torque = row.wrench_mismatch = 0;  // set after the run (central differences)
+    // The null-space guarantee: the commanded velocity achieves the primary task velocity
+    // whatever the secondary objectives add (|J v - xd| against |J| |v|).
+    row.primary_residual = (ik.primary_jacobian() * v - ik.primary_velocity()).cwiseAbs().maxCoeff() /
+                           std::max(1.0, ik.primary_jacobian().norm() * v.norm());
+    row.q = q;
+    row.v = v;
+    row.vy.resize(ny);
+    robot::independent_velocities(v.data(), row.vy.data());
+    // Task error: the largest position (m) or orientation (rad) error of the tasks at q.
+    row.task_error = 0;
+    backend.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
+    for (int f = 0; f < 2; ++f) {
+      row.task_error = std::max(row.task_error, (ik.target(f).position - position(slot[f])).norm());
+      row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(f).rotation, rotation(slot[f])).norm());
+    }
+    row.task_error = std::max(row.task_error, (c.position - Vec3<double>(com[0], com[1], com[2])).norm());
+    row.task_error = std::max(row.task_error, control::orientation_error<double>(torso.rotation, rotation(slot[2])).norm());
+    // Self-distances per group (the generated function, whatever the configuration).
+    backend.self_distances(q.data(), distance.data(), normal.data(), witness.data(), distance_J.data());
+    for (int g = 0; g < kGroups; ++g) row.d[g] = 1e9;
+    for (int p = 0; p < np; ++p) {
+      const int g = group_of(robot::distance_pair_names[p][0], robot::distance_pair_names[p][1]);
+      if (g < 0) continue;
+      row.d[g] = std::min(row.d[g], distance[static_cast<std::size_t>(p)]);
+      if (row.d[g] < result.peak_d[g]) result.peak_d[g] = row.d[g], result.closest[g] = p, result.closest_time[g] = s.t;
+    }
+    // Vertical angular momentum about the CoM: the bottom row of A_G v.
+    row.k_z = 0;
+    for (int i = 0; i < nv; ++i) row.k_z += Ag[static_cast<std::size_t>(5 * nv + i)] * v[i];
+    result.rows.push_back(row);
+    integrate<double>(model, q, v * kDt, next);
+    q = next;
+    int failing = -1;
+    const int status = backend.closure_positions(q.data(), &failing);
+    if (status != 0)
+      throw std::runtime_error(fmt::format("{}: the loops did not close at t = {:.3f} s ({}, status {})", config.name, s.t,
+                                           failing >= 0 ? backend.subsystem_name(failing) : "?", status));
+  }
+  // Ground wrench from the generated inverse dynamics: accelerations of the independent
+  // coordinates by central differences, actuator_forces' residual on the base = the wrench the
+  // ground applies, [f_B; n_B] in base axes at the base origin. The independent check: the rate
+  // of change of the centroidal momentum at the same (q, v, a), dh/dt = A_G a + (dA_G/dq v) v
+  // (the last term by central differences along v), must equal that wrench moved to the CoM plus
+  // gravity.
+  const int n = static_cast<int>(result.rows.size());
+  std::vector<double> tau_a(static_cast<std::size_t>(std::max(robot::na, 1))), residual(static_cast<std::size_t>(ny)),
+      T(static_cast<std::size_t>(nv * ny)), bias(static_cast<std::size_t>(nv)), Ag_plus(Ag.size()), Ag_minus(Ag.size());
+  VecX<double> ydd(ny), a(nv), q_plus(nq), q_minus(nq);
+  const double mass = backend.total_mass(), eps = 1e-6;
+  for (int k = 1; k + 1 < n; ++k) {
+    Row& row = result.rows[static_cast<std::size_t>(k)];
+    const Row &before = result.rows[static_cast<std::size_t>(k - 1)], &after = result.rows[static_cast<std::size_t>(k + 1)];
+    ydd = (after.vy - before.vy) / (2 * kDt);
+    backend.actuator_forces(row.q.data(), row.vy.data(), ydd.data(), tau_a.data(), residual.data());
+    const Eigen::Quaterniond base(row.q[6], row.q[3], row.q[4], row.q[5]);
+    const Mat3<double> R = base.toRotationMatrix();
+    const Vec3<double> f = R * Vec3<double>(residual[0], residual[1], residual[2]);
+    const Vec3<double> n_origin = R * Vec3<double>(residual[3], residual[4], residual[5]);
+    const Vec3<double> origin = row.q.head<3>();
+    const Vec3<double> n_zmp = n_origin + (origin - pattern.sample(k).zmp).cross(f);
+    row.yaw_torque = n_zmp.z();
+    robot::velocity_map(row.q.data(), T.data());
+    robot::acceleration_bias(row.q.data(), row.vy.data(), bias.data());
+    a = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(T.data(), nv, ny) * ydd +
+        Eigen::Map<const VecX<double>>(bias.data(), nv);
+    integrate<double>(model, row.q, row.v * eps, q_plus);
+    integrate<double>(model, row.q, row.v * -eps, q_minus);
+    robot::centroidal_momentum_matrix(q_plus.data(), Ag_plus.data());
+    robot::centroidal_momentum_matrix(q_minus.data(), Ag_minus.data());
+    robot::centroidal_momentum_matrix(row.q.data(), Ag.data());
+    robot::center_of_mass(row.q.data(), com.data());
+    using RowMajor = Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>>;
+    const Vec6<double> h_dot = RowMajor(Ag.data(), 6, nv) * a +
+                               (RowMajor(Ag_plus.data(), 6, nv) - RowMajor(Ag_minus.data(), 6, nv)) * row.v / (2 * eps);
+    const Vec3<double> c(com[0], com[1], com[2]);
+    Vec6<double> wrench;
+    wrench << f + mass * Vec3<double>(0, 0, -9.81), n_origin + (origin - c).cross(f);
+    row.wrench_mismatch = (wrench - h_dot).norm() / std::max(1.0, h_dot.norm());
+  }
+  for (const Row& row : result.rows) {
+    for (int g = 0; g < kGroups; ++g) result.peak_d[g] = std::min(result.peak_d[g], row.d[g]);
+    result.peak_k = std::max(result.peak_k, std::abs(row.k_z));
+    result.peak_yaw = std::max(result.peak_yaw, std::abs(row.yaw_torque));
+    result.peak_task = std::max(result.peak_task, row.task_error);
+    result.peak_mismatch = std::max(result.peak_mismatch, row.wrench_mismatch);
+    result.peak_primary = std::max(result.peak_primary, row.primary_residual);
+  }
+  return result;
+}
+
+void write_csv(const std::string& path, const RunResult& r) {
+  std::ofstream out(path);
+  out << "t,d_legs,d_arms,k_z,yaw_torque,task_error,wrench_mismatch,primary_residual\n";
+  for (const Row& row : r.rows)
+    out << fmt::format("{:.4f},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.3g},{:.3g}\n", row.t, row.d[kLegs], row.d[kArms], row.k_z, row.yaw_torque,
+                       row.task_error, row.wrench_mismatch, row.primary_residual);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out = ".";
+  bool plot = true, check = false;
+  int steps = 6;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out" && i + 1 < argc) {
+      out = argv[++i];
+    } else if (a == "--steps" && i + 1 < argc) {
+      steps = std::atoi(argv[++i]);
+    } else if (a == "--no-plot") {
+      plot = false;
+    } else if (a == "--check") {
+      check = true;
+    } else {
+      std::fprintf(stderr, "usage: mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check]\n");
+      return 2;
+    }
+  }
+  std::filesystem::create_directories(out);
+  gen::LoadOptions load;
+  load.base = gen::BaseType::Floating;
+  load.extras_file = MBGEN_WALK_EXTRAS;
+  const gen::Description d = gen::load_description(MBGEN_WALK_DESCRIPTION, load);
+  // Bent knees (the straight legs of the assembled pose are singular for the feet tasks).
+  VecX<double> q0 = d.assembly.q;
+  const double knee_travel = -0.02;  // m of the knee nuts' travel: knees at 0.46 rad
+  for (const char* name : {"knee_act_l", "knee_act_r"}) q0[d.model.joint(*d.model.find_joint(name)).idx_q] = knee_travel;
+  if (robot::Backend{}.closure_positions(q0.data()) != 0) {
+    std::fprintf(stderr, "mbgen_walk: the loops do not close at the bent-knee pose\n");
+    return 1;
+  }
+  std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
+  robot::Backend{}.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
+  const auto frame_position = [&](const char* name) {
+    for (int k = 0; k < robot::num_frames; ++k)
+      if (std::string(robot::frame_names[k]) == name) return Vec3<double>(X[12 * k + 3], X[12 * k + 7], X[12 * k + 11]);
+    throw std::runtime_error(std::string("no frame ") + name);
+  };
+  fmt::print("start: knees {:.3f} rad, feet {:.3f} m apart, CoM {:.3f} m above them\n", q0[d.model.joint(*d.model.find_joint("knee_l")).idx_q], (frame_position("foot_l") - frame_position("foot_r")).norm(),
+             com[2] - 0.5 * (frame_position("foot_l").z() + frame_position("foot_r").z()));
+  walking::PatternOptions straight;
+  straight.steps = steps;
+  walking::PatternOptions narrow = straight;
+  narrow.width_scale = 0.8;
+  narrow.turn_per_step = 0.15;
+  const Variant variants[] = {{"straight", straight}, {"narrow_turn", narrow}};
+
+  bool ok = true;
+  std::string table = "| walk | configuration | min distance legs [mm] | min distance arm-body [mm] | peak vertical angular momentum [kg m^2/s] | peak yaw torque [N m] | peak task error [m, rad] |\n|---|---|---|---|---|---|---|\n";
+  for (const Variant& variant : variants) {
+    const walking::WalkingPattern pattern(frame_position("foot_l"), frame_position("foot_r"), Vec3<double>(com[0], com[1], com[2]),
+                                          variant.options, kDt);
+    std::vector<double> plain_error;
+    for (const Config& config : kConfigs) {
+      const RunResult r = run(d, q0, pattern, config);
+      write_csv(fmt::format("{}/walk_{}_{}.csv", out, variant.name, config.name), r);
+      table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.3f} | {:.2f} | {:.1e} |\n", variant.name, config.name, 1e3 * r.peak_d[kLegs],
+                           1e3 * r.peak_d[kArms], r.peak_k, r.peak_yaw, r.peak_task);
+      if (std::string(config.name) == "plain") {
+        for (const Row& row : r.rows) plain_error.push_back(row.task_error);
+      }
+      double task_change = 0;
+      for (std::size_t k = 0; k < r.rows.size() && k < plain_error.size(); ++k)
+        task_change = std::max(task_change, std::abs(r.rows[k].task_error - plain_error[k]));
+      for (int g = 0; g < kGroups; ++g)
+        if (r.closest[g] >= 0)
+          fmt::print("  closest {}: {} - {} at t = {:.3f} s\n", g == kLegs ? "legs" : "arm-body", robot::distance_pair_names[r.closest[g]][0],
+                     robot::distance_pair_names[r.closest[g]][1], r.closest_time[g]);
+      fmt::print("{:12} {:10} min distance legs {:6.1f} mm, arms {:6.1f} mm; peak |k_z| {:.3f} kg m^2/s; peak |yaw torque| {:6.2f} N m; "
+                 "task error {:.1e} (change vs plain {:.1e}); |J v - xd| {:.1e}; ground wrench vs CoM {:.1e}\n",
+                 variant.name, config.name, 1e3 * r.peak_d[kLegs], 1e3 * r.peak_d[kArms], r.peak_k, r.peak_yaw, r.peak_task, task_change,
+                 r.peak_primary, r.peak_mismatch);
+      if (check) {
+        if (r.peak_primary > 1e-12) ok = false, fmt::print("  check failed: |J v - xd| / |J||v| = {:.1e} > 1e-12\n", r.peak_primary);
+        if (task_change > 1e-3) ok = false, fmt::print("  check failed: the task error changed by {:.1e} m > 1 mm\n", task_change);
+        if (r.peak_mismatch > 1e-6) ok = false, fmt::print("  check failed: ground wrench vs CoM acceleration {:.1e} > 1e-6\n", r.peak_mismatch);
+      }
+    }
+    if (plot) {
+      const std::string command = fmt::format("gnuplot -e \"dir='{}'; walk='{}'; bound={}\" {}/scripts/plot_walking.gp 2>&1", out, variant.name,
+                                              kBound, MBGEN_SOURCE_DIR);
+      if (std::system(command.c_str()) != 0) fmt::print("gnuplot failed: the CSV files are in {}\n", out);
+    }
+  }
+  std::ofstream(out + "/walk_peaks.md") << table;
+  fmt::print("\n{}", table);
+  return ok ? 0 : 1;
+}

@@ -1,0 +1,213 @@
+#pragma once
+// A simple walking pattern for the controller experiment (docs/control.md, "Walking"): footsteps,
+// the ZMP reference they imply, a centre-of-mass trajectory consistent with the linear inverted
+// pendulum (LIPM), and swing-foot trajectories.
+//
+// The CoM. The LIPM at height z_c is  c'' = w^2 (c - p),  w = sqrt(g / z_c), p the ZMP. For a
+// ZMP reference p(t) known over the whole walk, its one bounded solution is the two-sided
+// exponential smoothing of p:
+//   c(t) = (w / 2) integral exp(-w |t - s|) p(s) ds
+// (it satisfies the equation, and any other solution adds exp(+w t) or exp(-w (t - T)) terms that
+// diverge at one end). On a grid of step dt this is a forward and a backward first-order
+// recursion, each the exact convolution of the piecewise-linear p with exp(-w t): O(n), no preview
+// gain to tune. p stays at the stance foot's centre in single support and moves linearly to the
+// next foot in double support; the walk starts and ends standing with p between the feet.
+//
+// The swing foot. From its last footstep to its next during single support: horizontal position
+// and yaw by a quintic (zero velocity and acceleration at both ends), height by the bump
+// 64 u^3 (1 - u)^3 of `step_height`: the foot leaves and lands with zero velocity and
+// acceleration (a jump in the swing leg's acceleration is a spike in the ground's yaw torque).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "mbgen/spatial/types.hpp"
+
+namespace mbgen::walking {
+
+/// Where a foot stands: its frame's origin (world) and yaw about the vertical.
+struct Footstep {
+  Vec3<double> position = Vec3<double>::Zero();
+  double yaw = 0.0;
+  int foot = 0;  ///< 0 left, 1 right
+};
+
+struct PatternOptions {
+  int steps = 6;                 ///< steps taken (alternating, the first with `first_foot`)
+  double step_length = 0.25;     ///< m, forward per step (a stride is two steps)
+  double step_time = 0.4;        ///< s per step: double support then single support
+  double double_support = 0.08;  ///< s of each step in double support
+  double step_height = 0.05;     ///< m, swing foot clearance
+  double width_scale = 1.0;      ///< the feet's lateral distance, relative to the standing pose's
+  double turn_per_step = 0.0;    ///< rad of yaw per step (a turn to the left when positive)
+  double com_height = 0.0;       ///< m above the feet for the LIPM; 0: the standing pose's
+  double start_time = 0.5;       ///< s standing before the first step
+  double end_time = 0.8;         ///< s standing after the last
+  int first_foot = 1;            ///< the first swing foot (1: the right, the ZMP going left first)
+};
+
+/// Reference of every task at one instant.
+struct PatternSample {
+  double t = 0;
+  Vec3<double> com, com_velocity, zmp;
+  Vec3<double> foot[2], foot_velocity[2];
+  double foot_yaw[2] = {0, 0}, foot_yaw_rate[2] = {0, 0};
+  int stance = -1;  ///< the stance foot in single support, -1 in double support
+};
+
+namespace detail {
+/// Quintic blend s(u) with s, s', s'' = 0, 0, 0 at u = 0 and 1, 0, 0 at u = 1; and ds/du.
+inline double quintic(double u) { return u * u * u * (10 + u * (-15 + 6 * u)); }
+inline double quintic_rate(double u) { return 30 * u * u * (1 - u) * (1 - u); }
+}  // namespace detail
+
+class WalkingPattern {
+ public:
+  /// left, right: the feet's frames at the standing pose (world), com: the CoM there.
+  WalkingPattern(const Vec3<double>& left, const Vec3<double>& right, const Vec3<double>& com, const PatternOptions& o, double dt)
+      : options_(o), dt_(dt) {
+    if (!(dt > 0) || !(o.step_time > o.double_support) || !(o.double_support >= 0) || o.steps < 1)
+      throw std::invalid_argument("WalkingPattern: needs dt > 0, step_time > double_support >= 0 and at least one step");
+    const double z_c = o.com_height > 0 ? o.com_height : com.z() - 0.5 * (left.z() + right.z());
+    omega_ = std::sqrt(9.81 / z_c);
+    // Footsteps: the standing feet, then each step moves the swing foot one step_length forward
+    // (along the current heading) and to its side of the path at the scaled half-width.
+    const Vec3<double> mid = 0.5 * (left + right);
+    const double half_width = 0.5 * (left - right).norm() * o.width_scale;
+    steps_.push_back({left, 0.0, 0});
+    steps_.push_back({right, 0.0, 1});
+    Vec3<double> path = mid;
+    double heading = 0.0;
+    int swing = o.first_foot;
+    for (int k = 0; k < o.steps; ++k) {
+      heading += o.turn_per_step;
+      const bool last = k == o.steps - 1;
+      path += Vec3<double>(std::cos(heading), std::sin(heading), 0) * (last ? 0.5 : 1.0) * o.step_length;
+      const Vec3<double> side(-std::sin(heading), std::cos(heading), 0);
+      Footstep f{path + (swing == 0 ? 1.0 : -1.0) * half_width * side, heading, swing};
+      f.position.z() = (swing == 0 ? left : right).z();
+      steps_.push_back(f);
+      swing = 1 - swing;
+    }
+    // The last step closes the feet (half a step): one more with the other foot beside it.
+    const Vec3<double> side(-std::sin(heading), std::cos(heading), 0);
+    Footstep f{path + (swing == 0 ? 1.0 : -1.0) * half_width * side, heading, swing};
+    f.position.z() = (swing == 0 ? left : right).z();
+    steps_.push_back(f);
+    duration_ = o.start_time + (o.steps + 1) * o.step_time + o.end_time;
+    build(com);
+  }
+
+  double duration() const { return duration_; }
+  double dt() const { return dt_; }
+  int samples() const { return static_cast<int>(samples_.size()); }
+  const PatternSample& sample(int k) const { return samples_[static_cast<std::size_t>(k)]; }
+  const std::vector<Footstep>& footsteps() const { return steps_; }
+  double omega() const { return omega_; }
+
+ private:
+  /// Every sample: each foot at its current footstep or swinging to its next, the ZMP, then the CoM.
+  void build(const Vec3<double>& com0) {
+    const PatternOptions& o = options_;
+    const int n = static_cast<int>(std::floor(duration_ / dt_)) + 1;
+    samples_.resize(static_cast<std::size_t>(n));
+    // Feet: the index of each foot's current footstep advances at each of its steps.
+    std::vector<double> zmp_x(static_cast<std::size_t>(n)), zmp_y(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) {
+      PatternSample& s = samples_[static_cast<std::size_t>(k)];
+      s.t = k * dt_;
+      int current[2] = {0, 1};  // footstep index per foot
+      int step = -1;            // the step in progress
+      double phase = 0;         // time into it
+      const double walking = s.t - o.start_time;
+      const int steps_total = static_cast<int>(steps_.size()) - 2;
+      for (int j = 0; j < steps_total; ++j) {
+        const double begin = j * o.step_time;
+        if (walking >= begin + o.step_time) {
+          current[steps_[static_cast<std::size_t>(j + 2)].foot] = j + 2;
+        } else if (walking >= begin) {
+          step = j;
+          phase = walking - begin;
+          break;
+        }
+      }
+      s.stance = -1;
+      for (int foot = 0; foot < 2; ++foot) {
+        const Footstep& at = steps_[static_cast<std::size_t>(current[foot])];
+        s.foot[foot] = at.position;
+        s.foot_velocity[foot].setZero();
+        s.foot_yaw[foot] = at.yaw;
+        s.foot_yaw_rate[foot] = 0;
+      }
+      Vec3<double> zmp = 0.5 * (s.foot[0] + s.foot[1]);
+      if (step >= 0) {
+        const Footstep& next = steps_[static_cast<std::size_t>(step + 2)];
+        const int swing = next.foot, stance = 1 - swing;
+        const Vec3<double>& from = steps_[static_cast<std::size_t>(current[swing])].position;
+        const Vec3<double> stance_at = s.foot[stance];
+        if (phase < o.double_support) {
+          // ZMP from where it was (between the feet for the first step, else the last stance
+          // foot, which is the current swing foot) to the new stance foot.
+          const Vec3<double> start = step == 0 ? Vec3<double>(0.5 * (s.foot[0] + s.foot[1])) : from;
+          zmp = start + (stance_at - start) * (phase / o.double_support);
+        } else {
+          s.stance = stance;
+          zmp = stance_at;
+          const double T = o.step_time - o.double_support, u = (phase - o.double_support) / T;
+          const double b = detail::quintic(u), db = detail::quintic_rate(u) / T;
+          const double yaw0 = s.foot_yaw[swing];
+          s.foot[swing] = from + (next.position - from) * b;
+          s.foot_velocity[swing] = (next.position - from) * db;
+          // 64 u^3 (1 - u)^3: 1 at mid-swing, zero velocity and acceleration at lift-off and touch-down.
+          const double w = u * (1 - u);
+          s.foot[swing].z() += o.step_height * 64 * w * w * w;
+          s.foot_velocity[swing].z() += o.step_height * 192 * w * w * (1 - 2 * u) / T;
+          s.foot_yaw[swing] = yaw0 + (next.yaw - yaw0) * b;
+          s.foot_yaw_rate[swing] = (next.yaw - yaw0) * db;
+        }
+      } else if (walking >= 0) {
+        zmp = 0.5 * (s.foot[0] + s.foot[1]);  // the walk is over: back between the feet
+      }
+      s.zmp = zmp;
+      zmp_x[static_cast<std::size_t>(k)] = zmp.x();
+      zmp_y[static_cast<std::size_t>(k)] = zmp.y();
+    }
+    const std::vector<double> cx = bounded_lipm(zmp_x), cy = bounded_lipm(zmp_y);
+    for (int k = 0; k < n; ++k) {
+      PatternSample& s = samples_[static_cast<std::size_t>(k)];
+      s.com = Vec3<double>(cx[static_cast<std::size_t>(k)], cy[static_cast<std::size_t>(k)], com0.z());
+      const int a = std::max(0, k - 1), b = std::min(n - 1, k + 1);
+      s.com_velocity = Vec3<double>((cx[static_cast<std::size_t>(b)] - cx[static_cast<std::size_t>(a)]) / ((b - a) * dt_),
+                                    (cy[static_cast<std::size_t>(b)] - cy[static_cast<std::size_t>(a)]) / ((b - a) * dt_), 0);
+    }
+    // The standing CoM is where the robot starts: shift the whole horizontal trajectory so that
+    // it starts there (the LIPM's CoM starts over the feet's middle, the robot's a little off).
+    const Vec3<double> offset(com0.x() - samples_[0].com.x(), com0.y() - samples_[0].com.y(), 0);
+    for (PatternSample& s : samples_) s.com += offset;
+  }
+
+  /// The bounded LIPM solution c = (w/2) exp(-w|t|) * p on the grid: forward and backward
+  /// recursions, p piecewise linear between samples and constant beyond the ends.
+  std::vector<double> bounded_lipm(const std::vector<double>& p) const {
+    const std::size_t n = p.size();
+    const double a = std::exp(-omega_ * dt_);
+    // Exact convolution of a linear segment with exp(-w t) over one step: weights on its ends.
+    const double wt = omega_ * dt_;
+    const double w_near = (1 - a) / wt - a, w_far = 1 - (1 - a) / wt;  // sum to 1 - a
+    std::vector<double> forward(n), backward(n), c(n);
+    forward[0] = p[0];  // p constant before the start: the filter at rest
+    for (std::size_t k = 1; k < n; ++k) forward[k] = a * forward[k - 1] + w_far * p[k] + w_near * p[k - 1];
+    backward[n - 1] = p[n - 1];
+    for (std::size_t k = n - 1; k-- > 0;) backward[k] = a * backward[k + 1] + w_far * p[k] + w_near * p[k + 1];
+    for (std::size_t k = 0; k < n; ++k) c[k] = 0.5 * (forward[k] + backward[k]);
+    return c;
+  }
+
+  PatternOptions options_;
+  double dt_, omega_ = 1, duration_ = 0;
+  std::vector<Footstep> steps_;
+  std::vector<PatternSample> samples_;
+};
+
+}  // namespace mbgen::walking
