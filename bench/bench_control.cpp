@@ -6,6 +6,12 @@
 //   ik_step/talos/generic one DifferentialIk::step on TALOS (talos_reduced): feet poses, CoM and
 //                        torso orientation (18 rows, 38 coordinates), angular-momentum objective
 //                        on, as tests/test_differential_ik.cpp sets it up.
+//   ik_step/lola/{generic,generated}  the full controller step on Lola with its loops (18 rows,
+//                        30 independent velocities): the same tasks, self-collision avoidance over
+//                        the scene's 178 pairs and angular-momentum tracking
+//                        (bench/lola_ik_scenario.hpp), on DifferentialIk (the generic runtime) and
+//                        on BasicDifferentialIk<lola::Backend> (the generated functions), over the
+//                        same 64 poses of the controller's own motion from the bent-knee pose.
 // Both dls implementations run on the same 64 seeded random matrices (entries uniform in
 // [-1, 1]) with the differential IK's damping (singular region 0.01, max damping 0.01);
 // registration checks that they agree on every sample. Sizes: m = 12 .. 24 task rows,
@@ -19,6 +25,8 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "lola.hpp"
+#include "lola_ik_scenario.hpp"
 #include "talos_ik_scenario.hpp"
 #include "mbgen/control/differential_ik.hpp"
 #include "model/load_description.hpp"
@@ -159,6 +167,64 @@ void ik_step(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
+/// Lola's controller on both backends, and 64 poses along the generic controller's own motion
+/// (1 ms steps from the bent-knee pose, loops re-closed): realistic states with pairs switching
+/// in and out of the activation distance.
+struct LolaIkFixture {
+  gen::Description d;
+  collision::CollisionModel cm;
+  std::unique_ptr<control::DifferentialIk<double>> generic;
+  std::unique_ptr<control::BasicDifferentialIk<lola::Backend>> generated;
+  std::vector<VecX<double>> poses;
+  VecX<double> v;
+
+  LolaIkFixture() : d(scenario::lola_description(MBGEN_SOURCE_DIR)), cm(scenario::generated_collision_scene(d)) {
+    const Model& model = d.model;
+    const control::DifferentialIkOptions options = scenario::lola_ik_options();
+    generic = std::make_unique<control::DifferentialIk<double>>(model, scenario::lola_tasks(), options, &cm);
+    generated = std::make_unique<control::BasicDifferentialIk<lola::Backend>>(lola::Backend{}, scenario::lola_tasks(), options);
+    VecX<double> q = scenario::lola_bent_pose(d), next(model.nq());
+    scenario::set_targets_near(*generic, model, q, 11);
+    for (int i = 0; i < generic->num_tasks(); ++i) generated->target(i) = generic->target(i);
+    generic->angular_momentum_target = generated->angular_momentum_target = Vec3<double>(0.5, 0.2, -0.3);
+    v = VecX<double>::Zero(model.nv());
+    Data<double> data(model);
+    for (std::size_t k = 0; k < kPoolSize; ++k) {
+      poses.push_back(q);
+      if (!generic->step(q, v).ok || !generated->step(q, v).ok) throw std::runtime_error("ik_step/lola: a step failed");
+      integrate<double>(model, q, v * 1e-3, next);
+      q = next;
+      if (closure_positions<double>(model, data, q).status != ClosureStatus::Converged)
+        throw std::runtime_error("ik_step/lola: the loops did not close along the motion");
+    }
+  }
+};
+
+template <bool Generated> void ik_step_lola(benchmark::State& state) {
+  static std::unique_ptr<LolaIkFixture> fixture;
+  if (!fixture) {
+    try {
+      fixture = std::make_unique<LolaIkFixture>();
+    } catch (const std::exception& e) {
+      state.SkipWithError(e.what());
+      return;
+    }
+  }
+  LolaIkFixture& f = *fixture;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    if constexpr (Generated) {
+      benchmark::DoNotOptimize(f.generated->step(f.poses[k], f.v));
+    } else {
+      benchmark::DoNotOptimize(f.generic->step(f.poses[k], f.v));
+    }
+    benchmark::DoNotOptimize(f.v.data());
+    benchmark::ClobberMemory();
+    k = (k + 1) & (kPoolSize - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
 /// Registered at static initialisation, as bench_ssv.cpp does, so that main (bench_dynamics.cpp)
 /// need not know this file.
 const bool registered = [] {
@@ -166,6 +232,8 @@ const bool registered = [] {
   add_dls(18, 38);
   add_dls(24, 50);
   benchmark::RegisterBenchmark("ik_step/talos/generic", ik_step);
+  benchmark::RegisterBenchmark("ik_step/lola/generic", ik_step_lola<false>);
+  benchmark::RegisterBenchmark("ik_step/lola/generated", ik_step_lola<true>);
   return true;
 }();
 
