@@ -82,13 +82,6 @@ TEST_P(ActuatorForcesOnLoops, GiveBackTheAccelerations) {
 INSTANTIATE_TEST_SUITE_P(Loops, ActuatorForcesOnLoops, ::testing::ValuesIn(loop_cases()),
                          [](const ::testing::TestParamInfo<LoopCase>& info) { return info.param.name; });
 
-gen::Description load_lola() {
-  gen::LoadOptions options;
-  options.extras_file = MBGEN_SOURCE_DIR "/robots/lola/lola.yaml";
-  options.base = gen::BaseType::Floating;
-  return gen::load_description(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", options);
-}
-
 TEST(ActuatorForces, LolaTheResidualIsTheFloatingBase) {
   const gen::Description d = load_lola();
   const Actuation act = gen::description_actuation(d);

@@ -20,13 +20,6 @@ namespace {
 using sim::Integrator;
 using sim::StepStatus;
 
-gen::Description load_lola() {
-  gen::LoadOptions options;
-  options.extras_file = MBGEN_SOURCE_DIR "/robots/lola/lola.yaml";
-  options.base = gen::BaseType::Floating;
-  return gen::load_description(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", options);
-}
-
 TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
   const gen::Description d = load_lola();
   const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);

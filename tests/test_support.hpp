@@ -187,6 +187,14 @@ bool consistent_state(const Model& model, const VecX<double>& q_closed, Rng& rng
   return false;
 }
 
+/// Lola (robots/lola) with its extras, floating.
+inline gen::Description load_lola() {
+  gen::LoadOptions options;
+  options.extras_file = MBGEN_SOURCE_DIR "/robots/lola/lola.yaml";
+  options.base = gen::BaseType::Floating;
+  return gen::load_description(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", options);
+}
+
 /// ||a - b|| / max(1, ||b||): relative for large values, absolute near zero.
 template <typename A, typename B> double relative_error(const A& a, const B& b) {
   return (a - b).norm() / std::max(1.0, static_cast<double>(b.norm()));

@@ -11,7 +11,8 @@
 // diverge at one end). On a grid of step dt this is a forward and a backward first-order
 // recursion, each the exact convolution of the piecewise-linear p with exp(-w t): O(n), no preview
 // gain to tune. p stays at the stance foot's centre in single support and moves linearly to the
-// next foot in double support; the walk starts and ends standing with p between the feet.
+// next foot in double support; the walk starts and ends standing with p between the feet (it
+// moves there from the last stance foot over one double support).
 //
 // The swing foot. From its last footstep to its next during single support: horizontal position
 // and yaw by a quintic (zero velocity and acceleration at both ends), height by the bump
@@ -122,14 +123,14 @@ class WalkingPattern {
       double phase = 0;         // time into it
       const double walking = s.t - o.start_time;
       const int steps_total = static_cast<int>(steps_.size()) - 2;
-      for (int j = 0; j < steps_total; ++j) {
-        const double begin = j * o.step_time;
-        if (walking >= begin + o.step_time) {
-          current[steps_[static_cast<std::size_t>(j + 2)].foot] = j + 2;
-        } else if (walking >= begin) {
+      if (walking >= 0) {
+        // One floor, not a comparison per step: at a step's boundary both tests could fail in
+        // floating point and leave a sample with no step.
+        const int j = static_cast<int>(std::floor(walking / o.step_time));
+        for (int i = 0; i < std::min(j, steps_total); ++i) current[steps_[static_cast<std::size_t>(i + 2)].foot] = i + 2;
+        if (j < steps_total) {
           step = j;
-          phase = walking - begin;
-          break;
+          phase = std::max(0.0, walking - j * o.step_time);
         }
       }
       s.stance = -1;
@@ -167,7 +168,11 @@ class WalkingPattern {
           s.foot_yaw_rate[swing] = (next.yaw - yaw0) * db;
         }
       } else if (walking >= 0) {
-        zmp = 0.5 * (s.foot[0] + s.foot[1]);  // the walk is over: back between the feet
+        // The walk is over: the ZMP goes from the last stance foot back between the feet, over
+        // one double support, and stays.
+        const double after = walking - steps_total * o.step_time;
+        const Vec3<double>& last_stance = s.foot[1 - steps_.back().foot];
+        zmp = last_stance + (0.5 * (s.foot[0] + s.foot[1]) - last_stance) * std::min(1.0, after / std::max(o.double_support, 1e-9));
       }
       s.zmp = zmp;
       zmp_x[static_cast<std::size_t>(k)] = zmp.x();
@@ -181,10 +186,11 @@ class WalkingPattern {
       s.com_velocity = Vec3<double>((cx[static_cast<std::size_t>(b)] - cx[static_cast<std::size_t>(a)]) / ((b - a) * dt_),
                                     (cy[static_cast<std::size_t>(b)] - cy[static_cast<std::size_t>(a)]) / ((b - a) * dt_), 0);
     }
-    // The standing CoM is where the robot starts: shift the whole horizontal trajectory so that
-    // it starts there (the LIPM's CoM starts over the feet's middle, the robot's a little off).
+    // The standing CoM is where the robot starts: shift the whole horizontal trajectory, and the
+    // ZMP with it (the pendulum stays exact), so that it starts there (the LIPM's CoM starts near
+    // the feet's middle, the robot's a little off).
     const Vec3<double> offset(com0.x() - samples_[0].com.x(), com0.y() - samples_[0].com.y(), 0);
-    for (PatternSample& s : samples_) s.com += offset;
+    for (PatternSample& s : samples_) s.com += offset, s.zmp += offset;
   }
 
   /// The bounded LIPM solution c = (w/2) exp(-w|t|) * p on the grid: forward and backward
