@@ -291,7 +291,8 @@ TEST_F(GeneratedTest, ClosedSystemDoubleEqualsGeneric) { compare_closed<double>(
 TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(gen_ns::has_loops ? 1e-2 : 1e-4, 20); }
 
 // actuator_forces: the description's actuated set, the generic function's values (1e-12 relative
-// to the forces' size), and forward dynamics with them giving back the accelerations (1e-10).
+// to the forces' size), and forward dynamics with them giving back the accelerations (normwise
+// backward error 1e-12).
 TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
   const Actuation act = gen::description_actuation(description);
   ASSERT_EQ(gen_ns::na, act.num_actuators());
@@ -323,11 +324,15 @@ TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
     for (int i = 0; i < na; ++i) tau[gen_ns::actuated_v_index[i]] += f[static_cast<std::size_t>(i)];
     for (int i = 0; i < ny; ++i) tau[gen_ns::independent_v_index[i]] += r[static_cast<std::size_t>(i)];
     gen_ns::forward_dynamics(q.data(), vy.data(), tau.data(), ydd_back.data());
-    worst_round_trip = std::max(worst_round_trip, relative_error(Eigen::Map<const VecX<double>>(ydd_back.data(), ny), ydd));
+    // Normwise backward error, as for forward dynamics above: M_y (ydd' - ydd) against the terms
+    // of the equation (wl16_like's ill-conditioned loops amplify the forward error to 2e-10).
+    const MatX<double> My = mass_matrix_loops<double>(closed, closed_data, q);
+    const VecX<double> gap = Eigen::Map<const VecX<double>>(ydd_back.data(), ny) - ydd;
+    worst_round_trip = std::max(worst_round_trip, (My * gap).norm() / (My.norm() * ydd.norm() + both.norm()));
   }
   EXPECT_GE(states, 10);
   EXPECT_LT(worst_generic, 1e-12) << "actuator_forces vs generic";
-  EXPECT_LT(worst_round_trip, 1e-10) << "forward_dynamics(actuator_forces) vs ydd";
+  EXPECT_LT(worst_round_trip, 1e-12) << "forward_dynamics(actuator_forces) vs ydd, backward error";
   RecordProperty("actuator_forces", std::to_string(worst_generic));
 }
 
