@@ -12,7 +12,10 @@
 // vertical through the ZMP (the stance foot's centre in single support), writes
 // <out>/walk_<variant>_<config>.csv, the charts (scripts/plot_walking.gp), and prints the peaks.
 //
-//   mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check]
+//   mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check] [--simulate]
+//
+// --simulate also runs the "both" configuration in closed loop on the ground (simulate()); with
+// --check, the simulated robot must stand through the crouch before the first step.
 //
 // --check verifies what the method guarantees, exit 1 if not: every step's velocity achieves the
 // primary task velocity whatever the secondary objectives add (|J v - xd| <= 1e-12 |J| |v|: the
@@ -23,6 +26,7 @@
 // centroidal momentum matrix, differentiated along v), to 1e-6 relative.
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -35,6 +39,7 @@
 #include "examples/walking/walking_pattern.hpp"
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/control/differential_ik.hpp"
+#include "mbgen/sim/simulator.hpp"
 #include "model/load_description.hpp"
 
 namespace robot = MBGEN_WALK_NS;
@@ -45,6 +50,7 @@ namespace {
 constexpr double kDt = 1e-3;
 constexpr double kBound = 0.0;  ///< m: the distance no pair may go below (contact)
 constexpr double kCrouch = 0.04;  ///< m the CoM goes down before walking
+constexpr double kBandwidth = 10.0;  ///< Hz: --simulate's joint PD (25 Hz fell sooner: 0.53 s)
 
 struct Config {
   const char* name;
@@ -82,27 +88,77 @@ struct RunResult {
   double closest_time[kGroups] = {0, 0};
 };
 
+/// The controller of the experiment: the IK on the generated backend with the pattern's targets
+/// (feet, CoM, torso yaw), for one configuration. `step(k, q, v)` is one 1 kHz tick.
+class Planner {
+ public:
+  Planner(const VecX<double>& q0, const walking::WalkingPattern& pattern, const Config& config)
+      : pattern_(pattern), ik_(robot::Backend{}, tasks(), options(config)) {
+    std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
+    robot::Backend{}.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
+    for (int k = 0; k < robot::num_frames; ++k)
+      for (int f = 0; f < 3; ++f)
+        if (std::string(robot::frame_names[k]) == tasks()[static_cast<std::size_t>(f == 2 ? 3 : f)].frame) slot[f] = k;
+    for (int f = 0; f < 3; ++f)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) R0_[f](r, c) = X[static_cast<std::size_t>(12 * slot[f] + 4 * r + c)];
+    com0_ = Vec3<double>(com[0], com[1], com[2]);
+  }
+  static std::vector<control::TaskSpec> tasks() {
+    return {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
+            {"right_foot", control::TaskKind::FramePose, "foot_r", 20.0},
+            {"com", control::TaskKind::CenterOfMass, "", 20.0},
+            {"torso", control::TaskKind::FrameOrientation, "torso", 20.0}};
+  }
+  /// Targets of pattern sample k, then one IK step at q.
+  control::StepReport step(int k, const VecX<double>& q, VecX<double>& v) {
+    const walking::PatternSample& s = pattern_.sample(k);
+    for (int f = 0; f < 2; ++f) {
+      control::TaskTarget<double>& t = ik_.target(f);
+      t.position = s.foot[f];  // the pattern starts from the feet at q0
+      t.rotation = yaw_rotation(s.foot_yaw[f]) * R0_[f];
+      t.velocity << s.foot_velocity[f], 0, 0, s.foot_yaw_rate[f];
+    }
+    control::TaskTarget<double>& c = ik_.target(2);
+    // The CoM goes down by kCrouch over the first half second (knees bent further: the trailing
+    // leg then keeps its knee off the linkage's dead point at the stride's end), then stays.
+    const double ramp = std::min(1.0, s.t / 0.5);
+    c.position = Vec3<double>(s.com.x(), s.com.y(), com0_.z() - kCrouch * ramp * ramp * (3 - 2 * ramp));
+    c.velocity.head<3>() = s.com_velocity;
+    c.velocity[2] = s.t < 0.5 ? -kCrouch * 6 * ramp * (1 - ramp) / 0.5 : 0.0;
+    control::TaskTarget<double>& torso = ik_.target(3);
+    const double yaw = 0.5 * (s.foot_yaw[0] + s.foot_yaw[1]), yaw_rate = 0.5 * (s.foot_yaw_rate[0] + s.foot_yaw_rate[1]);
+    torso.rotation = yaw_rotation(yaw) * R0_[2];
+    torso.velocity << 0, 0, 0, 0, 0, yaw_rate;
+    return ik_.step(q, v);
+  }
+  control::BasicDifferentialIk<robot::Backend>& ik() { return ik_; }
+  int slot[3] = {-1, -1, -1};  ///< the backend frames of the left foot, the right foot, the torso
+
+ private:
+  static control::DifferentialIkOptions options(const Config& config) {
+    control::DifferentialIkOptions o;
+    o.collision_avoidance = config.avoidance;
+    o.collision = {0.05, 100.0};
+    o.angular_momentum.enabled = config.momentum;
+    o.angular_momentum.weight = 1e4;
+    o.angular_momentum.axis_weights = {0.0, 0.0, 1.0};  // the vertical component: the arms against the legs' yaw
+    return o;
+  }
+  const walking::WalkingPattern& pattern_;
+  control::BasicDifferentialIk<robot::Backend> ik_;
+  Mat3<double> R0_[3];
+  Vec3<double> com0_;
+};
+
 RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::WalkingPattern& pattern, const Config& config) {
   const Model& model = d.model;
-  control::DifferentialIkOptions options;
-  options.collision_avoidance = config.avoidance;
-  options.collision = {0.05, 100.0};
-  options.angular_momentum.enabled = config.momentum;
-  options.angular_momentum.weight = 1e4;
-  options.angular_momentum.axis_weights = {0.0, 0.0, 1.0};  // the vertical component: the arms against the legs' yaw
-  const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
-                                                {"right_foot", control::TaskKind::FramePose, "foot_r", 20.0},
-                                                {"com", control::TaskKind::CenterOfMass, "", 20.0},
-                                                {"torso", control::TaskKind::FrameOrientation, "torso", 20.0}};
+  Planner planner(q0, pattern, config);
+  control::BasicDifferentialIk<robot::Backend>& ik = planner.ik();
   robot::Backend backend;
-  control::BasicDifferentialIk<robot::Backend> ik(backend, tasks, options);
   const int nq = robot::nq, nv = robot::nv, ny = robot::ny, nf = robot::num_frames, np = robot::num_distance_pairs;
   std::vector<double> X(12 * nf), J(6 * nv * nf), com(3), Ag(6 * nv);
-  backend.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
-  int slot[3] = {-1, -1, -1};
-  for (int k = 0; k < nf; ++k)
-    for (int f = 0; f < 3; ++f)
-      if (std::string(robot::frame_names[k]) == tasks[static_cast<std::size_t>(f == 2 ? 3 : f)].frame) slot[f] = k;
+  const int* slot = planner.slot;
   const auto rotation = [&](int k) {
     Mat3<double> R;
     for (int r = 0; r < 3; ++r)
@@ -112,8 +168,6 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
   const auto position = [&](int k) {
     return Vec3<double>(X[static_cast<std::size_t>(12 * k + 3)], X[static_cast<std::size_t>(12 * k + 7)], X[static_cast<std::size_t>(12 * k + 11)]);
   };
-  const Mat3<double> R_foot0[2] = {rotation(slot[0]), rotation(slot[1])}, R_torso0 = rotation(slot[2]);
-  const Vec3<double> com0(com[0], com[1], com[2]);
 
   RunResult result;
   VecX<double> q = q0, v(nv), next(nq);
@@ -121,24 +175,7 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
       distance_J(distance.size() * static_cast<std::size_t>(nv));
   for (int k = 0; k < pattern.samples(); ++k) {
     const walking::PatternSample& s = pattern.sample(k);
-    for (int f = 0; f < 2; ++f) {
-      control::TaskTarget<double>& t = ik.target(f);
-      t.position = s.foot[f];  // the pattern starts from the feet at q0
-      t.rotation = yaw_rotation(s.foot_yaw[f]) * R_foot0[f];
-      t.velocity << s.foot_velocity[f], 0, 0, s.foot_yaw_rate[f];
-    }
-    control::TaskTarget<double>& c = ik.target(2);
-    // The CoM goes down by kCrouch over the first half second (knees bent further: the trailing
-    // leg then keeps its knee off the linkage's dead point at the stride's end), then stays.
-    const double ramp = std::min(1.0, s.t / 0.5);
-    c.position = Vec3<double>(s.com.x(), s.com.y(), com0.z() - kCrouch * ramp * ramp * (3 - 2 * ramp));
-    c.velocity.head<3>() = s.com_velocity;
-    c.velocity[2] = s.t < 0.5 ? -kCrouch * 6 * ramp * (1 - ramp) / 0.5 : 0.0;
-    control::TaskTarget<double>& torso = ik.target(3);
-    const double yaw = 0.5 * (s.foot_yaw[0] + s.foot_yaw[1]), yaw_rate = 0.5 * (s.foot_yaw_rate[0] + s.foot_yaw_rate[1]);
-    torso.rotation = yaw_rotation(yaw) * R_torso0;
-    torso.velocity << 0, 0, 0, 0, 0, yaw_rate;
-    const control::StepReport report = ik.step(q, v);
+    const control::StepReport report = planner.step(k, q, v);
     if (!report.ok) throw std::runtime_error(fmt::format("{}: the IK failed at t = {:.3f} s", config.name, s.t));
     Row row;
     row.t = s.t;
@@ -158,8 +195,8 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
       row.task_error = std::max(row.task_error, (ik.target(f).position - position(slot[f])).norm());
       row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(f).rotation, rotation(slot[f])).norm());
     }
-    row.task_error = std::max(row.task_error, (c.position - Vec3<double>(com[0], com[1], com[2])).norm());
-    row.task_error = std::max(row.task_error, control::orientation_error<double>(torso.rotation, rotation(slot[2])).norm());
+    row.task_error = std::max(row.task_error, (ik.target(2).position - Vec3<double>(com[0], com[1], com[2])).norm());
+    row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(3).rotation, rotation(slot[2])).norm());
     // Self-distances per group (the generated function, whatever the configuration).
     backend.self_distances(q.data(), distance.data(), normal.data(), witness.data(), distance_J.data());
     for (int g = 0; g < kGroups; ++g) row.d[g] = 1e9;
@@ -233,6 +270,119 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
   return result;
 }
 
+/// The walk in closed loop on the ground: the simulator (generated backend, RK4 at 0.5 ms, the
+/// scene's contact) and, every millisecond, the controller, all on generated code: the IK steps
+/// its reference configuration along the pattern (as `run` does; the loops re-closed by the
+/// generated Newton), the generated actuator_forces at that reference is the feed-forward, and
+/// PD on the actuated coordinates pulls the simulated robot toward it (natural frequency
+/// `bandwidth` Hz, critically damped, scaled by each coordinate's inertia in the closed system).
+/// No balance feedback: the base follows only through the contacts. Reports how long it stays
+/// up, how far the base gets from its reference, and the CPU time per simulated second
+/// (simulator and controller together).
+struct SimulationResult {
+  double survived = 0, worst_base_error = 0, cpu_per_second = 0, final_height = 0;
+  std::string status;
+};
+
+SimulationResult simulate(const Model& model, const RunResult& plan, const walking::WalkingPattern& pattern, const Config& config,
+                          double bandwidth) {
+  const int nq = robot::nq, nv = robot::nv, ny = robot::ny, na = robot::na;
+  robot::Backend backend;
+  // Shift the plan so that the lowest contact sphere touches the ground (0.1 mm in).
+  std::vector<double> p(3 * robot::num_contact_spheres), Jc(6 * nv * robot::num_contact_spheres);
+  backend.contact_points(plan.rows[0].q.data(), p.data(), Jc.data());
+  double lowest = 1e9;
+  for (int k = 0; k < robot::num_contact_spheres; ++k) lowest = std::min(lowest, p[3 * k + 2] - robot::contact_sphere_radius[k]);
+  const double shift = -lowest - 1e-4;
+  const int n = static_cast<int>(plan.rows.size());
+  // The controller's own state: the IK's configuration, advanced tick by tick as in `run`.
+  Planner planner(plan.rows[0].q, pattern, config);
+  VecX<double> q_ref = plan.rows[0].q, v_ref = VecX<double>::Zero(nv), next(nq), vy(ny), vy_last(ny), ydd(ny), residual(ny),
+               feedforward(std::max(na, 1));
+  int tick = -1;
+  bool controller_failed = false;
+  // PD gains from the closed system's inertia at the start: M_y = T^T M T, its diagonal at the
+  // actuated coordinates (the knee and ankle nuts feel the leg through their linkages).
+  std::vector<double> M(static_cast<std::size_t>(nv * nv)), T(static_cast<std::size_t>(nv * ny));
+  robot::mass_matrix(plan.rows[0].q.data(), M.data());
+  robot::velocity_map(plan.rows[0].q.data(), T.data());
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor My = Eigen::Map<const RowMajor>(T.data(), nv, ny).transpose() * Eigen::Map<const RowMajor>(M.data(), nv, nv) *
+                      Eigen::Map<const RowMajor>(T.data(), nv, ny);
+  const double w = 2 * M_PI * bandwidth;
+  std::vector<double> kp(static_cast<std::size_t>(std::max(na, 1))), kd(kp.size());
+  std::vector<int> q_index(kp.size()), column(kp.size());
+  for (int i = 0; i < na; ++i) {
+    const int v = robot::actuated_v_index[i];
+    q_index[static_cast<std::size_t>(i)] = robot::floating_base ? v + 1 : v;  // 1-DoF joints after the base's 7 / 6
+    for (int c = 0; c < ny; ++c)
+      if (robot::independent_v_index[c] == v) column[static_cast<std::size_t>(i)] = c;
+    const double inertia = My(column[static_cast<std::size_t>(i)], column[static_cast<std::size_t>(i)]);
+    kp[static_cast<std::size_t>(i)] = w * w * inertia;
+    kd[static_cast<std::size_t>(i)] = 2 * w * inertia;
+  }
+  sim::SimulatorOptions options;
+  options.integrator = sim::Integrator::rk4;
+  options.step = 5e-4;
+  options.control_period = kDt;
+  sim::Simulator<robot::Backend> simulator(backend, options);
+  VecX<double> q0 = plan.rows[0].q;
+  q0[2] += shift;
+  if (simulator.set_state(q0.data(), plan.rows[0].v.data()) != 0) return {0, 0, 0, 0, "the loops did not close at the start"};
+  simulator.set_controller([&](double t, const double* q, const double* v, double* tau) {
+    // One 1 kHz tick: the IK on its reference, the feed-forward at it (ydd by a backward
+    // difference of the IK's velocities), PD from the simulated state toward it.
+    const int k = std::min(n - 1, static_cast<int>(std::lround(t / kDt)));
+    while (tick < k) {
+      if (tick >= 0) {
+        integrate<double>(model, q_ref, v_ref * kDt, next);
+        q_ref = next;
+        if (backend.closure_positions(q_ref.data()) != 0) controller_failed = true;
+      }
+      ++tick;
+      if (!planner.step(tick, q_ref, v_ref).ok) controller_failed = true;
+      vy_last = vy;
+      robot::independent_velocities(v_ref.data(), vy.data());
+      if (tick == 0) vy_last = vy;
+    }
+    ydd = (vy - vy_last) / kDt;
+    backend.actuator_forces(q_ref.data(), vy.data(), ydd.data(), feedforward.data(), residual.data());
+    for (int i = 0; i < nv; ++i) tau[i] = 0;
+    for (int i = 0; i < na; ++i) {
+      const int a = robot::actuated_v_index[i];
+      const int qi = q_index[static_cast<std::size_t>(i)];
+      tau[a] = feedforward[i] + kp[static_cast<std::size_t>(i)] * (q_ref[qi] - q[qi]) + kd[static_cast<std::size_t>(i)] * (v_ref[a] - v[a]);
+    }
+  });
+  SimulationResult result;
+  const double duration = plan.rows.back().t;
+  const auto start = std::chrono::steady_clock::now();
+  while (simulator.time() < duration) {
+    const sim::StepStatus status = simulator.step();
+    if (controller_failed) {
+      result.status = "the controller's IK or closure failed";
+      break;
+    }
+    if (status != sim::StepStatus::ok) {
+      result.status = sim::to_string(status);
+      break;
+    }
+    const int k = std::min(n - 1, static_cast<int>(std::lround(simulator.time() / kDt)));
+    const double base_error = (simulator.q().head<3>() - (plan.rows[static_cast<std::size_t>(k)].q.head<3>() + Vec3<double>(0, 0, shift))).norm();
+    result.worst_base_error = std::max(result.worst_base_error, base_error);
+    if (base_error > 0.2) {
+      result.status = "fell (base 0.2 m off its reference)";
+      break;
+    }
+  }
+  const double cpu = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.survived = simulator.time();
+  result.cpu_per_second = cpu / std::max(simulator.time(), 1e-9);
+  result.final_height = simulator.q()[2] - shift;
+  if (result.status.empty()) result.status = "completed";
+  return result;
+}
+
 void write_csv(const std::string& path, const RunResult& r) {
   std::ofstream out(path);
   out << "t,d_legs,d_arms,k_z,yaw_torque,task_error,wrench_mismatch,primary_residual\n";
@@ -241,11 +391,47 @@ void write_csv(const std::string& path, const RunResult& r) {
                        row.task_error, row.wrench_mismatch, row.primary_residual);
 }
 
+/// The start posture: q0 moved (kinematically, by the plain IK) until the CoM stands over the
+/// feet's middle, feet and torso orientation kept: Lola's bent-knee pose has it 18 cm ahead.
+VecX<double> balanced(const gen::Description& d, VecX<double> q) {
+  robot::Backend backend;
+  const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
+                                                {"right_foot", control::TaskKind::FramePose, "foot_r", 20.0},
+                                                {"com", control::TaskKind::CenterOfMass, "", 20.0},
+                                                {"torso", control::TaskKind::FrameOrientation, "torso", 20.0}};
+  control::BasicDifferentialIk<robot::Backend> ik(backend, tasks);
+  std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
+  backend.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
+  Vec3<double> middle = Vec3<double>::Zero();
+  for (int f = 0; f < 2; ++f) {
+    Mat3<double> R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = X[static_cast<std::size_t>(12 * f + 4 * r + c)];
+    const Vec3<double> p(X[static_cast<std::size_t>(12 * f + 3)], X[static_cast<std::size_t>(12 * f + 7)], X[static_cast<std::size_t>(12 * f + 11)]);
+    ik.target(f).position = p;
+    ik.target(f).rotation = R;
+    middle += 0.5 * p;
+  }
+  ik.target(2).position = Vec3<double>(middle.x(), middle.y(), com[2]);
+  Mat3<double> R_torso;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R_torso(r, c) = X[static_cast<std::size_t>(24 + 4 * r + c)];
+  ik.target(3).rotation = R_torso;
+  VecX<double> v(robot::nv), next(robot::nq);
+  for (int k = 0; k < 2000; ++k) {
+    if (!ik.step(q, v).ok) throw std::runtime_error("balancing the start posture: the IK failed");
+    integrate<double>(d.model, q, v * kDt, next);
+    q = next;
+    if (backend.closure_positions(q.data()) != 0) throw std::runtime_error("balancing the start posture: the loops did not close");
+  }
+  return q;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string out = ".";
-  bool plot = true, check = false;
+  bool plot = true, check = false, simulate_walk = false;
   int steps = 6;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -257,8 +443,10 @@ int main(int argc, char** argv) {
       plot = false;
     } else if (a == "--check") {
       check = true;
+    } else if (a == "--simulate") {
+      simulate_walk = true;
     } else {
-      std::fprintf(stderr, "usage: mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check]\n");
+      std::fprintf(stderr, "usage: mbgen_walk [--out DIR] [--steps N] [--no-plot] [--check] [--simulate]\n");
       return 2;
     }
   }
@@ -275,6 +463,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mbgen_walk: the loops do not close at the bent-knee pose\n");
     return 1;
   }
+  q0 = balanced(d, q0);
   std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
   robot::Backend{}.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
   const auto frame_position = [&](const char* name) {
@@ -282,8 +471,10 @@ int main(int argc, char** argv) {
       if (std::string(robot::frame_names[k]) == name) return Vec3<double>(X[12 * k + 3], X[12 * k + 7], X[12 * k + 11]);
     throw std::runtime_error(std::string("no frame ") + name);
   };
-  fmt::print("start: knees {:.3f} rad, feet {:.3f} m apart, CoM {:.3f} m above them\n", q0[d.model.joint(*d.model.find_joint("knee_l")).idx_q], (frame_position("foot_l") - frame_position("foot_r")).norm(),
-             com[2] - 0.5 * (frame_position("foot_l").z() + frame_position("foot_r").z()));
+  const Vec3<double> feet_middle = 0.5 * (frame_position("foot_l") + frame_position("foot_r"));
+  fmt::print("start: knees {:.3f} rad, feet {:.3f} m apart, CoM {:.3f} m above them and {:.3f} m ahead of their middle\n",
+             q0[d.model.joint(*d.model.find_joint("knee_l")).idx_q], (frame_position("foot_l") - frame_position("foot_r")).norm(),
+             com[2] - feet_middle.z(), com[0] - feet_middle.x());
   walking::PatternOptions straight;
   straight.steps = steps;
   walking::PatternOptions narrow = straight;
@@ -302,6 +493,18 @@ int main(int argc, char** argv) {
       write_csv(fmt::format("{}/walk_{}_{}.csv", out, variant.name, config.name), r);
       table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.3f} | {:.2f} | {:.1e} |\n", variant.name, config.name, 1e3 * r.peak_d[kLegs],
                            1e3 * r.peak_d[kArms], r.peak_k, r.peak_yaw, r.peak_task);
+      if (simulate_walk && std::string(config.name) == "both") {
+        const SimulationResult sr = simulate(d.model, r, pattern, config, kBandwidth);
+        fmt::print("  simulated on the ground (RK4 0.5 ms; controller at 1 kHz: IK + actuator_forces + PD {:.0f} Hz, all generated): {} "
+                   "after {:.3f} s of {:.3f} (walking from {:.1f} s); base off its reference by {:.3f} m at most; {:.3f} s CPU per "
+                   "simulated second\n",
+                   kBandwidth, sr.status, sr.survived, r.rows.back().t, walking::PatternOptions{}.start_time, sr.worst_base_error,
+                   sr.cpu_per_second);
+        // Without balance feedback it need not walk, but it must stand through the crouch.
+        if (check && sr.survived < walking::PatternOptions{}.start_time)
+          ok = false, fmt::print("  check failed: the simulated robot did not stand through the first {:.1f} s\n",
+                                 walking::PatternOptions{}.start_time);
+      }
       if (std::string(config.name) == "plain") {
         for (const Row& row : r.rows) plain_error.push_back(row.task_error);
       }

@@ -43,7 +43,7 @@ struct PatternOptions {
   double width_scale = 1.0;      ///< the feet's lateral distance, relative to the standing pose's
   double turn_per_step = 0.0;    ///< rad of yaw per step (a turn to the left when positive)
   double com_height = 0.0;       ///< m above the feet for the LIPM; 0: the standing pose's
-  double start_time = 0.5;       ///< s standing before the first step
+  double start_time = 0.5;       ///< s standing before the first step (the CoM moves over the feet in its first 80 %)
   double end_time = 0.8;         ///< s standing after the last
   int first_foot = 1;            ///< the first swing foot (1: the right, the ZMP going left first)
 };
@@ -186,11 +186,26 @@ class WalkingPattern {
       s.com_velocity = Vec3<double>((cx[static_cast<std::size_t>(b)] - cx[static_cast<std::size_t>(a)]) / ((b - a) * dt_),
                                     (cy[static_cast<std::size_t>(b)] - cy[static_cast<std::size_t>(a)]) / ((b - a) * dt_), 0);
     }
-    // The standing CoM is where the robot starts: shift the whole horizontal trajectory, and the
-    // ZMP with it (the pendulum stays exact), so that it starts there (the LIPM's CoM starts near
-    // the feet's middle, the robot's a little off).
-    const Vec3<double> offset(com0.x() - samples_[0].com.x(), com0.y() - samples_[0].com.y(), 0);
-    for (PatternSample& s : samples_) s.com += offset, s.zmp += offset;
+    // The robot's CoM need not start where the pendulum's does (over the ZMP, between the feet):
+    // the difference d is blended out over the first `settle` seconds of standing with a quintic,
+    // c = c_lipm + d (1 - b(t / settle)), and the ZMP moved to keep the pendulum exact,
+    // p = p_lipm + d_t - d_t'' / w^2 (d_t the blended difference).
+    const Vec3<double> d(com0.x() - samples_[0].com.x(), com0.y() - samples_[0].com.y(), 0);
+    const double settle = 0.8 * o.start_time;
+    for (PatternSample& s : samples_) {
+      double blend = 1, rate = 0, curvature = 0;  // 1 - b and its derivatives
+      if (settle > 0 && s.t < settle) {
+        const double u = s.t / settle;
+        blend = 1 - detail::quintic(u);
+        rate = -detail::quintic_rate(u) / settle;
+        curvature = -60 * u * (1 - u) * (1 - 2 * u) / (settle * settle);
+      } else if (settle > 0) {
+        blend = 0;
+      }
+      s.com += d * blend;
+      s.com_velocity += d * rate;
+      s.zmp += d * blend - d * curvature / (omega_ * omega_);
+    }
   }
 
   /// The bounded LIPM solution c = (w/2) exp(-w|t|) * p on the grid: forward and backward
