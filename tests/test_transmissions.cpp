@@ -22,6 +22,7 @@
 #include "mbgen/algorithm/transmission_map.hpp"
 #include "model/reduce_model.hpp"
 #include "model/topology.hpp"
+#include "lola_closed_forms.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {
@@ -94,20 +95,6 @@ TEST(Transmissions, LolaBecomesATreeWithItsOutputsActuated) {
   EXPECT_LT((com_r - com_w).norm(), 1e-12);
   ASSERT_TRUE(reduced.transmission_model);
   EXPECT_EQ(reduced.transmission_model->nv(), W.nv());
-}
-
-/// Lola's closed forms (robots/lola/README.md, "Geometry and closed forms"): the knee nut's
-/// travel for knee angle theta, an ankle rod's extension for foot pitch alpha and roll beta (b_y:
-/// the ball joint's y in the foot frame, the universal joint's in the shank frame is the same).
-double knee_actuator(double theta) {
-  const double px = 0.03 * std::cos(theta) + 0.052 * std::sin(theta), pz = -0.44 - 0.03 * std::sin(theta) + 0.052 * std::cos(theta);
-  return pz + std::sqrt(0.18 * 0.18 - (0.03 - px) * (0.03 - px)) + 0.208;
-}
-double ankle_actuator(double alpha, double beta, double b_y) {
-  const Mat3<double> R =
-      Eigen::AngleAxisd(alpha, Vec3<double>::UnitY()).toRotationMatrix() * Eigen::AngleAxisd(beta, Vec3<double>::UnitX()).toRotationMatrix();
-  const Vec3<double> O(0, 0, -0.44), b(-0.05, b_y, 0), A(-0.05, b_y, -0.10);
-  return (O + R * b - A).norm() - 0.34;
 }
 
 TEST(Transmissions, MapEqualsLolasClosedFormsAndItsJacobianTheDerivative) {
