@@ -81,6 +81,29 @@ struct Row {
 /// Rotation about z by yaw.
 Mat3<double> yaw_rotation(double yaw) { return Eigen::AngleAxisd(yaw, Vec3<double>::UnitZ()).toRotationMatrix(); }
 
+/// The generated task_kinematics at one q, and the frames' poses read off its [R | p] rows.
+struct Kinematics {
+  std::vector<double> X = std::vector<double>(12 * robot::num_frames), J = std::vector<double>(6 * robot::nv * robot::num_frames),
+                      com = std::vector<double>(3), Ag = std::vector<double>(6 * robot::nv);
+  void evaluate(const double* q) { robot::Backend{}.task_kinematics(q, X.data(), J.data(), com.data(), Ag.data()); }
+  Mat3<double> rotation(int k) const {
+    Mat3<double> R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = X[static_cast<std::size_t>(12 * k + 4 * r + c)];
+    return R;
+  }
+  Vec3<double> position(int k) const {
+    return Vec3<double>(X[static_cast<std::size_t>(12 * k + 3)], X[static_cast<std::size_t>(12 * k + 7)], X[static_cast<std::size_t>(12 * k + 11)]);
+  }
+  Vec3<double> center_of_mass() const { return Vec3<double>(com[0], com[1], com[2]); }
+  /// The index of a frame in frame_names.
+  static int frame(const std::string& name) {
+    for (int k = 0; k < robot::num_frames; ++k)
+      if (name == robot::frame_names[k]) return k;
+    throw std::runtime_error("mbgen_walk: the generated robot has no frame '" + name + "'");
+  }
+};
+
 struct RunResult {
   std::vector<Row> rows;
   double peak_d[kGroups] = {1e9, 1e9}, peak_k = 0, peak_yaw = 0, peak_task = 0, peak_mismatch = 0, peak_primary = 0;
@@ -94,15 +117,13 @@ class Planner {
  public:
   Planner(const VecX<double>& q0, const walking::WalkingPattern& pattern, const Config& config)
       : pattern_(pattern), ik_(robot::Backend{}, tasks(), options(config)) {
-    std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
-    robot::Backend{}.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
-    for (int k = 0; k < robot::num_frames; ++k)
-      for (int f = 0; f < 3; ++f)
-        if (std::string(robot::frame_names[k]) == tasks()[static_cast<std::size_t>(f == 2 ? 3 : f)].frame) slot[f] = k;
-    for (int f = 0; f < 3; ++f)
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) R0_[f](r, c) = X[static_cast<std::size_t>(12 * slot[f] + 4 * r + c)];
-    com0_ = Vec3<double>(com[0], com[1], com[2]);
+    Kinematics kin;
+    kin.evaluate(q0.data());
+    for (int f = 0; f < 3; ++f) {
+      slot[f] = Kinematics::frame(tasks()[static_cast<std::size_t>(f == 2 ? 3 : f)].frame);
+      R0_[f] = kin.rotation(slot[f]);
+    }
+    com0_ = kin.center_of_mass();
   }
   static std::vector<control::TaskSpec> tasks() {
     return {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
@@ -156,18 +177,11 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
   Planner planner(q0, pattern, config);
   control::BasicDifferentialIk<robot::Backend>& ik = planner.ik();
   robot::Backend backend;
-  const int nq = robot::nq, nv = robot::nv, ny = robot::ny, nf = robot::num_frames, np = robot::num_distance_pairs;
-  std::vector<double> X(12 * nf), J(6 * nv * nf), com(3), Ag(6 * nv);
+  const int nq = robot::nq, nv = robot::nv, ny = robot::ny, np = robot::num_distance_pairs;
+  Kinematics kin;
+  std::vector<double>& com = kin.com;
+  std::vector<double>& Ag = kin.Ag;
   const int* slot = planner.slot;
-  const auto rotation = [&](int k) {
-    Mat3<double> R;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) R(r, c) = X[static_cast<std::size_t>(12 * k + 4 * r + c)];
-    return R;
-  };
-  const auto position = [&](int k) {
-    return Vec3<double>(X[static_cast<std::size_t>(12 * k + 3)], X[static_cast<std::size_t>(12 * k + 7)], X[static_cast<std::size_t>(12 * k + 11)]);
-  };
 
   RunResult result;
   VecX<double> q = q0, v(nv), next(nq);
@@ -190,13 +204,13 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
     robot::independent_velocities(v.data(), row.vy.data());
     // Task error: the largest position (m) or orientation (rad) error of the tasks at q.
     row.task_error = 0;
-    backend.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
+    kin.evaluate(q.data());
     for (int f = 0; f < 2; ++f) {
-      row.task_error = std::max(row.task_error, (ik.target(f).position - position(slot[f])).norm());
-      row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(f).rotation, rotation(slot[f])).norm());
+      row.task_error = std::max(row.task_error, (ik.target(f).position - kin.position(slot[f])).norm());
+      row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(f).rotation, kin.rotation(slot[f])).norm());
     }
-    row.task_error = std::max(row.task_error, (ik.target(2).position - Vec3<double>(com[0], com[1], com[2])).norm());
-    row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(3).rotation, rotation(slot[2])).norm());
+    row.task_error = std::max(row.task_error, (ik.target(2).position - kin.center_of_mass()).norm());
+    row.task_error = std::max(row.task_error, control::orientation_error<double>(ik.target(3).rotation, kin.rotation(slot[2])).norm());
     // Self-distances per group (the generated function, whatever the configuration).
     backend.self_distances(q.data(), distance.data(), normal.data(), witness.data(), distance_J.data());
     for (int g = 0; g < kGroups; ++g) row.d[g] = 1e9;
@@ -395,28 +409,19 @@ void write_csv(const std::string& path, const RunResult& r) {
 /// feet's middle, feet and torso orientation kept: Lola's bent-knee pose has it 18 cm ahead.
 VecX<double> balanced(const gen::Description& d, VecX<double> q) {
   robot::Backend backend;
-  const std::vector<control::TaskSpec> tasks = {{"left_foot", control::TaskKind::FramePose, "foot_l", 20.0},
-                                                {"right_foot", control::TaskKind::FramePose, "foot_r", 20.0},
-                                                {"com", control::TaskKind::CenterOfMass, "", 20.0},
-                                                {"torso", control::TaskKind::FrameOrientation, "torso", 20.0}};
+  const std::vector<control::TaskSpec> tasks = Planner::tasks();
   control::BasicDifferentialIk<robot::Backend> ik(backend, tasks);
-  std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
-  backend.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
+  Kinematics kin;
+  kin.evaluate(q.data());
   Vec3<double> middle = Vec3<double>::Zero();
   for (int f = 0; f < 2; ++f) {
-    Mat3<double> R;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) R(r, c) = X[static_cast<std::size_t>(12 * f + 4 * r + c)];
-    const Vec3<double> p(X[static_cast<std::size_t>(12 * f + 3)], X[static_cast<std::size_t>(12 * f + 7)], X[static_cast<std::size_t>(12 * f + 11)]);
-    ik.target(f).position = p;
-    ik.target(f).rotation = R;
-    middle += 0.5 * p;
+    const int k = Kinematics::frame(tasks[static_cast<std::size_t>(f)].frame);
+    ik.target(f).position = kin.position(k);
+    ik.target(f).rotation = kin.rotation(k);
+    middle += 0.5 * kin.position(k);
   }
-  ik.target(2).position = Vec3<double>(middle.x(), middle.y(), com[2]);
-  Mat3<double> R_torso;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R_torso(r, c) = X[static_cast<std::size_t>(24 + 4 * r + c)];
-  ik.target(3).rotation = R_torso;
+  ik.target(2).position = Vec3<double>(middle.x(), middle.y(), kin.com[2]);
+  ik.target(3).rotation = kin.rotation(Kinematics::frame(tasks[3].frame));
   VecX<double> v(robot::nv), next(robot::nq);
   for (int k = 0; k < 2000; ++k) {
     if (!ik.step(q, v).ok) throw std::runtime_error("balancing the start posture: the IK failed");
@@ -464,13 +469,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   q0 = balanced(d, q0);
-  std::vector<double> X(12 * robot::num_frames), J(6 * robot::nv * robot::num_frames), com(3), Ag(6 * robot::nv);
-  robot::Backend{}.task_kinematics(q0.data(), X.data(), J.data(), com.data(), Ag.data());
-  const auto frame_position = [&](const char* name) {
-    for (int k = 0; k < robot::num_frames; ++k)
-      if (std::string(robot::frame_names[k]) == name) return Vec3<double>(X[12 * k + 3], X[12 * k + 7], X[12 * k + 11]);
-    throw std::runtime_error(std::string("no frame ") + name);
-  };
+  Kinematics kin;
+  kin.evaluate(q0.data());
+  const std::vector<double>& com = kin.com;
+  const auto frame_position = [&](const char* name) { return kin.position(Kinematics::frame(name)); };
   const Vec3<double> feet_middle = 0.5 * (frame_position("foot_l") + frame_position("foot_r"));
   fmt::print("start: knees {:.3f} rad, feet {:.3f} m apart, CoM {:.3f} m above them and {:.3f} m ahead of their middle\n",
              q0[d.model.joint(*d.model.find_joint("knee_l")).idx_q], (frame_position("foot_l") - frame_position("foot_r")).norm(),

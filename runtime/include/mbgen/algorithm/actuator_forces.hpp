@@ -54,16 +54,26 @@ struct Actuation {
   int num_actuators() const { return static_cast<int>(actuated_v.size()); }
 };
 
+namespace detail {
+/// Per v index, its column among the independent coordinates, or -1 if a loop makes it dependent.
+inline std::vector<int> independent_columns(const Model& model) {
+  std::vector<int> column(static_cast<std::size_t>(model.nv()), 0);
+  for (const SubSystem& s : model.subsystems)
+    for (int z : s.dependent) column[static_cast<std::size_t>(z)] = -1;
+  int ny = 0;
+  for (int& c : column)
+    if (c == 0) c = ny++;
+  return column;
+}
+}  // namespace detail
+
 /// The independent coordinates of the model except a floating base: the actuated set when a
 /// description names none.
 inline std::vector<int> default_actuated_v(const Model& model) {
   std::vector<int> out;
-  const int base = model.floating_base() ? 6 : 0;
-  std::vector<bool> dependent(static_cast<std::size_t>(model.nv()), false);
-  for (const SubSystem& s : model.subsystems)
-    for (int z : s.dependent) dependent[static_cast<std::size_t>(z)] = true;
-  for (int i = base; i < model.nv(); ++i)
-    if (!dependent[static_cast<std::size_t>(i)]) out.push_back(i);
+  const std::vector<int> column = detail::independent_columns(model);
+  for (int i = model.floating_base() ? 6 : 0; i < model.nv(); ++i)
+    if (column[static_cast<std::size_t>(i)] >= 0) out.push_back(i);
   return out;
 }
 
@@ -74,17 +84,10 @@ inline Actuation make_actuation(const Model& model, const std::vector<int>& actu
   Actuation a;
   a.actuated_v = actuated_v;
   const int base = model.floating_base() ? 6 : 0;
-  std::vector<int> column(static_cast<std::size_t>(model.nv()), -1), subsystem_of(static_cast<std::size_t>(model.nv()), -1);
-  {
-    int ny = 0;
-    std::vector<bool> dependent(static_cast<std::size_t>(model.nv()), false);
-    for (const SubSystem& s : model.subsystems)
-      for (int z : s.dependent) dependent[static_cast<std::size_t>(z)] = true;
-    for (int i = 0; i < model.nv(); ++i)
-      if (!dependent[static_cast<std::size_t>(i)]) column[static_cast<std::size_t>(i)] = ny++;
-    for (std::size_t k = 0; k < model.subsystems.size(); ++k)
-      for (int c : model.subsystems[k].coordinates) subsystem_of[static_cast<std::size_t>(c)] = static_cast<int>(k);
-  }
+  const std::vector<int> column = detail::independent_columns(model);
+  std::vector<int> subsystem_of(static_cast<std::size_t>(model.nv()), -1);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k)
+    for (int c : model.subsystems[k].coordinates) subsystem_of[static_cast<std::size_t>(c)] = static_cast<int>(k);
   std::vector<bool> seen(static_cast<std::size_t>(model.nv()), false);
   for (int v : actuated_v) {
     if (v < 0 || v >= model.nv()) throw std::invalid_argument("actuation: coordinate " + std::to_string(v) + " is not one of model '" + model.name + "''s " + std::to_string(model.nv()) + " velocity coordinates");
@@ -130,21 +133,6 @@ inline Actuation make_actuation(const Model& model, const std::vector<int>& actu
     }
   }
   return a;
-}
-
-/// tau_y (ny, data.tau_y) at the closed configuration q, independent velocities vy and
-/// accelerations ydd: T^T RNEA(q, T vy, T ydd + g). Computes the sub-system maps itself.
-template <typename S>
-const VecX<S>& inverse_dynamics_independent(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy,
-                                            const ConstVecRef<S>& ydd) {
-  subsystem_velocity_maps<S>(model, data, q);
-  detail::expand_independent<S>(model, data, vy, false, data.v_full);
-  data.scratch_nv = data.v_full;  // the full velocity; v_full holds qdd next
-  subsystem_acceleration_biases<S>(model, data, q, data.scratch_nv);
-  detail::expand_independent<S>(model, data, ydd, true, data.v_full);
-  const VecX<S>& tau = rnea<S>(model, data, q, data.scratch_nv, data.v_full);
-  detail::project_independent<S>(model, data, tau, data.tau_y);
-  return data.tau_y;
 }
 
 /// The actuators' forces f (na) and the residual r (ny) that no actuator can supply, for the

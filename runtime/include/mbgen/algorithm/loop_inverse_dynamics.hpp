@@ -28,6 +28,18 @@ template <typename S> void project_independent(const Model& model, const Data<S>
 }
 }  // namespace detail
 
+namespace detail {
+/// tau_y = T^T RNEA(q, v, T ydd + g) into data.tau_y, the sub-system maps G already at q.
+template <typename S, typename V>
+const VecX<S>& inverse_dynamics_at_maps(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const V& v, const ConstVecRef<S>& ydd) {
+  subsystem_acceleration_biases<S>(model, data, q, v);
+  expand_independent<S>(model, data, ydd, true, data.v_full);  // v_full holds qdd here
+  const VecX<S>& tau = rnea<S>(model, data, q, v, data.v_full);
+  project_independent<S>(model, data, tau, data.tau_y);
+  return data.tau_y;
+}
+}  // namespace detail
+
 /// tau_y (ny) in data.tau_y, also returned: the forces on the independent coordinates giving
 /// accelerations ydd (ny) at the consistent state (q, v) (v: all nv velocities). Computes the
 /// sub-system maps itself.
@@ -35,11 +47,16 @@ template <typename S>
 const VecX<S>& inverse_dynamics_loops(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                                       const ConstVecRef<S>& ydd) {
   subsystem_velocity_maps<S>(model, data, q);
-  subsystem_acceleration_biases<S>(model, data, q, v);
-  detail::expand_independent<S>(model, data, ydd, true, data.v_full);  // v_full holds qdd here
-  const VecX<S>& tau = rnea<S>(model, data, q, v, data.v_full);
-  detail::project_independent<S>(model, data, tau, data.tau_y);
-  return data.tau_y;
+  return detail::inverse_dynamics_at_maps<S>(model, data, q, v, ydd);
+}
+
+/// The same from the independent velocities vy (ny): v = T vy first (in data.scratch_nv).
+template <typename S>
+const VecX<S>& inverse_dynamics_independent(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy,
+                                            const ConstVecRef<S>& ydd) {
+  subsystem_velocity_maps<S>(model, data, q);
+  detail::expand_independent<S>(model, data, vy, false, data.scratch_nv);
+  return detail::inverse_dynamics_at_maps<S>(model, data, q, data.scratch_nv, ydd);
 }
 
 /// M_y = T^T M T (ny x ny) in data.M_y, also returned, at a closed configuration q.
