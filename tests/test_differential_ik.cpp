@@ -502,6 +502,13 @@ TEST(DifferentialIk, ConstructionErrorsSayWhatIsWrong) {
     EXPECT_EQ(error_of([&] { DifferentialIk<double>(model, {{"tip", TaskKind::FramePose, "link3", 1.0}}, momentum); }),
               "DifferentialIk: angular_momentum.axis_weights[1] = -1.000000 must be finite and >= 0");
   }
+  // On a backend: a task frame must be one of its frames (a generated backend's: the scene's
+  // `jacobians:`); the generic backend refuses a name the model does not have.
+  EXPECT_EQ(error_of([&] { BasicDifferentialIk<lola::Backend>(lola::Backend{}, {{"hand", TaskKind::FramePosition, "forearm_l", 1.0}}); }),
+            "task 'hand': frame 'forearm_l' is not among the backend's frames (foot_l, foot_r, torso): generate it (the scene's "
+            "`jacobians:`)");
+  EXPECT_EQ(error_of([&] { sim::GenericBackend<double>(model).set_frames({"link3", "nope"}); }),
+            "backend: no frame named 'nope' in model 'collision_arm' (a URDF link or fixed joint name)");
   const gen::Description d = lola();
   options.collision_avoidance = false;
   options.weights.assign(static_cast<std::size_t>(d.model.nv()), 1.0);

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "collision/contact_spheres.hpp"
+#include "model/actuated_coordinates.hpp"
 #include "four_bar.hpp"
 #include "lola.hpp"
 #include "mbgen/sim/pd_gravity.hpp"
@@ -19,6 +20,31 @@ namespace {
 
 using sim::Integrator;
 using sim::StepStatus;
+
+// The backends' actuator_forces: the generic one, given the description's actuated set
+// (set_actuated), equals the generated one (1e-12); set_actuated refuses what make_actuation does.
+TEST(GeneratedSimulation, ActuatorForcesOfBothBackendsAgree) {
+  const gen::Description d = load_lola();
+  sim::GenericBackend<double> generic(d.model);
+  generic.set_actuated(gen::actuated_coordinates(d));
+  const lola::Backend generated;
+  ASSERT_EQ(generic.na(), generated.na());
+  for (int i = 0; i < generic.na(); ++i) EXPECT_EQ(generic.actuated_v_index()[i], generated.actuated_v_index()[i]);
+  std::mt19937_64 rng(9);
+  double worst = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    VecX<double> q, v;
+    ASSERT_TRUE(consistent_state(d.model, d.assembly.q, rng, 0.05, q, v));
+    VecX<double> vy(lola::ny), ydd = random_vector<double>(lola::ny, rng, 5.0);
+    lola::independent_velocities(v.data(), vy.data());
+    VecX<double> f(lola::na), r(lola::ny), f_gen(lola::na), r_gen(lola::ny);
+    generic.actuator_forces(q.data(), vy.data(), ydd.data(), f.data(), r.data());
+    generated.actuator_forces(q.data(), vy.data(), ydd.data(), f_gen.data(), r_gen.data());
+    worst = std::max({worst, relative_error(f_gen, f), relative_error(r_gen, r)});
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_THROW(generic.set_actuated({0}), std::invalid_argument);  // a floating-base coordinate
+}
 
 TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
   const gen::Description d = load_lola();
