@@ -8,6 +8,7 @@
 //    and eps/h round-off, both below 1e-8 here);
 //  - continuity of d along a path that crosses switches: |d(q_k+1) - d(q_k)| <= 2 L |dq| with
 //    L the largest Jacobian norm seen (a jump would show as a difference of order the shapes' size);
+//  - the near set: equal to the full computation below its threshold, a lower bound above it;
 //  - no allocation.
 // Robots: panda_collision (URDF cylinders and spheres -> capsules, points), iiwa14 (cylinders)
 // and the Lola biped (its extras' SSVs, including a floating base).
@@ -152,6 +153,61 @@ TEST_P(CompoundDistanceTest, DistanceIsContinuousAcrossSwitches) {
   EXPECT_LE(worst_ratio, 2.0 * lipschitz);
 }
 
+// The near set (compute_near_distances) over 1e5 random poses, each with its own threshold drawn
+// from overlap (-5 cm) to far (40 cm): every near pair has exactly the full computation's result
+// and Jacobian row (the same code) and is closer than the threshold; every far pair's reported
+// lower bound is at least the threshold and at most its computed distance (exactly: the bound
+// allows for the rounding of both, sphere_lower_bound), and its row is zero. So a pair closer than the threshold is
+// never missed, and no pair at or beyond it gets a row.
+TEST_P(CompoundDistanceTest, NearSetEqualsFullBelowTheThresholdAndBoundsTheRest) {
+  Data<double> data(model());
+  CollisionData<double> full(model(), scene_), near(model(), scene_);
+  std::mt19937_64 rng(53);
+  std::uniform_real_distribution<double> threshold_of(-0.05, 0.4);
+  long near_pairs = 0, far_pairs = 0;
+  double excess = -1e300;
+  const int poses = 100000;
+  for (int trial = 0; trial < poses; ++trial) {
+    const VecX<double> q = random_configuration<double>(model(), rng);
+    const double threshold = threshold_of(rng);
+    const bool jacobians = trial % 100 == 0;  // the rows on 1 % of the poses (the distances on all)
+    if (jacobians) {
+      compute_joint_jacobians<double>(model(), data, q);
+    } else {
+      forward_kinematics<double>(model(), data, q);
+    }
+    compute_distances<double>(model(), data, scene_, full);
+    compute_near_distances<double>(model(), data, scene_, threshold, near);
+    if (jacobians) {
+      compute_distance_jacobians<double>(model(), data, scene_, full);
+      compute_distance_jacobians<double>(model(), data, scene_, near);
+    }
+    int i = 0;
+    for (std::size_t k = 0; k < scene_.pairs.size(); ++k) {
+      const double d = full.distances[k].result.distance, reported = near.distances[k].result.distance;
+      if (i < near.num_near && near.near[static_cast<std::size_t>(i)] == static_cast<int>(k)) {
+        ++i;
+        ++near_pairs;
+        ASSERT_EQ(reported, d) << "pair " << k;
+        ASSERT_LT(d, threshold) << "pair " << k;
+        ASSERT_EQ(near.distances[k].shape_first, full.distances[k].shape_first);
+        if (jacobians) ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)) == full.jacobian.row(static_cast<int>(k))) << "pair " << k;
+      } else {
+        ++far_pairs;
+        ASSERT_GE(reported, threshold) << "pair " << k;
+        excess = std::max(excess, reported - d);
+        if (jacobians) ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)).isZero(0.0)) << "pair " << k;
+      }
+    }
+    ASSERT_EQ(i, near.num_near) << "the near list is not ascending";
+  }
+  EXPECT_LE(excess, 0.0) << "a far pair's lower bound exceeds its distance";
+  EXPECT_GT(near_pairs, 0);
+  EXPECT_GT(far_pairs, 0);
+  std::printf("  %s: %d poses, %ld near and %ld far pairs; largest lower bound - distance %.3g m\n", GetParam().name.c_str(), poses,
+              near_pairs, far_pairs, excess);
+}
+
 TEST_P(CompoundDistanceTest, DoesNotAllocate) {
   Data<double> data(model());
   CollisionData<double> cd(model(), scene_);
@@ -161,6 +217,8 @@ TEST_P(CompoundDistanceTest, DoesNotAllocate) {
     MallocGuard guard;
     compute_joint_jacobians<double>(model(), data, q);
     compute_distances<double>(model(), data, scene_, cd);
+    compute_distance_jacobians<double>(model(), data, scene_, cd);
+    compute_near_distances<double>(model(), data, scene_, 0.05, cd);
     compute_distance_jacobians<double>(model(), data, scene_, cd);
     EXPECT_EQ(guard.count(), 0u);
   }

@@ -473,6 +473,49 @@ TEST(DifferentialIk, GeneratedBackendEqualsGeneric) {
   EXPECT_EQ(guard.count(), 0u) << "generated-backend step allocated";
 }
 
+// The step computes rows for the near set only (the pairs within the activation distance; bounding
+// spheres spare most far pairs' SSV calls); the collision gradient must be the one every pair gives. Along Lola's own motion, the
+// step's dP/dq equals collision_potential_gradient over the full self_distances of the same
+// backend, bit for bit on the generated one (the same rows, summed in the same order).
+TEST(DifferentialIk, NearSetGivesTheFullSetsCollisionGradient) {
+  const gen::Description d = lola();
+  const Model& model = d.model;
+  DifferentialIkOptions options = scenario::lola_ik_options();
+  options.angular_momentum.enabled = false;
+  BasicDifferentialIk<lola::Backend> ik(lola::Backend{}, lola_tasks(), options);
+  VecX<double> q = lola_bent_pose(d);
+  Data<double> data(model);
+  {
+    DifferentialIk<double> generic(model, lola_tasks());  // only to set the targets
+    set_targets_near(generic, model, q, 11);
+    for (int i = 0; i < generic.num_tasks(); ++i) ik.target(i) = generic.target(i);
+  }
+  const int np = lola::num_distance_pairs, nv = model.nv();
+  std::vector<double> distance(np), normal(3 * np), witness(6 * np), J(np * nv);
+  VecX<double> v(nv), next(model.nq()), full(nv);
+  int most_near = 0, most_active = 0;
+  for (int k = 0; k < 100; ++k) {
+    const StepReport report = ik.step(q, v);
+    ASSERT_TRUE(report.ok) << k;
+    lola::self_distances(q.data(), distance.data(), normal.data(), witness.data(), J.data());
+    const int active = collision_potential_gradient<double>(
+        np, distance.data(), Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(J.data(), np, nv),
+        options.collision, full);
+    ASSERT_EQ(report.active_pairs, active) << k;
+    ASSERT_EQ(report.near_pairs, active) << k;
+    ASSERT_TRUE(ik.collision_gradient() == full) << k << ": " << (ik.collision_gradient() - full).norm();
+    for (int p = 0; p < np; ++p) ASSERT_LE(ik.distances()[p], distance[p]) << "pair " << p;
+    most_near = std::max(most_near, report.near_pairs);
+    most_active = std::max(most_active, report.active_pairs);
+    integrate<double>(model, q, v * 1e-3, next);
+    q = next;
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged);
+  }
+  std::printf("  Lola, 100 steps: at most %d near and %d active of %d pairs\n", most_near, most_active, np);
+  EXPECT_GT(most_active, 0);
+  EXPECT_LT(most_near, np / 3);  // the near set is what saves the work (45 of 178 within 8 cm)
+}
+
 TEST(DifferentialIk, ConstructionErrorsSayWhatIsWrong) {
   const Model model = load_tree(MBGEN_TEST_DATA "/collision_arm.urdf", gen::BaseType::Fixed);
   EXPECT_EQ(error_of([&] { DifferentialIk<double>(model, {{"tip", TaskKind::FramePose, "nope", 1.0}}); }),

@@ -162,11 +162,102 @@ TEST_F(GeneratedSelfDistances, FloatWithinDerivedBound) {
   RecordProperty("jacobian", std::to_string(w.jacobian));
 }
 
+/// self_distances_near against self_distances (both generated) at thresholds from overlap to far:
+/// a near pair's row is the full function's row bit for bit (the same code on the same placed
+/// points); a far pair's distance is a lower bound >= the threshold; rows are compact and ascending.
+/// Returns how many near and far pairs were seen.
+template <typename T> std::pair<int, int> near_set_against_full(const Model& model, int trials, double* worst_bound_excess) {
+  std::mt19937_64 rng(19);
+  const int np = gen_ns::num_distance_pairs, nv = gen_ns::nv;
+  std::vector<T> d(np), n(3 * np), w(6 * np), J(np * nv), dn(np), nn(3 * np), wn(6 * np), Jn(np * nv);
+  std::vector<int> near(np);
+  std::uniform_real_distribution<double> threshold_of(-0.05, 0.4);
+  int near_seen = 0, far_seen = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const VecX<double> q = random_configuration<double>(model, rng);
+    std::vector<T> qt(static_cast<std::size_t>(q.size()));
+    for (int i = 0; i < q.size(); ++i) qt[static_cast<std::size_t>(i)] = static_cast<T>(q[i]);
+    gen_ns::self_distances(qt.data(), d.data(), n.data(), w.data(), J.data());
+    const T threshold = static_cast<T>(threshold_of(rng));
+    int num_near = -1;
+    gen_ns::self_distances_near(qt.data(), threshold, dn.data(), near.data(), &num_near, nn.data(), wn.data(), Jn.data());
+    EXPECT_GE(num_near, 0);
+    int i = 0;
+    for (int k = 0; k < np; ++k) {
+      if (i < num_near && near[i] == k) {
+        EXPECT_EQ(dn[k], d[k]) << "pair " << k;
+        EXPECT_LT(d[k], threshold) << "pair " << k;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(nn[3 * i + c], n[3 * k + c]) << "pair " << k;
+        for (int c = 0; c < 6; ++c) EXPECT_EQ(wn[6 * i + c], w[6 * k + c]) << "pair " << k;
+        for (int c = 0; c < nv; ++c) EXPECT_EQ(Jn[i * nv + c], J[k * nv + c]) << "pair " << k << " column " << c;
+        ++i;
+        ++near_seen;
+      } else {
+        EXPECT_GE(dn[k], threshold) << "far pair " << k;
+        *worst_bound_excess = std::max(*worst_bound_excess, static_cast<double>(dn[k] - d[k]));
+        ++far_seen;
+      }
+    }
+    EXPECT_EQ(i, num_near) << "the near list is not ascending";
+  }
+  return {near_seen, far_seen};
+}
+
+TEST_F(GeneratedSelfDistances, NearSetEqualsFullBelowTheThresholdAndBoundsTheRest) {
+  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  double excess = -1e300;
+  const auto [near_d, far_d] = near_set_against_full<double>(model, 200, &excess);
+  EXPECT_GT(near_d, 0);
+  EXPECT_GT(far_d, 0);
+  EXPECT_LE(excess, 0.0) << "a far pair's lower bound exceeds its distance";
+  double excess_f = -1e300;
+  near_set_against_full<float>(model, 50, &excess_f);
+  EXPECT_LE(excess_f, 0.0);
+  RecordProperty("near", std::to_string(near_d));
+  RecordProperty("far", std::to_string(far_d));
+}
+
+/// The generated near set picks the pairs the generic compute_near_distances picks, and reports
+/// their lower bounds to 1e-12 (bounding spheres: placed the traced way vs Eigen's; a pair within
+/// 1e-12 of the threshold may go either way).
+TEST_F(GeneratedSelfDistances, NearSetEqualsGeneric) {
+  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  std::mt19937_64 rng(23);
+  const int np = gen_ns::num_distance_pairs, nv = model.nv();
+  std::vector<double> d(np), n(3 * np), w(6 * np), J(np * nv);
+  std::vector<int> near(np);
+  Data<double> data(model);
+  collision::CollisionData<double> cd(model, scene);
+  double worst = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const VecX<double> q = random_configuration<double>(model, rng);
+    const double threshold = 0.002 * (trial % 100);
+    compute_joint_jacobians<double>(model, data, q);
+    collision::compute_near_distances<double>(model, data, scene, threshold, cd);
+    int num_near = 0;
+    gen_ns::self_distances_near(q.data(), threshold, d.data(), near.data(), &num_near, n.data(), w.data(), J.data());
+    std::vector<bool> generated_near(static_cast<std::size_t>(np), false), generic_near(static_cast<std::size_t>(np), false);
+    for (int i = 0; i < num_near; ++i) generated_near[static_cast<std::size_t>(near[i])] = true;
+    for (int i = 0; i < cd.num_near; ++i) generic_near[static_cast<std::size_t>(cd.near[static_cast<std::size_t>(i)])] = true;
+    for (int k = 0; k < np; ++k) {
+      const double generic = cd.distances[static_cast<std::size_t>(k)].result.distance;
+      worst = std::max(worst, std::abs(d[k] - generic));
+      if (generated_near[static_cast<std::size_t>(k)] != generic_near[static_cast<std::size_t>(k)])
+        EXPECT_LT(std::abs(d[k] - threshold), 1e-12) << "pair " << k << " near in one, far in the other";
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+  RecordProperty("distance", std::to_string(worst));
+}
+
 TEST_F(GeneratedSelfDistances, NoAllocation) {
   std::vector<double> q(gen_ns::nq, 0.1), out(6 * (gen_ns::num_distance_pairs + 1) * gen_ns::nv);
   if (gen_ns::floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
+  std::vector<int> near(gen_ns::num_distance_pairs + 1);
+  int num_near = 0;
   MallocGuard guard;
   gen_ns::self_distances(q.data(), out.data(), out.data(), out.data(), out.data());
+  gen_ns::self_distances_near(q.data(), 0.05, out.data(), near.data(), &num_near, out.data(), out.data(), out.data());
   EXPECT_EQ(guard.count(), 0u);
 }
 

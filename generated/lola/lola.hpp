@@ -234,8 +234,21 @@ inline constexpr const char* distance_pair_names[178][2] = {{"pelvis", "upper_ar
 ///     (point2 - point1 = distance * normal)
 /// out jacobian: [178 x 46, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
 ///     moving with their bodies; non-smooth where the closest features switch
-/// Cost: straight-line placement and Jacobian columns: 2116 operations: 920 additions/subtractions, 1116 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
+/// Cost: straight-line placement and Jacobian columns: 2254 operations: 992 additions/subtractions, 1182 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
+/// The near set: the same for the pairs closer than threshold only (generic twin:
+/// collision::compute_near_distances). The bodies' bounding spheres (one per body, around its
+/// shapes) decide first: a pair whose spheres are at least threshold apart gets no SSV call. Pass
+/// the avoidance's activation distance: a far pair cannot be active. The near pairs' rows are
+/// compact, in ascending pair order:
+/// in  q: [47] joint positions; threshold: m
+/// out distance: [178] every pair: exact when near, else a lower bound >= threshold (the bounding spheres'
+///     distance, or the exact one when the spheres were within threshold)
+/// out near: [178] near[i] = the pair of row i, i < *num_near
+/// out num_near: the number of near pairs
+/// out normal: [178 x 3], witness: [178 x 6], jacobian: [178 x 46, row-major]: rows 0 .. *num_near
+///     as self_distances' rows near[i]
+void self_distances_near(const double* q, double threshold, double* distance, int* near, int* num_near, double* normal, double* witness, double* jacobian);
 
 /// This robot as the simulator, the controllers and the study consume it (mbgen/sim/backend.hpp):
 /// mbgen::sim::Simulator<lola::Backend> runs it with no glue code. Stateless: every member
@@ -318,6 +331,11 @@ template <typename S> struct BasicBackend {
   }  /// The scene's self-collision pairs: distances, normals, witness points and Jacobians (self_distances).
   void self_distances(const S* q, S* distance, S* normal, S* witness, S* J) const {
     lola::self_distances(q, distance, normal, witness, J);
+  }
+  /// The near set: only the pairs whose bounding spheres are closer than threshold, compact rows
+  /// (self_distances_near).
+  void self_distances_near(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* J) const {
+    lola::self_distances_near(q, threshold, distance, near, num_near, normal, witness, J);
   }};
 using Backend = BasicBackend<double>;
 }  // namespace lola

@@ -28,6 +28,7 @@ struct Placement {
 /// What the straight-line part computes: placed points and Jacobian columns, and where.
 struct Plan {
   std::map<int, std::vector<Placement>> shapes;  ///< per used compound, per shape
+  std::map<int, int> compound_bound;             ///< per used compound, the offset of its bounding-sphere centre
   std::vector<int> columns;                      ///< velocity columns needed, ascending
   std::map<int, int> column_slot;                ///< column -> its 6 numbers in J at 6 * slot
   std::map<int, std::set<int>> support;          ///< per used compound, the columns moving its body
@@ -68,6 +69,8 @@ Plan make_plan(const Model& model, const CollisionModel& scene) {
       }
       placements.push_back(pl);
     }
+    plan.compound_bound[c] = plan.num_p;  // the near set's test
+    plan.num_p += 3;
     plan.support[c] = supporting_columns(model, compound.body);
     columns.insert(plan.support[c].begin(), plan.support[c].end());
   }
@@ -102,6 +105,7 @@ TracedFunction trace_placement(const Model& model, const CollisionModel& scene, 
       for (int k = 0; k < num_points(shape); ++k) place(X, shape.points[static_cast<std::size_t>(k)]);
       if (placements[s].bound >= 0) place(X, shape.bound_center);
     }
+    place(X, compound.bound_center);
   }
   for (int col : plan.columns)
     for (int r = 0; r < 6; ++r) j_ids.push_back(data.J(r, col).id());
@@ -136,42 +140,63 @@ std::string pair_block(const Model& model, const CollisionModel& scene, const Pl
   const std::vector<Placement>& pb = plan.shapes.at(p.second);
   std::string out = fmt::format("  {{  // pair {}: {} ({} shapes) - {} ({} shapes)\n", k, a.name, a.shapes.size(), b.name,
                                 b.shapes.size());
-  out += "    ClosestShapes<S> best;\n";
+  // The near set (collision::compute_near_distances): the compounds' bounding spheres first.
+  // The bounding spheres' test, in a block of its own that only the near set enters.
+  const std::string bound = fmt::format("sphere_lower_bound(at(P + {}), {}, at(P + {}), {})", plan.compound_bound.at(p.first),
+                                        literal(a.bound_radius), plan.compound_bound.at(p.second), literal(b.bound_radius));
+  out += fmt::format("    bool far = false;\n    if (compact) {{\n      const S bound = {};\n"
+                     "      if (bound >= threshold) {{\n        distance[{}] = bound;\n        far = true;\n      }}\n    }}\n"
+                     "    if (!far) {{\n", bound, k);
+  out += "      ClosestShapes<S> best;\n";
   for (std::size_t i = 0; i < a.shapes.size(); ++i)
     for (std::size_t j = 0; j < b.shapes.size(); ++j) {
       const std::string call = fmt::format("best.take({}, {}, {});", shape_call(a.shapes[i], pa[i], b.shapes[j], pb[j]), i, j);
       if (i == 0 && j == 0) {
-        out += "    " + call + "\n";  // the first pair is always computed (ClosestShapes::worth)
+        out += "      " + call + "\n";  // the first pair is always computed (ClosestShapes::worth)
       } else {
-        out += fmt::format("    if (best.worth(at(P + {}), {}, at(P + {}), {})) {}\n", pa[i].bound,
+        out += fmt::format("      if (best.worth(at(P + {}), {}, at(P + {}), {})) {}\n", pa[i].bound,
                            literal(a.shapes[i].bound_radius), pb[j].bound, literal(b.shapes[j].bound_radius), call);
       }
     }
-  out += fmt::format("    store(best.result, {}, distance, normal, witness);\n", k);
-  // Row k = n^T (J_p2 - J_p1); per column c: n . v_c + w_c . (p x n) for the body's witness p.
+  // Near only if the distance itself is below the threshold: the rows are the expensive part.
+  out += fmt::format("      if (compact && best.result.distance >= threshold) {{\n        distance[{}] = best.result.distance;\n"
+                     "      }} else {{\n", k);
+  out += fmt::format("      store(best.result, {}, m, distance, normal, witness);\n", k);
+  out += fmt::format("      if (near) near[m] = {};\n", k);
+  // Row m = n^T (J_p2 - J_p1); per column c: n . v_c + w_c . (p x n) for the body's witness p.
   // Columns moving both bodies keep w_c . ((p2 - p1) x n) (n . v_c cancels).
   const std::set<int>& s1 = plan.support.at(p.first);
   const std::set<int>& s2 = plan.support.at(p.second);
-  out += "    const SsvVec3<S> n = best.result.normal;\n";
-  out += "    const SsvVec3<S> p1n = best.result.point1.cross(n), p2n = best.result.point2.cross(n), dn = p2n - p1n;\n";
-  out += "    (void)p1n;\n    (void)p2n;\n    (void)dn;\n";
-  out += fmt::format("    S* row = jacobian + {};\n", k * static_cast<std::size_t>(model.nv()));
+  out += "      const SsvVec3<S> n = best.result.normal;\n";
+  out += "      const SsvVec3<S> p1n = best.result.point1.cross(n), p2n = best.result.point2.cross(n), dn = p2n - p1n;\n";
+  out += "      (void)p1n;\n      (void)p2n;\n      (void)dn;\n";
+  out += fmt::format("      S* row = jacobian + m * {};\n", model.nv());
   for (int c = 0; c < model.nv(); ++c) {
     const bool in1 = s1.count(c) > 0, in2 = s2.count(c) > 0;
     if (!in1 && !in2) {
-      out += fmt::format("    row[{}] = S(0);\n", c);
+      out += fmt::format("      row[{}] = S(0);\n", c);
       continue;
     }
     const int j = 6 * plan.column_slot.at(c);
-    if (in1 && in2) out += fmt::format("    row[{}] = dot3(dn, J + {});\n", c, j + 3);
-    else if (in2) out += fmt::format("    row[{}] = dot3(n, J + {}) + dot3(p2n, J + {});\n", c, j, j + 3);
-    else out += fmt::format("    row[{}] = -(dot3(n, J + {}) + dot3(p1n, J + {}));\n", c, j, j + 3);
+    if (in1 && in2) out += fmt::format("      row[{}] = dot3(dn, J + {});\n", c, j + 3);
+    else if (in2) out += fmt::format("      row[{}] = dot3(n, J + {}) + dot3(p2n, J + {});\n", c, j, j + 3);
+    else out += fmt::format("      row[{}] = -(dot3(n, J + {}) + dot3(p1n, J + {}));\n", c, j, j + 3);
   }
-  return out + "  }\n";
+  return out + "      ++m;\n      }\n    }\n  }\n";
 }
 
 std::string arguments(const std::string& scalar) {
   return fmt::format("const {0}* q, {0}* distance, {0}* normal, {0}* witness, {0}* jacobian", scalar);
+}
+
+std::string near_arguments(const std::string& scalar) {
+  return fmt::format("const {0}* q, {0} threshold, {0}* distance, int* near, int* num_near, {0}* normal, {0}* witness, {0}* jacobian",
+                     scalar);
+}
+
+/// The implementation both entry points share: compact = the near set (self_distances_near).
+std::string impl_arguments() {
+  return "const S* q, S threshold, bool compact, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian";
 }
 
 }  // namespace
@@ -195,24 +220,33 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
   for (std::size_t k = 0; k < np; ++k)
     pair_names += fmt::format("{}{{\"{}\", \"{}\"}}", k ? ", " : "", scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name,
                               scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name);
-  std::string prototypes;
-  for (const std::string& s : scalar_types(ctx.scalars))
+  std::string prototypes, near_prototypes;
+  for (const std::string& s : scalar_types(ctx.scalars)) {
     prototypes += ctx.templates.render("prototype", {{"public_name", ctx.public_name("self_distances", s)},
                                                      {"parameters", arguments(s)},
                                                      {"scalar", s},
                                                      {"function", "self_distances"},
                                                      {"robot", ctx.robot}});
+    near_prototypes += ctx.templates.render("prototype", {{"public_name", ctx.public_name("self_distances_near", s)},
+                                                          {"parameters", near_arguments(s)},
+                                                          {"scalar", s},
+                                                          {"function", "self_distances_near"},
+                                                          {"robot", ctx.robot}});
+  }
 
   std::string body;
   if (np == 0) {
-    body = "  (void)q;\n  (void)distance;\n  (void)normal;\n  (void)witness;\n  (void)jacobian;\n";
+    body = "  (void)q;\n  (void)threshold;\n  (void)compact;\n  (void)distance;\n  (void)near;\n  (void)normal;\n"
+           "  (void)witness;\n  (void)jacobian;\n  if (num_near) *num_near = 0;\n";
   } else {
+    body += "  int m = 0;  // rows written: the near pairs so far (every pair when !compact)\n";
     body += fmt::format("  S P[{}];  // shapes' points placed in the world\n", plan.num_p);
     body += fmt::format("  S J[{}];  // world joint-Jacobian columns {{", 6 * plan.columns.size());
     for (std::size_t k = 0; k < plan.columns.size(); ++k) body += fmt::format("{}{}", k ? ", " : "", plan.columns[k]);
     body += "}, 6 each\n";
     body += emit_statements(traced);
     for (std::size_t k = 0; k < np; ++k) body += pair_block(model, scene, plan, k);
+    body += "  if (num_near) *num_near = m;\n";
   }
 
   SelfDistanceCode code;
@@ -224,16 +258,21 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
                                                                         {"nv", std::to_string(model.nv())},
                                                                         {"num_distance_pairs", std::to_string(np)},
                                                                         {"distance_cost", cost},
-                                                                        {"distance_prototypes", prototypes}})}};
+                                                                        {"distance_prototypes", prototypes},
+                                                                        {"near_prototypes", near_prototypes}})}};
   code.source = ctx.templates.render(
       "self_distances_source",
       {{"banner", ctx.banner},
        {"header", ctx.header},
        {"robot", ctx.robot},
        {"cost", cost},
-       {"impl_parameters", arguments("S")},
+       {"impl_parameters", impl_arguments()},
+       {"full_parameters", arguments("S")},
+       {"near_parameters", near_arguments("S")},
        {"body", body},
-       {"entry_points", emit_entry_points("self_distances", "q, distance, normal, witness, jacobian", arguments, ctx)}});
+       {"entry_points", emit_entry_points("self_distances", "q, distance, normal, witness, jacobian", arguments, ctx) +
+                            emit_entry_points("self_distances_near", "q, threshold, distance, near, num_near, normal, witness, jacobian",
+                                              near_arguments, ctx)}});
   return code;
 }
 

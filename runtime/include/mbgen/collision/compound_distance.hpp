@@ -76,9 +76,16 @@ CompoundDistance<S> compound_distance(const Compound& a, const SE3<S>& X_Wa, con
 /// Work memory and results of a scene's distances: one entry per pair of the CollisionModel.
 template <typename S> struct CollisionData {
   explicit CollisionData(const Model& model, const CollisionModel& cm)
-      : distances(cm.pairs.size()), jacobian(MatX<S>::Zero(static_cast<int>(cm.pairs.size()), model.nv())) {}
-  std::vector<CompoundDistance<S>> distances;  ///< per pair, normal from `first` to `second`
-  MatX<S> jacobian;                            ///< pairs x nv: row k is d distance_k / d q (velocity coordinates)
+      : distances(cm.pairs.size()),
+        jacobian(MatX<S>::Zero(static_cast<int>(cm.pairs.size()), model.nv())),
+        near(cm.pairs.size(), 0) {}
+  /// Per pair, normal from `first` to `second`. A far pair (compute_near_distances) has only
+  /// `result.distance`, a lower bound of its distance, and no closest shapes (shape_first -1).
+  std::vector<CompoundDistance<S>> distances;
+  MatX<S> jacobian;  ///< pairs x nv: row k is d distance_k / d q (velocity coordinates); zero for a far pair
+  /// The pairs computed exactly, ascending: near[0 .. num_near) (compute_distances: every pair).
+  std::vector<int> near;
+  int num_near = 0;
 };
 
 /// Distances of every pair of the scene at the body poses of data (run forward_kinematics first).
@@ -89,20 +96,65 @@ void compute_distances(const Model& model, const Data<S>& data, const CollisionM
     const Compound& a = cm.compounds[static_cast<std::size_t>(cm.pairs[k].first)];
     const Compound& b = cm.compounds[static_cast<std::size_t>(cm.pairs[k].second)];
     cd.distances[k] = compound_distance<S>(a, data.X_WB[a.body], b, data.X_WB[b.body]);
+    cd.near[k] = static_cast<int>(k);
+  }
+  cd.num_near = static_cast<int>(cm.pairs.size());
+}
+
+/// A lower bound of the distance of compounds a and b placed by X_Wa and X_Wb from their bounding
+/// spheres (sphere_lower_bound: never above the computed distance; negative when the spheres
+/// overlap). The generated self_distances_near computes the same expression.
+template <typename S>
+S bounding_distance(const Compound& a, const SE3<S>& X_Wa, const Compound& b, const SE3<S>& X_Wb) {
+  const Vec3<S> ca = detail::place<S>(X_Wa, a.bound_center), cb = detail::place<S>(X_Wb, b.bound_center);
+  return sphere_lower_bound<S>(ca, S(a.bound_radius), cb, S(b.bound_radius));
+}
+
+/// The near set: the pairs closer than `threshold`, with the results of compute_distances (the
+/// same values); the others are far, with a lower bound >= threshold of their distance in
+/// result.distance. The bounding spheres decide first: a pair whose spheres are at least
+/// `threshold` apart is far at once (its bound is the spheres' distance, and it has no closest
+/// shapes: shape_first -1); the others are computed, and those at least `threshold` apart are far
+/// with their exact distance. compute_distance_jacobians then fills the near pairs' rows only: on
+/// Lola standing, 71 of 178 pairs have their spheres within 5 cm and 24 are within it. A pair
+/// whose distance is NaN is near, as compute_distances would report it. Pass the avoidance's
+/// activation distance: a far pair then cannot be active. Allocation-free.
+template <typename S>
+void compute_near_distances(const Model& model, const Data<S>& data, const CollisionModel& cm, S threshold, CollisionData<S>& cd) {
+  (void)model;
+  cd.num_near = 0;
+  for (std::size_t k = 0; k < cm.pairs.size(); ++k) {
+    const Compound& a = cm.compounds[static_cast<std::size_t>(cm.pairs[k].first)];
+    const Compound& b = cm.compounds[static_cast<std::size_t>(cm.pairs[k].second)];
+    const SE3<S>& X_Wa = data.X_WB[a.body];
+    const SE3<S>& X_Wb = data.X_WB[b.body];
+    const S bound = bounding_distance<S>(a, X_Wa, b, X_Wb);
+    if (bound >= threshold) {
+      cd.distances[k] = CompoundDistance<S>{};
+      cd.distances[k].result.distance = bound;
+      continue;
+    }
+    cd.distances[k] = compound_distance<S>(a, X_Wa, b, X_Wb);
+    if (cd.distances[k].result.distance >= threshold) continue;  // far, with its exact distance
+    cd.near[static_cast<std::size_t>(cd.num_near++)] = static_cast<int>(k);
   }
 }
 
-/// Distance Jacobians of every pair: row k = n^T (J_p2 - J_p1), the point Jacobians of the
-/// witness points p1 (on `first`) and p2 (on `second`) as material points of their bodies, n the
-/// pair's normal. Needs compute_joint_jacobians (data.J) at the same q and compute_distances.
+/// Distance Jacobians of the computed pairs (cd.near): row k = n^T (J_p2 - J_p1), the point
+/// Jacobians of the witness points p1 (on `first`) and p2 (on `second`) as material points of
+/// their bodies, n the pair's normal; zero rows for far pairs. Needs compute_joint_jacobians
+/// (data.J) at the same q and compute_distances or compute_near_distances.
 /// O(depth) per pair: only the joints supporting either body contribute, and the ones
 /// supporting both give n . (w x (p2 - p1)).
 template <typename S>
 void compute_distance_jacobians(const Model& model, const Data<S>& data, const CollisionModel& cm, CollisionData<S>& cd) {
+  std::size_t next = 0;  // the next entry of the near list
   for (std::size_t k = 0; k < cm.pairs.size(); ++k) {
-    const SsvDistance<S>& d = cd.distances[k].result;
     auto row = cd.jacobian.row(static_cast<int>(k));
     row.setZero();
+    if (next == static_cast<std::size_t>(cd.num_near) || cd.near[next] != static_cast<int>(k)) continue;  // far
+    ++next;
+    const SsvDistance<S>& d = cd.distances[k].result;
     const Vec3<S> n = d.normal;
     auto add = [&](BodyIndex body, const Vec3<S>& p, const S& sign) {
       // n . (v_c + w_c x p) = n . v_c + w_c . (p x n)

@@ -67,6 +67,16 @@ int collision_potential_gradient(int pairs, const S* distance, const Jacobian& j
   return detail::potential_gradient<S>(pairs, [&](int i) { return distance[i]; }, jacobian, o, gradient);
 }
 
+/// dP/dq (nv) from a near set (self_distances_near's layout): the pairs near[0 .. num_near), their
+/// distances distance[near[i]] and compact Jacobian rows i (num_near x nv). The far pairs, at least
+/// the threshold apart, contribute nothing when the threshold is at least the activation distance.
+/// Returns the number of active pairs.
+template <typename S, typename Jacobian, typename Out>
+int collision_potential_gradient(int num_near, const int* near, const S* distance, const Jacobian& jacobian,
+                                 const CollisionPotentialOptions& o, Out&& gradient) {
+  return detail::potential_gradient<S>(num_near, [&](int i) { return distance[near[i]]; }, jacobian, o, gradient);
+}
+
 /// dP/dq (nv) from the distances and distance Jacobians in cd; returns the number of active pairs.
 template <typename S, typename Out>
 int collision_potential_gradient(const collision::CollisionData<S>& cd, const CollisionPotentialOptions& o, Out&& gradient) {

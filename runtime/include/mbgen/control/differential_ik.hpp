@@ -15,7 +15,8 @@
 //  2. secondary, inside null(A) (N from the same SVD), minimising
 //        1/2 |u2 - u_c|^2 + rho/2 |Bk D (u1 + u2) - k_des|^2
 //     where u_c = -D T^T dP/dq is the steepest-descent velocity of the collision potential
-//     (collision_potential.hpp; zero when no pair is within the activation distance) and Bk the
+//     (collision_potential.hpp; zero when no pair is within the activation distance; only those
+//     pairs get Jacobian rows: the backend's self_distances_near) and Bk the
 //     angular rows of the centroidal momentum matrix (times T). The minimiser in closed form:
 //        C = N (Bk D)^T (n x 3),  s = (I / rho + C^T C)^-1 (r - C^T u_c),  r = k_des - Bk D u1,
 //        u2 = N u_c + C s,
@@ -29,7 +30,7 @@
 //     null-space property holds). v = T c.
 //
 // Backends. The step reads the robot through a backend (sim/backend.hpp: task_kinematics,
-// velocity_map, self_distances, the sizes): BasicDifferentialIk<NAME::Backend> runs on the
+// velocity_map, self_distances_near, the sizes): BasicDifferentialIk<NAME::Backend> runs on the
 // generated functions, DifferentialIk<S> on the generic runtime (GenericBackend<S> over a Model,
 // its frames the tasks', its pairs the collision model's). The same step, the same arithmetic
 // after the backend's outputs: generated equals generic to round-off (test_differential_ik).
@@ -80,6 +81,7 @@ struct StepReport {
   int rank = 0;             ///< numerical rank of the weighted primary Jacobian
   double smallest_singular_value = 0;
   int active_pairs = 0;     ///< collision pairs within the activation distance
+  int near_pairs = 0;       ///< pairs closer than it: those with Jacobian rows (active_pairs but for NaN distances)
   double limit_scale = 1;   ///< factor applied to respect the velocity limits (1: none active)
 };
 
@@ -156,6 +158,7 @@ template <typename Backend> class BasicDifferentialIk {
     frame_J_.assign(static_cast<std::size_t>(6 * nv_ * std::max(nf_, 1)), S(0));
     Ag_ = RowMatX::Zero(6, nv_);
     distance_.assign(static_cast<std::size_t>(std::max(pairs_, 1)), S(0));
+    near_.assign(static_cast<std::size_t>(std::max(pairs_, 1)), 0);
     normal_.assign(static_cast<std::size_t>(3 * std::max(pairs_, 1)), S(0));
     witness_.assign(static_cast<std::size_t>(6 * std::max(pairs_, 1)), S(0));
     distance_J_ = RowMatX::Zero(std::max(pairs_, 1), nv_);
@@ -219,8 +222,14 @@ template <typename Backend> class BasicDifferentialIk {
     // Collision: u_c = -D T^T dP/dq, projected into the null space.
     uc_.setZero();
     if (pairs_ > 0) {
-      backend_.self_distances(q.data(), distance_.data(), normal_.data(), witness_.data(), distance_J_.data());
-      report.active_pairs = collision_potential_gradient<S>(pairs_, distance_.data(), distance_J_, options_.collision, gradient_);
+      // The near set at the activation distance: only the pairs closer than it (the active ones)
+      // get witnesses and Jacobian rows (compact); bounding spheres spare the far pairs' SSV calls.
+      int num_near = 0;
+      backend_.self_distances_near(q.data(), S(options_.collision.activation_distance), distance_.data(), near_.data(), &num_near,
+                                   normal_.data(), witness_.data(), distance_J_.data());
+      report.near_pairs = num_near;
+      report.active_pairs =
+          collision_potential_gradient<S>(num_near, near_.data(), distance_.data(), distance_J_, options_.collision, gradient_);
       to_coordinates(gradient_, gradient_c_);
       uc_ = -scale_.cwiseProduct(gradient_c_);
       dls_.project_to_null(uc_);
@@ -277,7 +286,9 @@ template <typename Backend> class BasicDifferentialIk {
   const VecX<S>& secondary_velocity() const { return secondary_; }
   const VecX<S>& collision_velocity() const { return collision_; }  ///< nc: D N u_c (before limits)
   const VecX<S>& collision_gradient() const { return gradient_; }          ///< nv: dP/dq
-  /// The distances of the last step's pairs (collision avoidance on; else empty).
+  /// The distances of the last step's pairs (collision avoidance on; else empty): exact for the
+  /// pairs within the activation distance, a lower bound at least the activation distance for the
+  /// others (self_distances_near).
   const S* distances() const { return distance_.data(); }
   int num_pairs() const { return pairs_; }
   const Vec3<S>& center_of_mass() const { return com_; }          ///< of the last step's q
@@ -362,6 +373,7 @@ template <typename Backend> class BasicDifferentialIk {
   Vec3<S> axis_scale_ = Vec3<S>::Ones();
   VecX<S> scale_, limits_;  ///< D = W^-1/2 (diagonal), velocity limits
   std::vector<S> X_WF_, frame_J_, distance_, normal_, witness_;
+  std::vector<int> near_;
   Vec3<S> com_ = Vec3<S>::Zero();
   RowMatX Ag_, distance_J_, T_;
   MatX<S> J_, A_;

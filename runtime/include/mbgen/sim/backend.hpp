@@ -48,6 +48,9 @@
 //   int num_distance_pairs()
 //   void self_distances(q, d, normal, witness, J) the generated self_distances' layout (runtime:
 //                                                 the pairs of set_collision_model)
+//   void self_distances_near(q, threshold, d, near, num_near, normal, witness, J)
+//                                                 the near set: only the pairs closer than
+//                                                 threshold get rows (compact)
 //
 // All arrays are raw pointers (the generated API's form); no call allocates after construction.
 // Backends differ only in how `accelerations` obtains qdd:
@@ -229,6 +232,31 @@ template <typename S> class ModelBackend {
       }
     }
     RowMajorMap<S>(J, num_distance_pairs(), model_.nv()) = collision_data_->jacobian;
+  }
+  /// The near set, as the generated self_distances_near: distance[k] for every pair (exact for a
+  /// near pair, a lower bound >= threshold for a far one: collision::compute_near_distances); the
+  /// near pairs' indices ascending in near[0 .. *num_near), and row i of normal (3), witness (6)
+  /// and J (nv) for pair near[i].
+  void self_distances_near(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* J) {
+    *num_near = 0;
+    if (!collision_model_) return;
+    collision::CollisionData<S>& cd = *collision_data_;
+    compute_joint_jacobians<S>(model_, data_, ConstMap<S>(q, nq()));
+    collision::compute_near_distances<S>(model_, data_, *collision_model_, threshold, cd);
+    collision::compute_distance_jacobians<S>(model_, data_, *collision_model_, cd);
+    for (std::size_t k = 0; k < cd.distances.size(); ++k) distance[k] = cd.distances[k].result.distance;
+    for (int i = 0; i < cd.num_near; ++i) {
+      const int k = cd.near[static_cast<std::size_t>(i)];
+      const auto& r = cd.distances[static_cast<std::size_t>(k)].result;
+      near[i] = k;
+      for (int c = 0; c < 3; ++c) {
+        normal[3 * i + c] = r.normal[c];
+        witness[6 * i + c] = r.point1[c];
+        witness[6 * i + 3 + c] = r.point2[c];
+      }
+      RowMajorMap<S>(J + static_cast<std::ptrdiff_t>(i) * model_.nv(), 1, model_.nv()) = cd.jacobian.row(k);
+    }
+    *num_near = cd.num_near;
   }
 
  protected:
