@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "collision/collision_scene.hpp"
 #include "collision/contact_spheres.hpp"
 #include "model/actuated_coordinates.hpp"
 #include "four_bar.hpp"
@@ -44,6 +45,43 @@ TEST(GeneratedSimulation, ActuatorForcesOfBothBackendsAgree) {
   }
   EXPECT_LT(worst, 1e-12);
   EXPECT_THROW(generic.set_actuated({0}), std::invalid_argument);  // a floating-base coordinate
+}
+
+// The backends' self_distances_near: the generic one, given the generator's collision scene,
+// returns the generated one's near list, distances (1e-12) and compact Jacobian rows (1e-12 of
+// the largest entry) on Lola's closed poses; without a collision model it reports no pair.
+TEST(GeneratedSimulation, NearDistancesOfBothBackendsAgree) {
+  const gen::Description d = load_lola();
+  const collision::CollisionModel cm = gen::build_collision_scene(d, gen::collision_scene_options(d)).model;
+  sim::GenericBackend<double> generic(d.model);
+  int none = -1;
+  generic.self_distances_near(d.assembly.q.data(), 0.05, nullptr, nullptr, &none, nullptr, nullptr, nullptr);
+  EXPECT_EQ(none, 0);
+  generic.set_collision_model(&cm);
+  const lola::Backend generated;
+  const int np = lola::num_distance_pairs, nv = lola::nv;
+  ASSERT_EQ(generic.num_distance_pairs(), np);
+  std::vector<double> d1(np), n1(3 * np), w1(6 * np), J1(np * nv), d2(np), n2(3 * np), w2(6 * np), J2(np * nv);
+  std::vector<int> near1(np), near2(np);
+  std::mt19937_64 rng(17);
+  double worst = 0;
+  int most = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    VecX<double> q, v;
+    ASSERT_TRUE(consistent_state(d.model, d.assembly.q, rng, 0.3, q, v));
+    int m1 = -1, m2 = -1;
+    generic.self_distances_near(q.data(), 0.05, d1.data(), near1.data(), &m1, n1.data(), w1.data(), J1.data());
+    generated.self_distances_near(q.data(), 0.05, d2.data(), near2.data(), &m2, n2.data(), w2.data(), J2.data());
+    ASSERT_EQ(m1, m2) << trial;
+    most = std::max(most, m1);
+    for (int i = 0; i < m1; ++i) ASSERT_EQ(near1[i], near2[i]) << trial;
+    double jscale = 1;
+    for (int i = 0; i < m1 * nv; ++i) jscale = std::max(jscale, std::abs(J1[i]));
+    for (int k = 0; k < np; ++k) worst = std::max(worst, std::abs(d1[k] - d2[k]));
+    for (int i = 0; i < m1 * nv; ++i) worst = std::max(worst, std::abs(J1[i] - J2[i]) / jscale);
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(most, 0);
 }
 
 TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {

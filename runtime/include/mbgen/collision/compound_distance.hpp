@@ -79,8 +79,9 @@ template <typename S> struct CollisionData {
       : distances(cm.pairs.size()),
         jacobian(MatX<S>::Zero(static_cast<int>(cm.pairs.size()), model.nv())),
         near(cm.pairs.size(), 0) {}
-  /// Per pair, normal from `first` to `second`. A far pair (compute_near_distances) has only
-  /// `result.distance`, a lower bound of its distance, and no closest shapes (shape_first -1).
+  /// Per pair, normal from `first` to `second`. For a far pair (compute_near_distances) only
+  /// `result.distance` counts: a lower bound of its distance (its closest shapes, shape_first -1
+  /// when its bounding spheres were far enough to skip them).
   std::vector<CompoundDistance<S>> distances;
   MatX<S> jacobian;  ///< pairs x nv: row k is d distance_k / d q (velocity coordinates); zero for a far pair
   /// The pairs computed exactly, ascending: near[0 .. num_near) (compute_distances: every pair).
