@@ -5,7 +5,7 @@
 # test plants a violation in a copy to show the check can fail).
 set -euo pipefail
 cd "${1:-$(dirname "$0")/../generator}"
-stages=(load model collision codegen cli)
+stages=(mesh load model collision codegen cli)
 rank() { local i; for i in "${!stages[@]}"; do [[ ${stages[$i]} == "$1" ]] && echo "$i" && return; done; echo -1; }
 bad=0
 for stage in "${stages[@]}"; do

@@ -13,6 +13,8 @@
 #include "codegen/templates.hpp"
 #include "model/load_description.hpp"
 #include "load/load_error.hpp"
+#include "cli/package_path_option.hpp"
+#include "mesh/mesh_path.hpp"
 
 namespace mbgen::cli {
 
@@ -22,6 +24,7 @@ struct GenerateOptions {
   std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
+  std::vector<std::string> package_paths;  ///< NAME=DIR, for `scene: collision: fit`
   std::vector<std::string> outputs;  ///< overrides the scene's outputs; {"all"}: everything
   bool floating = false, fixed = false, quiet = false, repair_inertia = false;
   long max_operations = codegen::kDefaultGraphLimit;
@@ -38,6 +41,7 @@ int run_generate(const GenerateOptions& o) {
     if (o.floating) load.base = gen::BaseType::Floating;
     if (o.fixed) load.base = gen::BaseType::Fixed;
     load.repair_inertia = o.repair_inertia;
+    for (const std::string& p : o.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
     const gen::Description d = gen::load_description(o.description, load);
 
     codegen::CodegenOptions options;
@@ -110,6 +114,7 @@ void add_generate_command(CLI::App& app, int& status) {
       ->excludes(flavour);
   auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
   cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
+  add_package_path_option(cmd, options->package_paths, "for the meshes `scene: collision: fit` reads");
   cmd->add_flag("--repair-inertia", options->repair_inertia,
                 "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
   cmd->add_option("--max-operations", options->max_operations,

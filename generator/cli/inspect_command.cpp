@@ -20,6 +20,8 @@
 #include "codegen/traced_function.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
+#include "cli/package_path_option.hpp"
+#include "mesh/mesh_path.hpp"
 #include "mbgen/algorithm/closure.hpp"
 #include "model/topology.hpp"
 
@@ -35,6 +37,7 @@ struct InspectOptions {
   std::string description;
   std::string extras;
   bool floating = false, fixed = false, json = false, repair_inertia = false;
+  std::vector<std::string> package_paths;  ///< NAME=DIR, for `scene: collision: fit`
   int samples = -1;  ///< collision pruning samples; -1: the scene's prune_samples or the default
 };
 
@@ -164,7 +167,16 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
       out << fmt::format("  {}: {} primitive(s), from {}\n", link, compound.size(),
                          compound.empty() ? "-" : compound.front().source);
   }
-  if (!d.collision_geometry_not_modelled.empty()) {
+  // URDF meshes and boxes are kept per link for fitting: only links left without any compound
+  // need the user's attention. MJCF geoms have no such list: their count is all there is.
+  std::vector<std::string> bare_links;
+  for (const auto& [link, meshes] : d.link_meshes)
+    if (!d.ssv.count(link) || d.ssv.at(link).empty()) bare_links.push_back(link);
+  if (!bare_links.empty()) {
+    out << fmt::format("collision meshes or boxes without an SSV on {} link(s): {} (fit SSVs to them with `mbgen fit-ssv` "
+                       "or `scene: collision: fit: true`, or model them with `ssv:` in the extras)\n",
+                       bare_links.size(), fmt::join(bare_links, ", "));
+  } else if (d.link_meshes.empty() && !d.collision_geometry_not_modelled.empty()) {
     std::vector<std::string> counts;
     for (const auto& [kind, n] : d.collision_geometry_not_modelled) counts.push_back(fmt::format("{} {}", n, kind));
     out << fmt::format("collision geometry without an SSV: {} (model it with `ssv:` in the extras)\n", fmt::join(counts, ", "));
@@ -360,6 +372,7 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
   if (options.fixed) load.base = BaseType::Fixed;
   load.repair_inertia = options.repair_inertia;
   try {
+    for (const std::string& p : options.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
     const Description d = gen::load_description(options.description, load);
     // What the reductions removed, and the forward dynamics' operations before and after.
     std::vector<std::string> reduction_report = d.reductions;
@@ -412,6 +425,7 @@ void add_inspect_command(CLI::App& app, int& status) {
   inspect->add_flag("--json", options->json, "print one JSON object instead of the report");
   inspect->add_flag("--repair-inertia", options->repair_inertia,
                     "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
+  add_package_path_option(inspect, options->package_paths, "for the meshes `scene: collision: fit` reads");
   inspect->add_option("--samples", options->samples,
                       "configurations sampled to prune collision pairs (default: the scene's prune_samples, else 10000)")
       ->check(CLI::NonNegativeNumber);

@@ -2,6 +2,7 @@
 // registers itself with add_<name>_command(app, status).
 #include <CLI/CLI.hpp>
 
+#include "cli/fit_ssv_command.hpp"
 #include "cli/generate_command.hpp"
 #include "cli/inspect_command.hpp"
 
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   int status = 0;
   mbgen::cli::add_inspect_command(app, status);
   mbgen::cli::add_generate_command(app, status);
+  mbgen::cli::add_fit_ssv_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,8 +3,9 @@
 //   <cylinder radius="r" length="l">    -> line-SSV along the collision frame's z axis, from -l/2 to
 //                                          +l/2, radius r (a capsule: it covers the cylinder and
 //                                          adds two caps of height r, a conservative bound).
-// Boxes and meshes have no SSV counterpart here: they are counted, and the extras' `ssv:` is the
-// way to model them. A link that the extras give an `ssv:` compound keeps only that one: the
+// Boxes and meshes have no SSV counterpart here: they are counted and kept in `link_meshes` (a
+// link without <collision> gives its <visual> meshes instead), for `fit-ssv` and `scene:
+// collision: fit` to enclose (fit_link_ssvs.hpp); the extras' `ssv:` is the other way to model them. A link that the extras give an `ssv:` compound keeps only that one: the
 // scene says what it needs (load_extras.cpp replaces the compound).
 #include <fmt/format.h>
 
@@ -60,8 +61,19 @@ void add_collision_ssvs(const std::string& path, Description& d) {
           p.radius = cylinder.radius;
           break;
         }
-        case urdf::Geometry::BOX: ++d.collision_geometry_not_modelled["box"]; continue;
-        case urdf::Geometry::MESH: ++d.collision_geometry_not_modelled["mesh"]; continue;
+        case urdf::Geometry::BOX: {
+          ++d.collision_geometry_not_modelled["box"];
+          const auto& box = static_cast<const urdf::Box&>(*collision->geometry);
+          d.link_meshes[link->name].push_back({"", true, Vec3<double>(box.dim.x, box.dim.y, box.dim.z), X_LC, p.source});
+          continue;
+        }
+        case urdf::Geometry::MESH: {
+          ++d.collision_geometry_not_modelled["mesh"];
+          const auto& mesh = static_cast<const urdf::Mesh&>(*collision->geometry);
+          d.link_meshes[link->name].push_back(
+              {mesh.filename, false, Vec3<double>(mesh.scale.x, mesh.scale.y, mesh.scale.z), X_LC, p.source});
+          continue;
+        }
         default: ++d.collision_geometry_not_modelled["other"]; continue;
       }
       if (!(p.radius >= 0))
@@ -69,6 +81,16 @@ void add_collision_ssvs(const std::string& path, Description& d) {
                         fmt::format("<collision> {} has a negative radius ({})", index, p.radius),
                         "give the sphere or cylinder a radius >= 0");
       d.ssv[link->name].push_back(p);
+    }
+    if (!link->collision_array.empty()) continue;
+    index = 0;
+    for (const urdf::VisualSharedPtr& visual : link->visual_array) {
+      ++index;
+      if (!visual || !visual->geometry || visual->geometry->type != urdf::Geometry::MESH) continue;
+      const auto& mesh = static_cast<const urdf::Mesh&>(*visual->geometry);
+      d.link_meshes[link->name].push_back(
+          {mesh.filename, false, Vec3<double>(mesh.scale.x, mesh.scale.y, mesh.scale.z), to_se3(visual->origin),
+           fmt::format("{}:{}: <visual> {} of link '{}'", path, d.urdf_lines.line_of_link(link->name), index, link->name)});
     }
   }
 }

@@ -3,6 +3,7 @@
 // say (closures, actuated joints, drives) from the YAML extras, and the warnings raised.
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,16 @@ struct SsvPrimitive {
   std::string source;  ///< where it was given: the extras' file:line, or the URDF <collision> it models
 };
 
+/// A mesh or box that a URDF link's <collision> elements give (its <visual> ones when it has no
+/// <collision> at all): what `fit-ssv` and `scene: collision: fit` enclose in SSVs.
+struct MeshGeometry {
+  std::string reference;  ///< the <mesh filename> as written (package://, file:// or a path); empty for a box
+  bool box = false;
+  Vec3<double> scale = Vec3<double>::Ones();  ///< the mesh's scale; for a box, its size
+  SE3<double> X_LG;       ///< the geometry's frame in the link's (its <origin>)
+  std::string source;     ///< file:line and element, for warnings
+};
+
 /// The ground contact a simulation of the scene uses (`scene: contact`, docs/extras.md): which
 /// links touch the ground (the vertex spheres of their SSVs, sim/contact.hpp), the compliant
 /// law's parameters and the ground plane.
@@ -65,6 +76,8 @@ struct SceneSpec {
   double collision_margin = 0.0;
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given
+  bool collision_fit = false;               ///< `fit: true`: SSVs fitted to the links' meshes when loading
+  int collision_fit_budget = 0;             ///< `fit_budget:` primitives per link; 0: not given (mesh::FitOptions' default)
   std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
   std::string rotors;                       ///< armature or body: overrides every drive's model; none: no rotor modelled; empty: each drive's own
   std::optional<ContactSpec> contact;       ///< `contact:`; absent: the robot touches nothing
@@ -151,6 +164,10 @@ struct Description {
   int closed_dof = 0;  ///< DoF of the closed system: nv - total rank of the closure rows
   std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound (extras, else URDF spheres/cylinders)
   std::map<std::string, int> collision_geometry_not_modelled;  ///< URDF <collision> kinds with no SSV (box, mesh) -> count
+  /// Each link's meshes and boxes (URDF), for SSV fitting (load/fit_link_ssvs.hpp); link name ->
+  /// geometry in document order.
+  std::map<std::string, std::vector<MeshGeometry>> link_meshes;
+  std::set<std::string> ssv_from_extras;  ///< links whose compound the extras' `ssv:` gives (never refitted)
   std::optional<SceneSpec> scene;
   SourceLines urdf_lines;  ///< lines of the URDF's <link> and <joint> elements
 };
@@ -165,6 +182,11 @@ struct LoadOptions {
   /// Apply the scene's model reductions (`lock`, `merge_below`; model/reduce_model.hpp). Off: the
   /// whole robot, as `inspect` loads it to compare.
   bool reduce = true;
+  /// `package://NAME` -> DIR for mesh references (`--package-path NAME=DIR`); ROS_PACKAGE_PATH after these.
+  std::map<std::string, std::string> package_paths;
+  /// Fit SSVs to the meshes when the scene says `collision: fit: true`. `fit-ssv` turns it off
+  /// and fits with its own budget.
+  bool apply_scene_fit = true;
 };
 
 /// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked

@@ -182,6 +182,7 @@ void read_ssv(const ExtrasFile& x, const YAML::Node& node, Description& d) {
     require_sequence(x.path, entry.second, element, "[{point: [0, 0, 0], radius: 0.06}]");
     std::vector<SsvPrimitive>& compound = d.ssv[link];
     compound.clear();  // the extras' compound replaces what the URDF's <collision> elements gave
+    d.ssv_from_extras.insert(link);
     for (std::size_t i = 0; i < entry.second.size(); ++i) {
       compound.push_back(read_primitive(x.path, entry.second[i], fmt::format("{}[{}]", element, i)));
       compound.back().source = fmt::format("{}:{}", x.path, line_of(entry.second[i]));
@@ -307,7 +308,19 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   }
   if (const YAML::Node& c = node["collision"]) {
     require_map(x.path, c, "scene: collision", "{margin: 0.05, exclude: [[torso, pelvis]]}");
-    reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "include", "margin", "prune_samples"});
+    reject_unknown_keys(x.path, c, "scene: collision", {"exclude", "fit", "fit_budget", "include", "margin", "prune_samples"});
+    if (c["fit"]) {
+      if (!c["fit"].IsScalar() || (c["fit"].Scalar() != "true" && c["fit"].Scalar() != "false"))
+        fail(x.path, c["fit"], "scene: collision: fit", "must be true or false", "write `fit: true` to fit SSVs to the links' meshes");
+      scene.collision_fit = c["fit"].Scalar() == "true";
+    }
+    if (c["fit_budget"]) {
+      const double n = to_number(x.path, c["fit_budget"], "scene: collision: fit_budget");
+      if (!(n >= 1) || n != std::floor(n) || n > 64)
+        fail(x.path, c["fit_budget"], "scene: collision: fit_budget", "must be a whole number from 1 to 64",
+             "write e.g. `fit_budget: 4` (SSV primitives per link)");
+      scene.collision_fit_budget = static_cast<int>(n);
+    }
     if (c["margin"]) scene.collision_margin = to_number(x.path, c["margin"], "scene: collision: margin");
     if (scene.collision_margin < 0) fail(x.path, c["margin"], "scene: collision: margin", "is negative", "give a distance >= 0 in metres");
     if (c["exclude"]) scene.collision_exclude = frame_pairs(x.path, c["exclude"], "scene: collision: exclude", d.model);

@@ -4,8 +4,12 @@
 #include <cctype>
 #include <filesystem>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include "load/description.hpp"
 #include "load/extras_support.hpp"
+#include "load/fit_link_ssvs.hpp"
 #include "load/joint_type_overrides.hpp"
 
 namespace mbgen::gen {
@@ -55,6 +59,16 @@ Description read_description(const std::string& path, const LoadOptions& options
       apply_mbgen_extras(*extras, d);
   }
   apply_joint_type_overrides(d);  // before validation: the chains' joints must move mass too
+  // `scene: collision: fit`: SSVs for the links' meshes, each link's fit a note (inspect prints it).
+  if (d.scene && d.scene->collision_fit && options.apply_scene_fit) {
+    mesh::FitOptions fit;
+    if (d.scene->collision_fit_budget > 0) fit.budget = d.scene->collision_fit_budget;
+    for (const LinkFit& f : fit_link_ssvs(d, options.package_paths, fit))
+      d.notes.push_back(fmt::format("link '{}': {} SSV primitives fitted to {} (volume {:.3g} x its convex hull, at most {:.1f} mm "
+                                    "from the mesh)", f.link, f.compound.primitives.size(), fmt::join(f.sources, ", "),
+                                    f.compound.report.volume / f.compound.report.hull_volume,
+                                    1e3 * f.compound.report.largest_gap));
+  }
   return d;
 }
 

@@ -1,0 +1,152 @@
+// `mbgen fit-ssv`: SSV compounds fitted to a robot's meshes, written as an extras `ssv:` section.
+#include "cli/fit_ssv_command.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <regex>
+#include <sstream>
+
+#include "cli/ssv_picture.hpp"
+#include "load/fit_link_ssvs.hpp"
+#include "load/load_error.hpp"
+#include "cli/package_path_option.hpp"
+#include "mesh/mesh_path.hpp"
+#include "model/load_description.hpp"
+
+#ifndef MBGEN_VERSION
+#define MBGEN_VERSION "unknown"
+#endif
+
+namespace mbgen::cli {
+
+namespace {
+
+constexpr const char* kFitBanner = "# Written by mbgen fit-ssv";
+
+struct FitSsvOptions {
+  std::string description, extras, out, picture_data;
+  std::vector<std::string> package_paths;
+  int budget = mesh::FitOptions{}.budget;
+  bool floating = false, fixed = false, quiet = false;
+};
+
+std::string yaml_key(const std::string& name) {
+  static const std::regex plain("[A-Za-z0-9_][A-Za-z0-9_.-]*");
+  return std::regex_match(name, plain) ? name : fmt::format("\"{}\"", name);
+}
+
+std::string point(const Vec3<double>& p) { return fmt::format("[{:.6f}, {:.6f}, {:.6f}]", p.x(), p.y(), p.z()); }
+
+std::string primitive_yaml(const mesh::FittedPrimitive& p) {
+  const char* kind = p.points.size() == 1 ? "point" : p.points.size() == 2 ? "line" : "triangle";
+  std::string points = p.points.size() == 1 ? point(p.points[0]) : "[";
+  if (p.points.size() > 1) {
+    for (std::size_t i = 0; i < p.points.size(); ++i) points += (i ? ", " : "") + point(p.points[i]);
+    points += "]";
+  }
+  return fmt::format("{{{}: {}, radius: {:.6f}}}", kind, points, p.radius);
+}
+
+std::string fit_yaml(const gen::Description& d, const std::vector<gen::LinkFit>& fits, int budget) {
+  std::string y = fmt::format("{} {} from {}, at most {} primitives per link.\n", kFitBanner, MBGEN_VERSION,
+                              std::filesystem::path(d.description_file).filename().string(), budget);
+  y += "# Each compound encloses its link's meshes (every vertex checked). Review it, then use this file\n"
+       "# as the extras (or paste `ssv:` into yours): a link's `ssv:` replaces what the URDF gives it.\n"
+       "# Per link: primitives; swept volume / the meshes' convex hull; largest distance from the SSVs to the mesh.\n"
+       "ssv:\n";
+  for (const gen::LinkFit& f : fits) {
+    const mesh::FitReport& r = f.compound.report;
+    std::vector<std::string> names;
+    for (const std::string& s : f.sources) names.push_back(std::filesystem::path(s).filename().string());
+    y += fmt::format("  {}:  # {} primitive{}; {}; {:.1f} mm; {}\n", yaml_key(f.link), f.compound.primitives.size(),
+                     f.compound.primitives.size() == 1 ? "" : "s",
+                     r.hull_volume > 0 ? fmt::format("{:.2f} x hull", r.volume / r.hull_volume) : std::string("flat mesh"),
+                     1e3 * r.largest_gap, fmt::join(names, ", "));
+    for (const mesh::FittedPrimitive& p : f.compound.primitives) y += fmt::format("    - {}\n", primitive_yaml(p));
+  }
+  return y;
+}
+
+/// Writes `text` to `path` unless a file is there that fit-ssv did not write.
+void write_fit_file(const std::string& path, const std::string& text) {
+  if (std::filesystem::exists(path)) {
+    std::ifstream in(path);
+    std::string first;
+    std::getline(in, first);
+    if (first.rfind(kFitBanner, 0) != 0)
+      throw std::runtime_error(fmt::format("{}: error: the file exists and was not written by mbgen fit-ssv (no `{}` on its "
+                                           "first line)\n  fix: choose another --out, or move the file away; mbgen never "
+                                           "overwrites files it did not write", path, kFitBanner));
+  }
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out) throw std::runtime_error(fmt::format("{}: error: cannot write (disk full or no permission)", temporary));
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+int run_fit_ssv(const FitSsvOptions& o) {
+  try {
+    gen::LoadOptions load;
+    if (!o.extras.empty()) load.extras_file = o.extras;
+    if (o.floating) load.base = gen::BaseType::Floating;
+    if (o.fixed) load.base = gen::BaseType::Fixed;
+    load.reduce = false;          // every link of the description gets its compound
+    load.apply_scene_fit = false;  // fitted here, once, with this command's budget
+    for (const std::string& p : o.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
+    gen::Description d = gen::load_description(o.description, load);
+    mesh::FitOptions fit;
+    fit.budget = o.budget;
+    const std::vector<gen::LinkFit> fits = gen::fit_link_ssvs(d, load.package_paths, fit);
+    for (const std::string& w : d.warnings) std::cerr << "warning: " << w << "\n";
+    write_fit_file(o.out, fit_yaml(d, fits, o.budget));
+    if (!o.picture_data.empty()) write_ssv_picture_data(o.picture_data, d, fits, load.package_paths);
+    if (!o.quiet) {
+      std::cout << fmt::format("{:<28} {:>6} {:>5} {:>10} {:>10} {:>7} {:>7}\n", "link", "tris", "SSVs", "volume L",
+                               "hull L", "ratio", "gap mm");
+      int primitives = 0;
+      for (const gen::LinkFit& f : fits) {
+        const mesh::FitReport& r = f.compound.report;
+        primitives += static_cast<int>(f.compound.primitives.size());
+        std::cout << fmt::format("{:<28} {:>6} {:>5} {:>10.3f} {:>10.3f} {:>7.2f} {:>7.1f}\n", f.link, r.triangles,
+                                 f.compound.primitives.size(), 1e3 * r.volume, 1e3 * r.hull_volume,
+                                 r.hull_volume > 0 ? r.volume / r.hull_volume : 0.0, 1e3 * r.largest_gap);
+      }
+      std::cout << fmt::format("mbgen fit-ssv: {} link{} fitted, {} primitives -> {}\n", fits.size(), fits.size() == 1 ? "" : "s",
+                               primitives, o.out);
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  }
+}
+
+}  // namespace
+
+void add_fit_ssv_command(CLI::App& app, int& status) {
+  auto options = std::make_shared<FitSsvOptions>();
+  CLI::App* cmd = app.add_subcommand("fit-ssv", "Fit swept-sphere compounds to each link's meshes; write them as extras");
+  cmd->add_option("description", options->description, "URDF file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--extras", options->extras, "YAML extras (links it gives an `ssv:` are not refitted)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", options->out, "the YAML file to write (an extras file with `ssv:` only)")->required();
+  cmd->add_option("--budget", options->budget, "most SSV primitives per link (default 4; a plate counts 2)")
+      ->check(CLI::Range(1, 64));
+  add_package_path_option(cmd, options->package_paths, "for the meshes");
+  cmd->add_option("--picture-data", options->picture_data,
+                  "also write the meshes and SSV outlines at the nominal pose to this folder (scripts/ssv_picture.sh draws them)");
+  auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
+  cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
+  cmd->add_flag("--quiet", options->quiet, "print nothing on success");
+  cmd->callback([options, &status] { status = run_fit_ssv(*options); });
+}
+
+}  // namespace mbgen::cli
