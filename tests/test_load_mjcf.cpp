@@ -277,6 +277,17 @@ TEST(LoadMjcf, FrameElementIsNotSupported) {
   EXPECT_TRUE(contains(e.fix(), "write its children's poses in the enclosing body")) << e.what();
 }
 
+// Mesh assets: two meshes under one name (the second takes its file's stem), and a geom naming
+// a mesh no asset gives, are errors naming the line.
+TEST(LoadMjcf, MeshNamesMustBeUniqueAndKnown) {
+  const gen::LoadError taken = load_error("bad/mesh_names.xml");
+  EXPECT_EQ(taken.line(), 4);
+  EXPECT_TRUE(contains(taken.problem(), "mesh name 'part' is taken (line 3")) << taken.what();
+  const gen::LoadError unknown = load_error("bad/mesh_unknown.xml");
+  EXPECT_EQ(unknown.line(), 9);
+  EXPECT_TRUE(contains(unknown.problem(), "names mesh 'prat', which no <asset> <mesh> gives a file")) << unknown.what();
+}
+
 TEST(LoadMjcf, MissingInertialIsAnErrorWithAFix) {
   const gen::LoadError e = load_error("bad/no_inertial.xml");
   EXPECT_EQ(e.file(), kMjcf + "/bad/no_inertial.xml");

@@ -23,10 +23,15 @@
 #include <tinyxml2.h>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <random>
 
+#include "load/fit_link_ssvs.hpp"
+#include "mesh/mesh_path.hpp"
+#include "mesh/read_mesh.hpp"
 #include "mujoco_without_assets.hpp"
 #include "test_support.hpp"
 
@@ -278,6 +283,111 @@ TEST_P(PeerMujoco, MassMatrixAndBiasWithMujocosInertias) {
               worst_b);
   EXPECT_LT(worst_M, 1e-12);
   EXPECT_LT(worst_b, 1e-12);
+}
+
+// Mesh geoms (load/mjcf_geoms.cpp): MuJoCo moves each mesh to its inertial frame and offsets the
+// geom to match; mbgen places the file's vertices by the mesh's scale and the geom's pose. Both
+// must put every vertex at the same point of the body. An off-centre, tilted tetrahedron (so the
+// inertial frame is neither the file's origin nor its axes), scaled unevenly, under a meshdir,
+// once with pos + euler in degrees and once with a class default's quat.
+TEST(PeerMujocoMeshes, MeshVerticesLandWhereMujocoPutsThem) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "mbgen_peer_mujoco_mesh";
+  fs::create_directories(dir / "assets");
+  const std::vector<Vec3<double>> corners = {{0.3, 0.1, 0.2}, {0.5, 0.1, 0.25}, {0.3, 0.4, 0.2}, {0.35, 0.15, 0.6}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  {
+    std::ofstream out(dir / "assets" / "tet.stl", std::ios::binary);
+    char header[80] = "tetrahedron for test_peer_mujoco";
+    out.write(header, 80);
+    const std::uint32_t n = 4;
+    out.write(reinterpret_cast<const char*>(&n), 4);
+    for (const auto& f : faces) {
+      float values[12] = {0, 0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 3; ++i) values[3 + 3 * k + i] = static_cast<float>(corners[f[k]][i]);
+      out.write(reinterpret_cast<const char*>(values), sizeof values);
+      const std::uint16_t attribute = 0;
+      out.write(reinterpret_cast<const char*>(&attribute), 2);
+    }
+  }
+  std::ofstream(dir / "meshes.xml") << R"(<mujoco model="meshes">
+  <compiler angle="degree" meshdir="assets"/>
+  <default><default class="turned"><geom type="mesh" quat="0.9 0.1 -0.3 0.2"/></default></default>
+  <asset><mesh name="tet" file="tet.stl" scale="1.5 0.8 1.2"/><mesh name="plain" file="tet.stl"/></asset>
+  <worldbody>
+    <body name="a" pos="0 0 1">
+      <joint name="j" type="hinge" axis="0 1 0"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+      <geom name="g1" type="mesh" mesh="tet" pos="0.1 -0.2 0.05" euler="10 -20 30"/>
+      <body name="b" pos="0.2 0 0">
+        <joint name="k" type="hinge" axis="1 0 0"/>
+        <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+        <geom name="g2" class="turned" mesh="plain" pos="0 0.1 0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+)";
+  char error[1000] = "";
+  mjModel* m = mj_loadXML((dir / "meshes.xml").string().c_str(), nullptr, error, sizeof error);
+  ASSERT_NE(m, nullptr) << error;
+  gen::LoadOptions options;
+  options.pick_up_robot_yaml = false;
+  gen::Description d = gen::read_description((dir / "meshes.xml").string(), options);
+  for (const char* geom_name : {"g1", "g2"}) {
+    const int g = mj_name2id(m, mjOBJ_GEOM, geom_name);
+    ASSERT_GE(g, 0);
+    const std::string body = mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]);
+    const Eigen::Quaterniond q(m->geom_quat[4 * g], m->geom_quat[4 * g + 1], m->geom_quat[4 * g + 2], m->geom_quat[4 * g + 3]);
+    const Vec3<double> p(m->geom_pos[3 * g], m->geom_pos[3 * g + 1], m->geom_pos[3 * g + 2]);
+    const int mesh = m->geom_dataid[g];
+    std::vector<Vec3<double>> theirs;
+    for (int v = 0; v < m->mesh_vertnum[mesh]; ++v) {
+      const float* x = m->mesh_vert + 3 * (m->mesh_vertadr[mesh] + v);
+      theirs.push_back(p + q.toRotationMatrix() * Vec3<double>(x[0], x[1], x[2]));
+    }
+    ASSERT_EQ(d.link_meshes.at(body).size(), 1u) << body;
+    const gen::MeshGeometry& geometry = d.link_meshes.at(body)[0];
+    mesh::TriangleMesh ours;
+    mesh::append_transformed(mesh::read_mesh(mesh::resolve_mesh_path(geometry.reference, dir.string(), {})), geometry.scale,
+                             geometry.X_LG, ours);
+    // Every MuJoCo vertex is one of ours and every one of ours one of MuJoCo's (float storage).
+    double worst = 0;
+    for (const auto& a : theirs) {
+      double nearest = 1e300;
+      for (const auto& b : ours.vertices) nearest = std::min(nearest, (a - b).norm());
+      worst = std::max(worst, nearest);
+    }
+    for (const auto& b : ours.vertices) {
+      double nearest = 1e300;
+      for (const auto& a : theirs) nearest = std::min(nearest, (a - b).norm());
+      worst = std::max(worst, nearest);
+    }
+    std::printf("  %s: %zu MuJoCo vertices, largest distance to mbgen's %.1e m\n", geom_name, theirs.size(), worst);
+    EXPECT_LT(worst, 1e-6) << geom_name;
+    // The case is not trivial: MuJoCo did move the mesh (its geom sits away from the pos given).
+    const Vec3<double> given = std::string(geom_name) == "g1" ? Vec3<double>(0.1, -0.2, 0.05) : Vec3<double>(0, 0.1, 0);
+    EXPECT_GT((p - given).norm(), 0.1) << geom_name;
+  }
+  // The fit encloses MuJoCo's vertices of both bodies.
+  const std::vector<gen::LinkFit> fits = gen::fit_link_ssvs(d, {}, mesh::FitOptions{});
+  ASSERT_EQ(fits.size(), 2u);
+  for (const gen::LinkFit& fit : fits) {
+    const int b = mj_name2id(m, mjOBJ_BODY, fit.link.c_str());
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] != b) continue;
+      const Eigen::Quaterniond q(m->geom_quat[4 * g], m->geom_quat[4 * g + 1], m->geom_quat[4 * g + 2], m->geom_quat[4 * g + 3]);
+      const Vec3<double> p(m->geom_pos[3 * g], m->geom_pos[3 * g + 1], m->geom_pos[3 * g + 2]);
+      const int mesh = m->geom_dataid[g];
+      for (int v = 0; v < m->mesh_vertnum[mesh]; ++v) {
+        const float* x = m->mesh_vert + 3 * (m->mesh_vertadr[mesh] + v);
+        // float storage: MuJoCo's vertex may sit 1e-7 m from the file's.
+        EXPECT_LE(mesh::distance_to_compound(p + q.toRotationMatrix() * Vec3<double>(x[0], x[1], x[2]), fit.compound.primitives), 1e-6);
+      }
+    }
+  }
+  mj_deleteModel(m);
 }
 
 // Tolerances (relative, ||a - b|| / max(1, ||b||)), from what each file's inertias allow:

@@ -134,7 +134,7 @@ int run_fit_ssv(const FitSsvOptions& o) {
 void add_fit_ssv_command(CLI::App& app, int& status) {
   auto options = std::make_shared<FitSsvOptions>();
   CLI::App* cmd = app.add_subcommand("fit-ssv", "Fit swept-sphere compounds to each link's meshes; write them as extras");
-  cmd->add_option("description", options->description, "URDF file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("description", options->description, "URDF, or MJCF (.xml) file")->required()->check(CLI::ExistingFile);
   cmd->add_option("--extras", options->extras, "YAML extras (links it gives an `ssv:` are not refitted)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "the YAML file to write (an extras file with `ssv:` only)")->required();

@@ -33,6 +33,7 @@ Compiler read_compiler(const std::string& path, const tinyxml2::XMLElement* root
     if (c.eulerseq.size() != 3 || c.eulerseq.find_first_not_of("xyzXYZ") != std::string::npos)
       x.fail(fmt::format("eulerseq=\"{}\"", c.eulerseq), "give three letters from xyzXYZ, e.g. eulerseq=\"xyz\"");
     c.autolimits = x.string("autolimits", c.autolimits ? "true" : "false") == "true";
+    c.meshdir = x.string("meshdir", x.string("assetdir", c.meshdir));
     if (x.string("coordinate", "local") != "local")
       x.fail("not supported: coordinate=\"global\"", "convert the file to local coordinates (MuJoCo 2.3 removed them too)");
     if (x.string("inertiafromgeom", "auto") == "true")

@@ -19,6 +19,7 @@ struct Compiler {
   bool degrees = true;          ///< MJCF's default angle unit is the degree
   std::string eulerseq = "xyz"; ///< lower case: rotating (intrinsic) axes; upper case: fixed (extrinsic)
   bool autolimits = true;       ///< a joint with a range but no `limited` is limited
+  std::string meshdir;          ///< `meshdir`, else `assetdir`: where <mesh file> paths start (relative: from the file's folder)
 };
 
 /// `<default>` classes: per class, per element kind (joint, geom, site, ...), the attributes it sets,
