@@ -167,13 +167,14 @@ double largest_gap(const std::vector<FittedPrimitive>& compound, const std::vect
   return gap;
 }
 
-}  // namespace
+double total_volume(const std::vector<Piece>& pieces) {
+  double v = 0;
+  for (const Piece& p : pieces) v += p.part.volume;
+  return v;
+}
 
-FittedCompound fit_ssv_compound(const TriangleMesh& mesh, const FitOptions& options) {
-  if (options.budget < 1)
-    throw std::invalid_argument(fmt::format("the SSV budget is {}: give at least 1 primitive per link", options.budget));
-  if (mesh.triangles.empty()) throw std::invalid_argument("the mesh has no triangles");
-  const std::vector<Triangle> soup = triangle_soup(mesh);
+/// Greedy: the best part for the whole, then the cut that saves most, while one saves min_gain.
+std::vector<Piece> greedy_pieces(const std::vector<Triangle>& soup, const FitOptions& options) {
   std::vector<Piece> pieces;
   pieces.push_back(make_piece(soup, options.budget, options.min_gain));
   std::vector<std::optional<Split>> splits(1);
@@ -197,6 +198,49 @@ FittedCompound fit_ssv_compound(const TriangleMesh& mesh, const FitOptions& opti
     splits[chosen].reset(), tried[chosen] = false;
     pieces.push_back(std::move(s.b));
     splits.emplace_back(), tried.push_back(false);
+  }
+
+  return pieces;
+}
+
+/// Cut first: single-primitive parts, the largest cut at its best plane (if that makes it
+/// smaller) until the budget is spent or nothing can be cut.
+std::vector<Piece> cut_first_pieces(const std::vector<Triangle>& soup, const FitOptions& options) {
+  std::vector<Piece> pieces;
+  pieces.push_back(make_piece(soup, 1, options.min_gain));
+  while (static_cast<int>(pieces.size()) < options.budget) {
+    std::vector<std::size_t> order(pieces.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pieces[a].part.volume > pieces[b].part.volume; });
+    bool cut = false;
+    for (std::size_t i : order) {
+      std::optional<Split> split = best_split(pieces[i], 1, options.min_gain);
+      if (!split || !(split->volume < pieces[i].part.volume)) continue;
+      pieces[i] = std::move(split->a);
+      pieces.push_back(std::move(split->b));
+      cut = true;
+      break;
+    }
+    if (!cut) break;
+  }
+  return pieces;
+}
+
+}  // namespace
+
+FittedCompound fit_ssv_compound(const TriangleMesh& mesh, const FitOptions& options) {
+  if (options.budget < 1)
+    throw std::invalid_argument(fmt::format("the SSV budget is {}: give at least 1 primitive per link", options.budget));
+  if (mesh.triangles.empty()) throw std::invalid_argument("the mesh has no triangles");
+  const std::vector<Triangle> soup = triangle_soup(mesh);
+  std::vector<Piece> pieces = greedy_pieces(soup, options);
+  // The greedy step stops where no single cut saves min_gain; a tapered or bent part may need
+  // two cuts before either pays. Cutting first (the largest part at its best cut into single
+  // primitives, until the budget is spent) is the other way round; it is kept when it saves
+  // min_gain of the greedy result's volume.
+  if (options.budget >= 2) {
+    std::vector<Piece> cut = cut_first_pieces(soup, options);
+    if (total_volume(cut) < (1 - options.min_gain) * total_volume(pieces)) pieces = std::move(cut);
   }
 
   FittedCompound result;
