@@ -2,7 +2,10 @@
 // Meshes the SSV-fitting tests build themselves (closed, outward-facing triangles): a box, a
 // cylinder, an L-shaped prism, a thin plate, a sphere; and random points on a mesh's surface.
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mesh/triangle_mesh.hpp"
@@ -82,6 +85,26 @@ inline std::vector<Vec3<double>> surface_samples(const mesh::TriangleMesh& m, in
     points.push_back(m.vertices[t[0]] + a * (m.vertices[t[1]] - m.vertices[t[0]]) + b * (m.vertices[t[2]] - m.vertices[t[0]]));
   }
   return points;
+}
+
+/// Writes `m` as a binary STL (80-byte header, count, per triangle a zero normal, three float
+/// corners and a zero attribute). `poison` is added to the first corner's x of every triangle: a
+/// NaN makes a file with non-finite vertices.
+inline void write_binary_stl(const std::string& path, const mesh::TriangleMesh& m, float poison = 0) {
+  std::ofstream out(path, std::ios::binary);
+  char header[80] = "binary STL written by mbgen's tests";
+  out.write(header, 80);
+  const auto n = static_cast<std::uint32_t>(m.triangles.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : m.triangles) {
+    float values[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) values[3 + 3 * k + i] = static_cast<float>(m.vertices[t[k]][i]);
+    values[3] += poison;
+    out.write(reinterpret_cast<const char*>(values), sizeof values);
+    const std::uint16_t attribute = 0;
+    out.write(reinterpret_cast<const char*>(&attribute), 2);
+  }
 }
 
 }  // namespace mbgen::test

@@ -23,13 +23,13 @@
 #include <tinyxml2.h>
 
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <filesystem>
 #include <random>
 
 #include "load/fit_link_ssvs.hpp"
+#include "mesh_shapes.hpp"
 #include "mesh/mesh_path.hpp"
 #include "mesh/read_mesh.hpp"
 #include "mujoco_without_assets.hpp"
@@ -294,23 +294,10 @@ TEST(PeerMujocoMeshes, MeshVerticesLandWhereMujocoPutsThem) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "mbgen_peer_mujoco_mesh";
   fs::create_directories(dir / "assets");
-  const std::vector<Vec3<double>> corners = {{0.3, 0.1, 0.2}, {0.5, 0.1, 0.25}, {0.3, 0.4, 0.2}, {0.35, 0.15, 0.6}};
-  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  {
-    std::ofstream out(dir / "assets" / "tet.stl", std::ios::binary);
-    char header[80] = "tetrahedron for test_peer_mujoco";
-    out.write(header, 80);
-    const std::uint32_t n = 4;
-    out.write(reinterpret_cast<const char*>(&n), 4);
-    for (const auto& f : faces) {
-      float values[12] = {0, 0, 0};
-      for (int k = 0; k < 3; ++k)
-        for (int i = 0; i < 3; ++i) values[3 + 3 * k + i] = static_cast<float>(corners[f[k]][i]);
-      out.write(reinterpret_cast<const char*>(values), sizeof values);
-      const std::uint16_t attribute = 0;
-      out.write(reinterpret_cast<const char*>(&attribute), 2);
-    }
-  }
+  mesh::TriangleMesh tetrahedron;
+  tetrahedron.vertices = {{0.3, 0.1, 0.2}, {0.5, 0.1, 0.25}, {0.3, 0.4, 0.2}, {0.35, 0.15, 0.6}};
+  tetrahedron.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  write_binary_stl((dir / "assets" / "tet.stl").string(), tetrahedron);
   std::ofstream(dir / "meshes.xml") << R"(<mujoco model="meshes">
   <compiler angle="degree" meshdir="assets"/>
   <default><default class="turned"><geom type="mesh" quat="0.9 0.1 -0.3 0.2"/></default></default>

@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "mesh/mesh_path.hpp"
+#include "mesh_shapes.hpp"
 
 namespace {
 
@@ -32,20 +33,10 @@ fs::path scratch(const std::string& name) {
 }
 
 void write_binary_stl(const fs::path& path, float poison = 0) {
-  std::ofstream out(path, std::ios::binary);
-  char header[80] = "binary stl written by test_read_mesh";
-  out.write(header, 80);
-  const std::uint32_t n = 4;
-  out.write(reinterpret_cast<const char*>(&n), 4);
-  for (const auto& f : kFaces) {
-    float values[12] = {0, 0, 0};
-    for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 3; ++i) values[3 + 3 * k + i] = static_cast<float>(kTetrahedron[f[k]][i]);
-    values[3] += poison;  // NaN poisons the first coordinate
-    out.write(reinterpret_cast<const char*>(values), sizeof values);
-    const std::uint16_t attribute = 0;
-    out.write(reinterpret_cast<const char*>(&attribute), 2);
-  }
+  TriangleMesh tetrahedron;
+  tetrahedron.vertices = kTetrahedron;
+  for (const auto& f : kFaces) tetrahedron.triangles.push_back({f[0], f[1], f[2]});
+  mbgen::test::write_binary_stl(path.string(), tetrahedron, poison);  // NaN poisons the first coordinate
 }
 
 std::vector<Vec3<double>> sorted(std::vector<Vec3<double>> v) {
