@@ -86,4 +86,17 @@ TEST(FitSsvCommand, NeverOverwritesAFileItDidNotWriteAndRefusesBadOptions) {
   EXPECT_NE(read(scratch("o.txt")).find("1 link fitted, 4 primitives"), std::string::npos) << read(scratch("o.txt"));
 }
 
+// A robot without meshes or boxes (panda_collision: spheres and cylinders) gets an empty section
+// that still loads as extras.
+TEST(FitSsvCommand, NoMeshesGiveAnEmptySectionThatLoads) {
+  const fs::path yaml = scratch("panda.yaml");
+  fs::remove(yaml);
+  const std::string panda = mbgen::test::shared_robot("panda/panda_collision.urdf");
+  ASSERT_EQ(run("fit-ssv " + panda + " --out " + yaml.string(), scratch("p.txt")), 0);
+  EXPECT_NE(read(scratch("p.txt")).find("0 links fitted"), std::string::npos);
+  EXPECT_NE(read(yaml).find("ssv: {}"), std::string::npos) << read(yaml);
+  EXPECT_EQ(run("inspect " + panda + " --samples 10 --extras " + yaml.string(), scratch("pi.txt"), scratch("pe.txt")), 0)
+      << read(scratch("pe.txt"));
+}
+
 }  // namespace

@@ -58,7 +58,9 @@ std::string fit_yaml(const gen::Description& d, const std::vector<gen::LinkFit>&
   y += "# Each compound encloses its link's meshes (every vertex checked). Review it, then use this file\n"
        "# as the extras (or paste `ssv:` into yours): a link's `ssv:` replaces what the URDF gives it.\n"
        "# Per link: primitives; swept volume / the meshes' convex hull; largest distance from the SSVs to the mesh.\n"
-       "ssv:\n";
+       "ssv:";
+  // An empty section must still be a map, so that the file loads as extras.
+  y += fits.empty() ? " {}  # no link had a mesh or box to fit\n" : "\n";
   for (const gen::LinkFit& f : fits) {
     const mesh::FitReport& r = f.compound.report;
     std::vector<std::string> names;
