@@ -109,7 +109,7 @@ int run_fit_ssv(const FitSsvOptions& o) {
     const std::vector<gen::LinkFit> fits = gen::fit_link_ssvs(d, load.package_paths, fit);
     for (const std::string& w : d.warnings) std::cerr << "warning: " << w << "\n";
     write_fit_file(o.out, fit_yaml(d, fits, o.budget));
-    if (!o.picture_data.empty()) write_ssv_picture_data(o.picture_data, d, fits, load.package_paths);
+    if (!o.picture_data.empty()) write_ssv_picture_data(o.picture_data, d, fits);
     if (!o.quiet) {
       std::cout << fmt::format("{:<28} {:>6} {:>5} {:>10} {:>10} {:>7} {:>7}\n", "link", "tris", "SSVs", "volume L",
                                "hull L", "ratio", "gap mm");

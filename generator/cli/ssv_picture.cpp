@@ -10,8 +10,6 @@
 
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/algorithm/kinematics.hpp"
-#include "mesh/mesh_path.hpp"
-#include "mesh/read_mesh.hpp"
 
 namespace mbgen::cli {
 
@@ -49,15 +47,13 @@ V2 project(const Vec3<double>& x, int view) {
 
 }  // namespace
 
-void write_ssv_picture_data(const std::string& directory, const gen::Description& d, const std::vector<gen::LinkFit>& fits,
-                            const std::map<std::string, std::string>& package_paths) {
+void write_ssv_picture_data(const std::string& directory, const gen::Description& d, const std::vector<gen::LinkFit>& fits) {
   std::filesystem::create_directories(directory);
   const Model& model = d.model;
   Data<double> data(model);
   const VecX<double> q = d.assembly.q.size() == model.nq() ? d.assembly.q : neutral_configuration<double>(model);
   forward_kinematics<double>(model, data, q);
   update_frame_placements<double>(model, data);
-  const std::string folder = std::filesystem::path(d.description_file).parent_path().string();
 
   std::ofstream mesh_out(std::filesystem::path(directory) / "mesh.dat");
   mesh_out << "# world x y z of each mesh triangle at the nominal pose, one closed block each\n";
@@ -69,19 +65,12 @@ void write_ssv_picture_data(const std::string& directory, const gen::Description
     if (!frame) continue;
     const SE3<double>& X_WL = data.X_WF[*frame];
     // The meshes as the fit read them, placed in the world.
-    for (const gen::MeshGeometry& g : d.link_meshes.at(fit.link)) {
-      mesh::TriangleMesh m;
-      if (g.box)
-        mesh::append_transformed(mesh::box_mesh(g.scale), Vec3<double>::Ones(), g.X_LG, m);
-      else
-        mesh::append_transformed(mesh::read_mesh(mesh::resolve_mesh_path(g.reference, folder, package_paths)), g.scale, g.X_LG, m);
-      for (const auto& t : m.triangles) {
-        for (int k : {0, 1, 2, 0}) {
-          const Vec3<double> x = X_WL.act(m.vertices[t[k]]);
-          mesh_out << fmt::format("{:.5f} {:.5f} {:.5f}\n", x.x(), x.y(), x.z());
-        }
-        mesh_out << "\n";
+    for (const auto& t : fit.mesh.triangles) {
+      for (int k : {0, 1, 2, 0}) {
+        const Vec3<double> x = X_WL.act(fit.mesh.vertices[t[k]]);
+        mesh_out << fmt::format("{:.5f} {:.5f} {:.5f}\n", x.x(), x.y(), x.z());
       }
+      mesh_out << "\n";
     }
     // Each part's silhouette: its projected cores swept by a disc of its radius. A plate's two
     // triangles (the fitter's (a, b, c), (a, c, d)) are drawn as one rectangle.

@@ -12,7 +12,6 @@ namespace mbgen::cli {
 /// DIR/ssv.dat (three indices, front y-z, side x-z, top x-y: each primitive's silhouette as a
 /// closed outline, one block each) for the pose q (nq; the neutral pose, or the closed assembly).
 /// Throws std::runtime_error if the files cannot be written.
-void write_ssv_picture_data(const std::string& directory, const gen::Description& d, const std::vector<gen::LinkFit>& fits,
-                            const std::map<std::string, std::string>& package_paths);
+void write_ssv_picture_data(const std::string& directory, const gen::Description& d, const std::vector<gen::LinkFit>& fits);
 
 }  // namespace mbgen::cli

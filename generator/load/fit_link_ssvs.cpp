@@ -55,6 +55,7 @@ std::vector<LinkFit> fit_link_ssvs(Description& d, const std::map<std::string, s
     }
     if (!usable) continue;
     fit.compound = mesh::fit_ssv_compound(gathered, options);
+    fit.mesh = std::move(gathered);
     std::vector<std::string> names;
     for (const std::string& s : fit.sources) names.push_back(std::filesystem::path(s).filename().string());
     const std::string source = fmt::format("fitted to {}", fmt::join(names, ", "));

@@ -14,6 +14,7 @@ namespace mbgen::gen {
 struct LinkFit {
   std::string link;
   std::vector<std::string> sources;  ///< mesh paths as resolved ("box" for a box)
+  mesh::TriangleMesh mesh;            ///< the link's meshes and boxes gathered in its frame, as fitted
   mesh::FittedCompound compound;
 };
 
