@@ -15,7 +15,7 @@ template <typename S> struct Data {
         a(model.num_bodies()),
         c(model.num_bodies()),
         f(model.num_bodies()),
-        Y(model.num_bodies(), Mat6<S>::Zero()),
+        Y(model.num_bodies()),
         composite(model.num_bodies()),
         IA(model.num_bodies(), Mat6<S>::Zero()),
         pA(model.num_bodies()),
@@ -61,7 +61,7 @@ template <typename S> struct Data {
   IndexedVector<BodyIndex, Motion<S>> a;   ///< body spatial acceleration (incl. -gravity), body frame
   IndexedVector<BodyIndex, Motion<S>> c;   ///< velocity-product acceleration v x (S v_j), body frame
   IndexedVector<BodyIndex, Force<S>> f;    ///< net force transmitted by each joint, body frame
-  IndexedVector<BodyIndex, Mat6<S>> Y;     ///< composite inertia (CRBA), body frame
+  IndexedVector<BodyIndex, InertiaMoments<S>> Y;  ///< composite inertia (CRBA) as mass moments about the body's origin, body frame
   IndexedVector<BodyIndex, InertiaMoments<S>> composite;  ///< composite mass moments about the world origin (centroidal)
   IndexedVector<BodyIndex, Mat6<S>> IA;    ///< articulated-body inertia, body frame
   IndexedVector<BodyIndex, Force<S>> pA;   ///< articulated bias force, body frame

@@ -19,7 +19,23 @@ template <typename S> Mat3<S> quaternion_to_rotation(const S& x, const S& y, con
 }
 
 /// Rotation by angle (given as its sine and cosine) about a constant unit axis (Rodrigues).
+/// About a coordinate axis (+-x, +-y, +-z, the usual case) the entries are written directly:
+/// Rodrigues' c + (1 - c) on the axis is 1 only up to round-off, and a symbolic scalar would
+/// carry it (and every product with it) into generated code.
 template <typename S> Mat3<S> axis_rotation(const Vec3<double>& axis, const S& s, const S& c) {
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    if ((axis[k] == 1.0 || axis[k] == -1.0) && axis[k1] == 0.0 && axis[k2] == 0.0) {
+      const S s_signed = axis[k] > 0 ? s : -s;
+      Mat3<S> R = Mat3<S>::Zero();
+      R(k, k) = S(1);
+      R(k1, k1) = c;
+      R(k2, k2) = c;
+      R(k2, k1) = s_signed;
+      R(k1, k2) = -s_signed;
+      return R;
+    }
+  }
   Vec3<S> a = axis.cast<S>();
   S t = S(1) - c;
   Mat3<S> R;
@@ -130,6 +146,20 @@ template <typename S> Mat6<S> inertia_child_to_parent(const Joint& joint, const 
   }
   if (joint.X_PJ_is_identity) return I_J;
   return transform_spatial_inertia<S>(joint.X_PJ.cast<S>(), I_J);
+}
+
+/// Mass moments of the child (about its origin, child axes) taken about the parent's origin in
+/// the parent's axes: the composite inertia of CRBA in its 10-number form (inertia.hpp).
+template <typename S>
+InertiaMoments<S> moments_child_to_parent(const Joint& joint, const SE3<S>& X_J, const InertiaMoments<S>& I_C) {
+  InertiaMoments<S> I_J;
+  switch (joint.type) {
+    case JointType::Revolute: I_J = I_C.rotated(X_J.rotation); break;
+    case JointType::Prismatic: I_J = I_C.translated(X_J.translation); break;
+    case JointType::Floating: I_J = I_C.transformed(X_J); break;
+  }
+  if (joint.X_PJ_is_identity) return I_J;
+  return I_J.transformed(joint.X_PJ.cast<S>());
 }
 
 }  // namespace mbgen

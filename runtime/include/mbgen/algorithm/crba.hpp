@@ -5,16 +5,19 @@
 
 namespace mbgen {
 
-/// Mass matrix (nv x nv, symmetric, both triangles filled) in data.M, also returned.
+/// Mass matrix (nv x nv, symmetric, both triangles filled) in data.M, also returned. Composite
+/// inertias are kept as mass moments (10 numbers, InertiaMoments) in each body's frame: they move
+/// to the parent with a rotation and a parallel-axis shift and add entry by entry, where the 6x6
+/// form costs a 6x6 congruence per body and, traced, does not even see that its mass block stays m 1.
 template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
     const Joint& joint = model.joint(model.body(i).joint);
     data.X_J[i] = joint_motion_transform<S>(joint, q.data() + joint.idx_q);
-    data.Y[i] = model.body(i).inertia.cast<S>().matrix();
+    data.Y[i] = InertiaMoments<S>::of_body(model.body(i).inertia);
     // A rotor body moves with its parent except for its own spin (rotor.hpp).
     const BodyIndex parent = model.body(i).parent;
-    if (joint.has_rotor_body() && parent != kWorldBody) data.Y[parent] += rotor_inertia_in_parent<S>(joint);
+    if (joint.has_rotor_body() && parent != kWorldBody) data.Y[parent].rotational += rotor_spin_inertia_in_parent<S>(joint);
   }
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
@@ -23,7 +26,7 @@ template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, con
     for (int col = 0; col < ji.nv; ++col) {
       // Force needed to move the composite body i with unit velocity of this joint column,
       // carried down the support chain and projected on each ancestor joint.
-      Force<S> F = Force<S>::from_vector(data.Y[i] * joint_subspace_column<S>(ji, col).vector());
+      Force<S> F = data.Y[i] * joint_subspace_column<S>(ji, col);
       const int c = ji.idx_v + col;
       BodyIndex j = i;
       while (j != kWorldBody) {
@@ -46,7 +49,7 @@ template <typename S> const MatX<S>& crba(const Model& model, Data<S>& data, con
         j = parent;
       }
     }
-    if (body.parent != kWorldBody) data.Y[body.parent] += inertia_child_to_parent<S>(ji, data.X_J[i], data.Y[i]);
+    if (body.parent != kWorldBody) data.Y[body.parent] += moments_child_to_parent<S>(ji, data.X_J[i], data.Y[i]);
   }
   return data.M;
 }

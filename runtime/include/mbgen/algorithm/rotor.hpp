@@ -42,12 +42,18 @@ template <typename S> S rotor_joint_force(const Joint& joint, const Motion<S>& a
   return f;
 }
 
+/// The rotational part of the rotor's inertia about its spin axis, I_r w w^T, in the parent frame
+/// (the rotor's mass and its inertia across the axis are part of the parent body).
+template <typename S> Mat3<S> rotor_spin_inertia_in_parent(const Joint& joint) {
+  const Vec3<double> w = rotor_axis_in_parent(joint);
+  return (joint.rotor_inertia * w * w.transpose()).cast<S>();
+}
+
 /// The rotor's spatial inertia in the parent frame, [0 0; 0 I_r w w^T] (6x6).
 template <typename S> Mat6<S> rotor_inertia_in_parent(const Joint& joint) {
-  const Vec3<double> w = rotor_axis_in_parent(joint);
-  Mat6<double> I = Mat6<double>::Zero();
-  I.bottomRightCorner<3, 3>() = joint.rotor_inertia * w * w.transpose();
-  return I.cast<S>();
+  Mat6<S> I = Mat6<S>::Zero();
+  I.template bottomRightCorner<3, 3>() = rotor_spin_inertia_in_parent<S>(joint);
+  return I;
 }
 
 /// I_R S_R: the force on the rotor per unit of its own spin rate, [0; I_r w] in the parent frame.

@@ -101,6 +101,44 @@ template <typename S> struct InertiaMoments {
     return out;
   }
 
+  /// The moments of body inertia I about the origin of its own frame (computed in double).
+  static InertiaMoments of_body(const Inertia<double>& I) {
+    const InertiaMoments<double> d = InertiaMoments<double>::of(I, SE3<double>());
+    InertiaMoments out;
+    out.mass = S(d.mass);
+    out.first_moment = d.first_moment.template cast<S>();
+    out.rotational = d.rotational.template cast<S>();
+    return out;
+  }
+
+  /// The same moments in axes rotated by R (same origin): m, R h, R I_O R^T.
+  InertiaMoments rotated(const Mat3<S>& R) const {
+    return {mass, R * first_moment, rotate_symmetric<S>(R, rotational)};
+  }
+
+  /// The same moments about a point at -p, i.e. in a frame whose origin sees this one's at p
+  /// (same axes): h' = h + m p and, from sum m_i [p + r_i]x^T [p + r_i]x,
+  /// I' = I_O + (p . (h + h')) 1 - p h'^T - h p^T (symmetric; the upper triangle is mirrored).
+  InertiaMoments translated(const Vec3<S>& p) const {
+    InertiaMoments out;
+    out.mass = mass;
+    out.first_moment = first_moment + mass * p;
+    const Vec3<S>& h = first_moment;
+    const Vec3<S>& g = out.first_moment;
+    const S trace_term = p.dot(h + g);
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        S entry = rotational(i, j) - p[i] * g[j] - h[i] * p[j];
+        if (i == j) entry += trace_term;
+        out.rotational(i, j) = entry;
+        out.rotational(j, i) = entry;
+      }
+    return out;
+  }
+
+  /// The moments given about B's origin, taken about A's, X_AB the pose of B in A.
+  InertiaMoments transformed(const SE3<S>& X_AB) const { return rotated(X_AB.rotation).translated(X_AB.translation); }
+
   InertiaMoments& operator+=(const InertiaMoments& o) {
     mass += o.mass;
     first_moment += o.first_moment;
