@@ -3,13 +3,21 @@
 //   aba        -> NAME::forward_dynamics          rnea -> NAME::inverse_dynamics
 //   crba       -> NAME::mass_matrix               centroidal -> NAME::centroidal_momentum_matrix
 //   jacobians  -> NAME::frame_jacobians (the leaf bodies' frames, as the generic benchmark)
+//   minv       -> M^-1 tau: NAME::mass_matrix_factor + NAME::mass_matrix_solve (`generated`) against
+//                 NAME::mass_matrix + Eigen's dense LLT and its solve (`eigen`)
 #include "bench_generated.hpp"
 
+#include <Eigen/Cholesky>
 #include <memory>
 
 #include "hyq.hpp"
 #include "iiwa14.hpp"
 #include "talos.hpp"
+#if MBGEN_BENCH_V3
+#include "hyq_v3.hpp"
+#include "iiwa14_v3.hpp"
+#include "talos_v3.hpp"
+#endif
 
 namespace mbgen::bench {
 
@@ -20,6 +28,8 @@ struct GeneratedApi {
   void (*forward_dynamics)(const double*, const double*, const double*, double*);
   void (*inverse_dynamics)(const double*, const double*, const double*, double*);
   void (*mass_matrix)(const double*, double*);
+  void (*mass_matrix_factor)(const double*, double*);
+  void (*mass_matrix_solve)(const double*, const double*, double*);
   void (*frame_jacobians)(const double*, double*);
   void (*centroidal_momentum_matrix)(const double*, double*);
   int nv, num_frames;
@@ -27,30 +37,51 @@ struct GeneratedApi {
 
 #define MBGEN_GENERATED_API(ns)                                                                              \
   GeneratedApi {                                                                                             \
-    &ns::forward_dynamics, &ns::inverse_dynamics, &ns::mass_matrix, &ns::frame_jacobians,                    \
-        &ns::centroidal_momentum_matrix, ns::nv, ns::num_frames                                              \
+    &ns::forward_dynamics, &ns::inverse_dynamics, &ns::mass_matrix, &ns::mass_matrix_factor,                 \
+        &ns::mass_matrix_solve, &ns::frame_jacobians, &ns::centroidal_momentum_matrix, ns::nv, ns::num_frames \
   }
 
-void add(const Robot& robot, const GeneratedApi& api) {
+/// `implementation`: generated (the build's flags) or generated_v3 (the same code for x86-64-v3).
+void add(const Robot& robot, const GeneratedApi& api, const std::string& implementation) {
   const int n = api.nv;
   auto buffer = [n, &api] { return std::make_shared<std::vector<double>>(6 * n * (n + api.num_frames + 6)); };
-  add_benchmark("aba", robot, "generated", [api, out = buffer()](const Sample& s) {
+  add_benchmark("aba", robot, implementation, [api, out = buffer()](const Sample& s) {
     api.forward_dynamics(s.q.data(), s.v.data(), s.tau.data(), out->data());
     return out->data();
   });
-  add_benchmark("rnea", robot, "generated", [api, out = buffer()](const Sample& s) {
+  add_benchmark("rnea", robot, implementation, [api, out = buffer()](const Sample& s) {
     api.inverse_dynamics(s.q.data(), s.v.data(), s.a.data(), out->data());
     return out->data();
   });
-  add_benchmark("crba", robot, "generated", [api, out = buffer()](const Sample& s) {
+  add_benchmark("crba", robot, implementation, [api, out = buffer()](const Sample& s) {
     api.mass_matrix(s.q.data(), out->data());
     return out->data();
   });
-  add_benchmark("jacobians", robot, "generated", [api, out = buffer()](const Sample& s) {
+  add_benchmark("minv", robot, implementation, [api, factor = buffer(), out = buffer()](const Sample& s) {
+    api.mass_matrix_factor(s.q.data(), factor->data());
+    api.mass_matrix_solve(factor->data(), s.tau.data(), out->data());
+    return out->data();
+  });
+  // Eigen's dense Cholesky of the same (generated) mass matrix, its storage allocated up front.
+  struct Dense {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M;
+    Eigen::LLT<MatX<double>> llt;
+    VecX<double> x;
+  };
+  auto dense = std::make_shared<Dense>(Dense{decltype(Dense::M)(n, n), Eigen::LLT<MatX<double>>(n), VecX<double>(n)});
+  if (implementation == "generated") {
+    add_benchmark("minv", robot, "eigen", [api, dense](const Sample& s) {
+      api.mass_matrix(s.q.data(), dense->M.data());
+      dense->llt.compute(dense->M);
+      dense->x = dense->llt.solve(Eigen::Map<const VecX<double>>(s.tau.data(), dense->x.size()));
+      return dense->x.data();
+    });
+  }
+  add_benchmark("jacobians", robot, implementation, [api, out = buffer()](const Sample& s) {
     api.frame_jacobians(s.q.data(), out->data());
     return out->data();
   });
-  add_benchmark("centroidal", robot, "generated", [api, out = buffer()](const Sample& s) {
+  add_benchmark("centroidal", robot, implementation, [api, out = buffer()](const Sample& s) {
     api.centroidal_momentum_matrix(s.q.data(), out->data());
     return out->data();
   });
@@ -59,9 +90,17 @@ void add(const Robot& robot, const GeneratedApi& api) {
 }  // namespace
 
 void add_generated(const Robot& robot) {
-  if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14));
-  if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq));
-  if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos));
+  if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14), "generated");
+  if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq), "generated");
+  if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos), "generated");
+#if MBGEN_BENCH_V3
+  // x86-64-v3 code on a CPU without AVX2 and FMA would stop at its first instruction.
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma") || !__builtin_cpu_supports("bmi2")) return;
+  if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14_v3), "generated_v3");
+  if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq_v3), "generated_v3");
+  if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos_v3), "generated_v3");
+#endif
 }
 
 }  // namespace mbgen::bench

@@ -54,7 +54,7 @@ constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene 
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [2] independent accelerations, independent_joint_names order
-/// Cost: 1829 operations: 681 additions/subtractions, 1030 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1784 operations: 669 additions/subtractions, 997 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -62,27 +62,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [8] accelerations of every tree joint, joint_names order
-/// Cost: 1853 operations: 693 additions/subtractions, 1042 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1808 operations: 681 additions/subtractions, 1009 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [8 x 2, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 606 operations: 191 additions/subtractions, 321 multiplications, 38 divisions, 26 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 568 operations: 179 additions/subtractions, 295 multiplications, 38 divisions, 26 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [2] independent velocities, independent_joint_names order
 /// out v: [8] velocities of every tree joint, joint_names_full order
-/// Cost: 618 operations: 197 additions/subtractions, 333 multiplications, 38 divisions, 20 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 580 operations: 185 additions/subtractions, 307 multiplications, 38 divisions, 20 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [2] independent velocities, independent_joint_names order
 /// out g: [8] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 1116 operations: 404 additions/subtractions, 604 multiplications, 44 divisions, 34 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1077 operations: 392 additions/subtractions, 577 multiplications, 44 divisions, 34 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -90,7 +90,7 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// in  v: [8] joint velocities
 /// in  qdd: [8] joint accelerations
 /// out tau: [8] joint forces
-/// Cost: 392 operations: 145 additions/subtractions, 228 multiplications, 0 divisions, 7 negations, 12 sin/cos, 0 square roots.
+/// Cost: 383 operations: 139 additions/subtractions, 225 multiplications, 0 divisions, 7 negations, 12 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 
 /// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
@@ -99,37 +99,50 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [2] independent accelerations, independent_joint_names order
 /// out tau_a: [2] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [2] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 1522 operations: 567 additions/subtractions, 840 multiplications, 44 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1480 operations: 555 additions/subtractions, 810 multiplications, 44 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [8] joint positions
 /// out M: [8 x 8, row-major] mass matrix
-/// Cost: 72 operations: 34 additions/subtractions, 31 multiplications, 0 divisions, 1 negations, 6 sin/cos, 0 square roots.
+/// Cost: 68 operations: 34 additions/subtractions, 27 multiplications, 0 divisions, 1 negations, 6 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
+
+/// The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).
+/// in  q: [8] joint positions
+/// out LD: [8 x 8, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve takes it)
+/// Cost: 71 operations: 35 additions/subtractions, 29 multiplications, 0 divisions, 1 negations, 6 sin/cos, 0 square roots.
+void mass_matrix_factor(const double* q, double* LD);
+
+/// x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.
+/// in  LD: [8 x 8, row-major] mass_matrix_factor's output
+/// in  b: [8] right-hand side (joint forces)
+/// out x: [8] M^-1 b
+/// Cost: 36 operations: 14 additions/subtractions, 14 multiplications, 8 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void mass_matrix_solve(const double* LD, const double* b, double* x);
 
 /// Pose of every body in the world, in body_names order.
 /// in  q: [8] joint positions
 /// out X_WB: [8 x 12] per body the 3x4 matrix [R_WB | p_WB], row-major
-/// Cost: 71 operations: 20 additions/subtractions, 30 multiplications, 0 divisions, 9 negations, 12 sin/cos, 0 square roots.
+/// Cost: 44 operations: 8 additions/subtractions, 18 multiplications, 0 divisions, 6 negations, 12 sin/cos, 0 square roots.
 void forward_kinematics(const double* q, double* X_WB);
 
 /// Pose of each frame in frame_names, in the world.
 /// in  q: [8] joint positions
 /// out X_WF: [1 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
-/// Cost: 27 operations: 7 additions/subtractions, 13 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
+/// Cost: 19 operations: 3 additions/subtractions, 9 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
 void frame_poses(const double* q, double* X_WF);
 
 /// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 /// in  q: [8] joint positions
 /// out J: [1 x 6 x 8] per frame a row-major 6 x nv matrix
-/// Cost: 37 operations: 10 additions/subtractions, 18 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
+/// Cost: 27 operations: 6 additions/subtractions, 12 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 void frame_jacobians(const double* q, double* J);
 
 /// Centre of mass of the robot in the world.
 /// in  q: [8] joint positions
 /// out com: [3] centre of mass, world
-/// Cost: 114 operations: 50 additions/subtractions, 49 multiplications, 3 divisions, 0 negations, 12 sin/cos, 0 square roots.
+/// Cost: 101 operations: 42 additions/subtractions, 44 multiplications, 3 divisions, 0 negations, 12 sin/cos, 0 square roots.
 void center_of_mass(const double* q, double* com);
 
 /// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
@@ -147,7 +160,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [8] accelerations of every tree joint, joint_names order
 /// out contacts: [0 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 1853 operations: 693 additions/subtractions, 1042 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1808 operations: 681 additions/subtractions, 1009 multiplications, 47 divisions, 41 negations, 12 sin/cos, 9 square roots, 9 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // centroidal_momentum_matrix: left out (not among the outputs of ankle_2dof.yaml's scene, nor needed by them).
 

@@ -12,55 +12,45 @@ namespace ankle_2dof {
 namespace {
 
 // Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
-// 37 operations: 10 additions/subtractions, 18 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
+// 27 operations: 6 additions/subtractions, 12 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 template <typename S>
 void frame_jacobians_impl(const S* q, S* J) {
   (void)q;
   const S _t0 = std::cos(q[6]);
   const S _t1 = std::sin(q[6]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = std::cos(q[7]);
-  const S _t5 = std::sin(q[7]);
-  const S _t6 = S(1) - _t4;
-  const S _t7 = _t4 + _t6;
-  const S _t8 = _t0 * _t7;
-  const S _t9 = _t1 * _t7;
-  const S _t10 = -_t9;
-  const S _t11 = _t1 * _t4;
-  const S _t12 = _t3 * _t5;
-  const S _t13 = _t0 * _t4;
-  const S _t14 = _t11 * S(-0.08);
-  const S _t15 = _t8 * S(0.035);
-  const S _t16 = _t14 + _t15;
-  const S _t17 = _t12 * S(-0.08);
-  const S _t18 = _t13 * S(-0.08);
-  const S _t19 = _t9 * S(0.035);
-  const S _t20 = _t18 - _t19;
-  const S _t21 = S(0.08000000000000002) + _t20;
-  const S _t22 = _t3 * S(0.08000000000000002);
-  const S _t23 = S(0.08000000000000002) * _t8;
-  const S _t24 = _t8 * _t17;
-  const S _t25 = -_t24;
-  const S _t26 = _t8 * _t21;
-  const S _t27 = _t9 * _t16;
-  const S _t28 = -_t27;
-  const S _t29 = _t28 - _t26;
-  const S _t30 = _t9 * _t17;
-  const S _t31 = -_t30;
-  const S _t32 = _t23 + _t29;
-  const S _t33 = _t3 * _t16;
-  const S _t34 = -_t33;
-  const S _t35 = _t3 * _t21;
-  const S _t36 = _t35 - _t22;
+  const S _t2 = -_t1;
+  const S _t3 = std::cos(q[7]);
+  const S _t4 = std::sin(q[7]);
+  const S _t5 = _t1 * _t3;
+  const S _t6 = _t0 * _t3;
+  const S _t7 = _t5 * S(-0.08);
+  const S _t8 = _t0 * S(0.035);
+  const S _t9 = _t7 + _t8;
+  const S _t10 = _t4 * S(-0.08);
+  const S _t11 = _t6 * S(-0.08);
+  const S _t12 = _t1 * S(0.035);
+  const S _t13 = _t11 - _t12;
+  const S _t14 = S(0.08000000000000002) + _t13;
+  const S _t15 = _t0 * S(0.08000000000000002);
+  const S _t16 = _t0 * _t10;
+  const S _t17 = -_t16;
+  const S _t18 = _t0 * _t14;
+  const S _t19 = _t1 * _t9;
+  const S _t20 = -_t19;
+  const S _t21 = _t20 - _t18;
+  const S _t22 = _t1 * _t10;
+  const S _t23 = -_t22;
+  const S _t24 = _t15 + _t21;
+  const S _t25 = -_t9;
+  const S _t26 = _t14 + S(-0.08000000000000002);
   J[0] = S(0);
   J[1] = S(0);
   J[2] = S(0);
   J[3] = S(0);
   J[4] = S(0);
   J[5] = S(0);
-  J[6] = _t36;
-  J[7] = _t31;
+  J[6] = _t26;
+  J[7] = _t23;
   J[8] = S(0);
   J[9] = S(0);
   J[10] = S(0);
@@ -68,15 +58,15 @@ void frame_jacobians_impl(const S* q, S* J) {
   J[12] = S(0);
   J[13] = S(0);
   J[14] = S(0);
-  J[15] = _t32;
+  J[15] = _t24;
   J[16] = S(0);
   J[17] = S(0);
   J[18] = S(0);
   J[19] = S(0);
   J[20] = S(0);
   J[21] = S(0);
-  J[22] = _t34;
-  J[23] = _t25;
+  J[22] = _t25;
+  J[23] = _t17;
   J[24] = S(0);
   J[25] = S(0);
   J[26] = S(0);
@@ -84,14 +74,14 @@ void frame_jacobians_impl(const S* q, S* J) {
   J[28] = S(0);
   J[29] = S(0);
   J[30] = S(0);
-  J[31] = _t8;
+  J[31] = _t0;
   J[32] = S(0);
   J[33] = S(0);
   J[34] = S(0);
   J[35] = S(0);
   J[36] = S(0);
   J[37] = S(0);
-  J[38] = _t3;
+  J[38] = S(1);
   J[39] = S(0);
   J[40] = S(0);
   J[41] = S(0);
@@ -100,7 +90,7 @@ void frame_jacobians_impl(const S* q, S* J) {
   J[44] = S(0);
   J[45] = S(0);
   J[46] = S(0);
-  J[47] = _t10;
+  J[47] = _t2;
 }
 
 }  // namespace

@@ -12,49 +12,41 @@ namespace ankle_2dof {
 namespace {
 
 // Pose of each frame in frame_names, in the world.
-// 27 operations: 7 additions/subtractions, 13 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
+// 19 operations: 3 additions/subtractions, 9 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
 template <typename S>
 void frame_poses_impl(const S* q, S* X_WF) {
   (void)q;
   const S _t0 = std::cos(q[6]);
   const S _t1 = std::sin(q[6]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = std::cos(q[7]);
-  const S _t5 = std::sin(q[7]);
-  const S _t6 = S(1) - _t4;
-  const S _t7 = _t4 + _t6;
-  const S _t8 = _t0 * _t7;
-  const S _t9 = _t1 * _t7;
-  const S _t10 = -_t9;
-  const S _t11 = _t1 * _t5;
-  const S _t12 = _t3 * _t4;
-  const S _t13 = _t0 * _t5;
-  const S _t14 = _t1 * _t4;
-  const S _t15 = _t3 * _t5;
-  const S _t16 = -_t15;
-  const S _t17 = _t0 * _t4;
-  const S _t18 = _t14 * S(-0.08);
-  const S _t19 = _t8 * S(0.035);
-  const S _t20 = _t18 + _t19;
-  const S _t21 = _t15 * S(-0.08);
-  const S _t22 = -_t21;
-  const S _t23 = _t17 * S(-0.08);
-  const S _t24 = _t9 * S(0.035);
-  const S _t25 = _t23 - _t24;
-  const S _t26 = S(0.08000000000000002) + _t25;
-  X_WF[0] = _t8;
-  X_WF[1] = _t11;
-  X_WF[2] = _t14;
-  X_WF[3] = _t20;
+  const S _t2 = -_t1;
+  const S _t3 = std::cos(q[7]);
+  const S _t4 = std::sin(q[7]);
+  const S _t5 = -_t4;
+  const S _t6 = _t1 * _t4;
+  const S _t7 = _t0 * _t4;
+  const S _t8 = _t1 * _t3;
+  const S _t9 = _t0 * _t3;
+  const S _t10 = _t8 * S(-0.08);
+  const S _t11 = _t0 * S(0.035);
+  const S _t12 = _t10 + _t11;
+  const S _t13 = _t4 * S(-0.08);
+  const S _t14 = -_t13;
+  const S _t15 = _t9 * S(-0.08);
+  const S _t16 = _t1 * S(0.035);
+  const S _t17 = _t15 - _t16;
+  const S _t18 = S(0.08000000000000002) + _t17;
+  X_WF[0] = _t0;
+  X_WF[1] = _t6;
+  X_WF[2] = _t8;
+  X_WF[3] = _t12;
   X_WF[4] = S(0);
-  X_WF[5] = _t12;
-  X_WF[6] = _t16;
-  X_WF[7] = _t22;
-  X_WF[8] = _t10;
-  X_WF[9] = _t13;
-  X_WF[10] = _t17;
-  X_WF[11] = _t26;
+  X_WF[5] = _t3;
+  X_WF[6] = _t5;
+  X_WF[7] = _t14;
+  X_WF[8] = _t2;
+  X_WF[9] = _t7;
+  X_WF[10] = _t9;
+  X_WF[11] = _t18;
 }
 
 }  // namespace

@@ -12,71 +12,64 @@ namespace four_bar {
 namespace {
 
 // Pose of every body in the world, in body_names order.
-// 26 operations: 9 additions/subtractions, 7 multiplications, 0 divisions, 4 negations, 6 sin/cos, 0 square roots.
+// 19 operations: 3 additions/subtractions, 6 multiplications, 0 divisions, 4 negations, 6 sin/cos, 0 square roots.
 template <typename S>
 void forward_kinematics_impl(const S* q, S* X_WB) {
   (void)q;
   const S _t0 = std::cos(q[0]);
   const S _t1 = std::sin(q[0]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = -_t1;
-  const S _t4 = _t0 + _t2;
-  const S _t5 = std::cos(q[1]);
-  const S _t6 = std::sin(q[1]);
-  const S _t7 = S(1) - _t5;
-  const S _t8 = _t5 + _t7;
-  const S _t9 = _t1 * _t6;
-  const S _t10 = _t0 * _t5;
-  const S _t11 = _t10 - _t9;
-  const S _t12 = _t0 * _t6;
-  const S _t13 = _t1 * _t5;
-  const S _t14 = _t12 + _t13;
-  const S _t15 = _t4 * _t8;
-  const S _t16 = -_t12;
-  const S _t17 = _t16 - _t13;
-  const S _t18 = _t1 * S(0.05);
-  const S _t19 = -_t18;
-  const S _t20 = _t0 * S(0.05);
-  const S _t21 = std::cos(q[2]);
-  const S _t22 = std::sin(q[2]);
-  const S _t23 = S(1) - _t21;
-  const S _t24 = -_t22;
-  const S _t25 = _t21 + _t23;
+  const S _t2 = -_t1;
+  const S _t3 = std::cos(q[1]);
+  const S _t4 = std::sin(q[1]);
+  const S _t5 = _t1 * _t4;
+  const S _t6 = _t0 * _t3;
+  const S _t7 = _t6 - _t5;
+  const S _t8 = _t0 * _t4;
+  const S _t9 = _t1 * _t3;
+  const S _t10 = _t8 + _t9;
+  const S _t11 = -_t8;
+  const S _t12 = _t11 - _t9;
+  const S _t13 = _t1 * S(0.05);
+  const S _t14 = -_t13;
+  const S _t15 = _t0 * S(0.05);
+  const S _t16 = std::cos(q[2]);
+  const S _t17 = std::sin(q[2]);
+  const S _t18 = -_t17;
   X_WB[0] = _t0;
   X_WB[1] = S(0);
-  X_WB[2] = _t3;
+  X_WB[2] = _t2;
   X_WB[3] = S(0);
   X_WB[4] = S(0);
-  X_WB[5] = _t4;
+  X_WB[5] = S(1);
   X_WB[6] = S(0);
   X_WB[7] = S(0);
   X_WB[8] = _t1;
   X_WB[9] = S(0);
   X_WB[10] = _t0;
   X_WB[11] = S(0);
-  X_WB[12] = _t11;
+  X_WB[12] = _t7;
   X_WB[13] = S(0);
-  X_WB[14] = _t17;
-  X_WB[15] = _t19;
+  X_WB[14] = _t12;
+  X_WB[15] = _t14;
   X_WB[16] = S(0);
-  X_WB[17] = _t15;
+  X_WB[17] = S(1);
   X_WB[18] = S(0);
   X_WB[19] = S(0);
-  X_WB[20] = _t14;
+  X_WB[20] = _t10;
   X_WB[21] = S(0);
-  X_WB[22] = _t11;
-  X_WB[23] = _t20;
-  X_WB[24] = _t21;
+  X_WB[22] = _t7;
+  X_WB[23] = _t15;
+  X_WB[24] = _t16;
   X_WB[25] = S(0);
-  X_WB[26] = _t24;
+  X_WB[26] = _t18;
   X_WB[27] = S(0.19);
   X_WB[28] = S(0);
-  X_WB[29] = _t25;
+  X_WB[29] = S(1);
   X_WB[30] = S(0);
   X_WB[31] = S(0);
-  X_WB[32] = _t22;
+  X_WB[32] = _t17;
   X_WB[33] = S(0);
-  X_WB[34] = _t21;
+  X_WB[34] = _t16;
   X_WB[35] = S(0);
 }
 

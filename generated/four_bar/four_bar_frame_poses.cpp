@@ -12,58 +12,51 @@ namespace four_bar {
 namespace {
 
 // Pose of each frame in frame_names, in the world.
-// 25 operations: 9 additions/subtractions, 7 multiplications, 0 divisions, 3 negations, 6 sin/cos, 0 square roots.
+// 18 operations: 3 additions/subtractions, 6 multiplications, 0 divisions, 3 negations, 6 sin/cos, 0 square roots.
 template <typename S>
 void frame_poses_impl(const S* q, S* X_WF) {
   (void)q;
   const S _t0 = std::cos(q[0]);
   const S _t1 = std::sin(q[0]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = std::cos(q[1]);
-  const S _t5 = std::sin(q[1]);
-  const S _t6 = S(1) - _t4;
-  const S _t7 = _t4 + _t6;
-  const S _t8 = _t1 * _t5;
-  const S _t9 = _t0 * _t4;
-  const S _t10 = _t9 - _t8;
-  const S _t11 = _t0 * _t5;
-  const S _t12 = _t1 * _t4;
-  const S _t13 = _t11 + _t12;
-  const S _t14 = _t3 * _t7;
-  const S _t15 = -_t11;
-  const S _t16 = _t15 - _t12;
-  const S _t17 = _t1 * S(0.05);
-  const S _t18 = -_t17;
-  const S _t19 = _t0 * S(0.05);
-  const S _t20 = std::cos(q[2]);
-  const S _t21 = std::sin(q[2]);
-  const S _t22 = S(1) - _t20;
-  const S _t23 = -_t21;
-  const S _t24 = _t20 + _t22;
-  X_WF[0] = _t10;
+  const S _t2 = std::cos(q[1]);
+  const S _t3 = std::sin(q[1]);
+  const S _t4 = _t1 * _t3;
+  const S _t5 = _t0 * _t2;
+  const S _t6 = _t5 - _t4;
+  const S _t7 = _t0 * _t3;
+  const S _t8 = _t1 * _t2;
+  const S _t9 = _t7 + _t8;
+  const S _t10 = -_t7;
+  const S _t11 = _t10 - _t8;
+  const S _t12 = _t1 * S(0.05);
+  const S _t13 = -_t12;
+  const S _t14 = _t0 * S(0.05);
+  const S _t15 = std::cos(q[2]);
+  const S _t16 = std::sin(q[2]);
+  const S _t17 = -_t16;
+  X_WF[0] = _t6;
   X_WF[1] = S(0);
-  X_WF[2] = _t16;
-  X_WF[3] = _t18;
+  X_WF[2] = _t11;
+  X_WF[3] = _t13;
   X_WF[4] = S(0);
-  X_WF[5] = _t14;
+  X_WF[5] = S(1);
   X_WF[6] = S(0);
   X_WF[7] = S(0);
-  X_WF[8] = _t13;
+  X_WF[8] = _t9;
   X_WF[9] = S(0);
-  X_WF[10] = _t10;
-  X_WF[11] = _t19;
-  X_WF[12] = _t20;
+  X_WF[10] = _t6;
+  X_WF[11] = _t14;
+  X_WF[12] = _t15;
   X_WF[13] = S(0);
-  X_WF[14] = _t23;
+  X_WF[14] = _t17;
   X_WF[15] = S(0.19);
   X_WF[16] = S(0);
-  X_WF[17] = _t24;
+  X_WF[17] = S(1);
   X_WF[18] = S(0);
   X_WF[19] = S(0);
-  X_WF[20] = _t21;
+  X_WF[20] = _t16;
   X_WF[21] = S(0);
-  X_WF[22] = _t20;
+  X_WF[22] = _t15;
   X_WF[23] = S(0);
 }
 

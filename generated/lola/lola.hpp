@@ -65,7 +65,7 @@ inline constexpr double ground_offset = 0;  ///< m
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [30] independent accelerations, independent_joint_names order
-/// Cost: 16791 operations: 7005 additions/subtractions, 9427 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 15897 operations: 6906 additions/subtractions, 8632 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -73,27 +73,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
-/// Cost: 16835 operations: 7027 additions/subtractions, 9449 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 15941 operations: 6928 additions/subtractions, 8654 multiplications, 164 divisions, 87 negations, 68 sin/cos, 20 square roots, 20 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [46 x 30, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 2330 operations: 844 additions/subtractions, 1248 multiplications, 86 divisions, 68 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 2163 operations: 782 additions/subtractions, 1143 multiplications, 86 divisions, 68 negations, 44 sin/cos, 20 square roots, 20 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [30] independent velocities, independent_joint_names order
 /// out v: [46] velocities of every tree joint, joint_names_full order
-/// Cost: 2358 operations: 856 additions/subtractions, 1276 multiplications, 86 divisions, 56 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 2191 operations: 794 additions/subtractions, 1171 multiplications, 86 divisions, 56 negations, 44 sin/cos, 20 square roots, 20 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [30] independent velocities, independent_joint_names order
 /// out g: [46] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 4879 operations: 1947 additions/subtractions, 2688 multiplications, 102 divisions, 58 negations, 44 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 4622 operations: 1885 additions/subtractions, 2493 multiplications, 102 divisions, 58 negations, 44 sin/cos, 20 square roots, 20 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -101,7 +101,7 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// in  v: [46] joint velocities
 /// in  qdd: [46] joint accelerations
 /// out tau: [46] joint forces
-/// Cost: 5467 operations: 2345 additions/subtractions, 3050 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
+/// Cost: 5189 operations: 2277 additions/subtractions, 2840 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 
 /// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
@@ -110,50 +110,63 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [30] independent accelerations, independent_joint_names order
 /// out tau_a: [24] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [30] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 9846 operations: 4141 additions/subtractions, 5433 multiplications, 102 divisions, 62 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 9397 operations: 4055 additions/subtractions, 5070 multiplications, 102 divisions, 62 negations, 68 sin/cos, 20 square roots, 20 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [47] joint positions
 /// out M: [46 x 46, row-major] mass matrix
-/// Cost: 6325 operations: 2361 additions/subtractions, 3861 multiplications, 0 divisions, 35 negations, 68 sin/cos, 0 square roots.
+/// Cost: 3633 operations: 1537 additions/subtractions, 1966 multiplications, 0 divisions, 62 negations, 68 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
+
+/// The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).
+/// in  q: [47] joint positions
+/// out LD: [46 x 46, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve takes it)
+/// Cost: 7677 operations: 3380 additions/subtractions, 4120 multiplications, 34 divisions, 75 negations, 68 sin/cos, 0 square roots.
+void mass_matrix_factor(const double* q, double* LD);
+
+/// x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.
+/// in  LD: [46 x 46, row-major] mass_matrix_factor's output
+/// in  b: [46] right-hand side (joint forces)
+/// out x: [46] M^-1 b
+/// Cost: 1626 operations: 790 additions/subtractions, 790 multiplications, 46 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void mass_matrix_solve(const double* LD, const double* b, double* x);
 
 /// Pose of every body in the world, in body_names order.
 /// in  q: [47] joint positions
 /// out X_WB: [41 x 12] per body the 3x4 matrix [R_WB | p_WB], row-major
-/// Cost: 1135 operations: 422 additions/subtractions, 645 multiplications, 0 divisions, 0 negations, 68 sin/cos, 0 square roots.
+/// Cost: 962 operations: 354 additions/subtractions, 540 multiplications, 0 divisions, 0 negations, 68 sin/cos, 0 square roots.
 void forward_kinematics(const double* q, double* X_WB);
 
 /// Pose of each frame in frame_names, in the world.
 /// in  q: [47] joint positions
 /// out X_WF: [3 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
-/// Cost: 464 operations: 166 additions/subtractions, 270 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
+/// Cost: 391 operations: 138 additions/subtractions, 225 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
 void frame_poses(const double* q, double* X_WF);
 
 /// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 /// in  q: [47] joint positions
 /// out J: [3 x 6 x 46] per frame a row-major 6 x nv matrix
-/// Cost: 841 operations: 340 additions/subtractions, 474 multiplications, 0 divisions, 0 negations, 27 sin/cos, 0 square roots.
+/// Cost: 704 operations: 291 additions/subtractions, 387 multiplications, 0 divisions, 0 negations, 26 sin/cos, 0 square roots.
 void frame_jacobians(const double* q, double* J);
 
 /// Centre of mass of the robot in the world.
 /// in  q: [47] joint positions
 /// out com: [3] centre of mass, world
-/// Cost: 1413 operations: 589 additions/subtractions, 753 multiplications, 3 divisions, 0 negations, 68 sin/cos, 0 square roots.
+/// Cost: 1292 operations: 543 additions/subtractions, 678 multiplications, 3 divisions, 0 negations, 68 sin/cos, 0 square roots.
 void center_of_mass(const double* q, double* com);
 
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [47] joint positions
 /// out Ag: [6 x 46, row-major] centroidal momentum matrix
-/// Cost: 6775 operations: 2978 additions/subtractions, 3714 multiplications, 3 divisions, 12 negations, 68 sin/cos, 0 square roots.
+/// Cost: 6563 operations: 2910 additions/subtractions, 3570 multiplications, 3 divisions, 12 negations, 68 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 /// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
 /// in  q: [47] joint positions
 /// out p: [12 x 3] centres, world
 /// out J: [12 x 6 x 46] per sphere a row-major 6 x nv matrix
-/// Cost: 2063 operations: 961 additions/subtractions, 1074 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
+/// Cost: 1654 operations: 825 additions/subtractions, 801 multiplications, 0 divisions, 0 negations, 28 sin/cos, 0 square roots.
 void contact_points(const double* q, double* p, double* J);
 
 /// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
@@ -164,7 +177,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
 /// out contacts: [12 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 18156 operations: 7615 additions/subtractions, 10110 multiplications, 176 divisions, 87 negations, 68 sin/cos, 44 square roots, 56 max (selects).
+/// Cost: 17244 operations: 7516 additions/subtractions, 9297 multiplications, 176 divisions, 87 negations, 68 sin/cos, 44 square roots, 56 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
@@ -234,7 +247,7 @@ inline constexpr const char* distance_pair_names[178][2] = {{"pelvis", "upper_ar
 ///     (point2 - point1 = distance * normal)
 /// out jacobian: [178 x 46, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
 ///     moving with their bodies; non-smooth where the closest features switch
-/// Cost: straight-line placement and Jacobian columns: 2254 operations: 992 additions/subtractions, 1182 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
+/// Cost: straight-line placement and Jacobian columns: 2063 operations: 924 additions/subtractions, 1059 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 /// The near set: the same for the pairs closer than threshold only (generic twin:
 /// collision::compute_near_distances). The bodies' bounding spheres (one per body, around its

@@ -54,7 +54,7 @@ constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene 
 /// in  v: [1] independent velocities, independent_joint_names order
 /// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [1] independent accelerations, independent_joint_names order
-/// Cost: 214 operations: 76 additions/subtractions, 114 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 203 operations: 72 additions/subtractions, 107 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -62,27 +62,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [1] independent velocities, independent_joint_names order
 /// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [3] accelerations of every tree joint, joint_names order
-/// Cost: 218 operations: 78 additions/subtractions, 116 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 207 operations: 74 additions/subtractions, 109 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [3 x 1, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 67 operations: 20 additions/subtractions, 30 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 58 operations: 16 additions/subtractions, 25 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [1] independent velocities, independent_joint_names order
 /// out v: [3] velocities of every tree joint, joint_names_full order
-/// Cost: 69 operations: 20 additions/subtractions, 32 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 60 operations: 16 additions/subtractions, 27 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [1] independent velocities, independent_joint_names order
 /// out g: [3] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 136 operations: 46 additions/subtractions, 70 multiplications, 7 divisions, 7 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 125 operations: 42 additions/subtractions, 63 multiplications, 7 divisions, 7 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -90,7 +90,7 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// in  v: [3] joint velocities
 /// in  qdd: [3] joint accelerations
 /// out tau: [3] joint forces
-/// Cost: 70 operations: 24 additions/subtractions, 38 multiplications, 0 divisions, 4 negations, 4 sin/cos, 0 square roots.
+/// Cost: 65 operations: 22 additions/subtractions, 35 multiplications, 0 divisions, 4 negations, 4 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 
 /// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
@@ -99,25 +99,38 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [1] independent accelerations, independent_joint_names order
 /// out tau_a: [1] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [1] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 198 operations: 71 additions/subtractions, 106 multiplications, 7 divisions, 8 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 185 operations: 67 additions/subtractions, 97 multiplications, 7 divisions, 8 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 /// in  q: [3] joint positions
 /// out M: [3 x 3, row-major] mass matrix
-/// Cost: 29 operations: 10 additions/subtractions, 16 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
+/// Cost: 15 operations: 7 additions/subtractions, 5 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
+
+/// The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).
+/// in  q: [3] joint positions
+/// out LD: [3 x 3, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve takes it)
+/// Cost: 18 operations: 8 additions/subtractions, 7 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
+void mass_matrix_factor(const double* q, double* LD);
+
+/// x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.
+/// in  LD: [3 x 3, row-major] mass_matrix_factor's output
+/// in  b: [3] right-hand side (joint forces)
+/// out x: [3] M^-1 b
+/// Cost: 7 operations: 2 additions/subtractions, 2 multiplications, 3 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void mass_matrix_solve(const double* LD, const double* b, double* x);
 
 /// Pose of every body in the world, in body_names order.
 /// in  q: [3] joint positions
 /// out X_WB: [3 x 12] per body the 3x4 matrix [R_WB | p_WB], row-major
-/// Cost: 22 operations: 8 additions/subtractions, 7 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
+/// Cost: 17 operations: 4 additions/subtractions, 6 multiplications, 0 divisions, 3 negations, 4 sin/cos, 0 square roots.
 void forward_kinematics(const double* q, double* X_WB);
 
 /// Pose of each frame in frame_names, in the world.
 /// in  q: [3] joint positions
 /// out X_WF: [2 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
-/// Cost: 21 operations: 8 additions/subtractions, 7 multiplications, 0 divisions, 2 negations, 4 sin/cos, 0 square roots.
+/// Cost: 16 operations: 4 additions/subtractions, 6 multiplications, 0 divisions, 2 negations, 4 sin/cos, 0 square roots.
 void frame_poses(const double* q, double* X_WF);
 
 /// Centre of mass of the robot in the world.
@@ -141,7 +154,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [3] accelerations of every tree joint, joint_names order
 /// out contacts: [0 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 218 operations: 78 additions/subtractions, 116 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 207 operations: 74 additions/subtractions, 109 multiplications, 8 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // frame_jacobians: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).
 // centroidal_momentum_matrix: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).

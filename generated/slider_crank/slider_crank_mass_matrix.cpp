@@ -12,43 +12,29 @@ namespace slider_crank {
 namespace {
 
 // Joint-space mass matrix M(q) (composite-rigid-body algorithm).
-// 29 operations: 10 additions/subtractions, 16 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
+// 15 operations: 7 additions/subtractions, 5 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
 template <typename S>
 void mass_matrix_impl(const S* q, S* M) {
   (void)q;
   const S _t0 = std::cos(q[1]);
   const S _t1 = std::sin(q[1]);
-  const S _t2 = S(1) - _t0;
-  const S _t3 = _t0 + _t2;
-  const S _t4 = _t1 * S(0.018);
-  const S _t5 = _t0 * S(0.0075);
-  const S _t6 = _t5 - _t4;
-  const S _t7 = _t3 * S(-0.0016947999999999998);
-  const S _t8 = _t6 * S(0.05);
-  const S _t9 = _t7 + _t8;
-  const S _t10 = -_t9;
-  const S _t11 = _t0 * S(0.3);
-  const S _t12 = _t1 * S(0.3);
-  const S _t13 = _t1 * _t12;
-  const S _t14 = _t0 * _t11;
-  const S _t15 = _t13 + _t14;
-  const S _t16 = _t3 * S(0.0016947999999999998);
-  const S _t17 = _t3 * _t16;
-  const S _t18 = _t1 * S(-0.018);
-  const S _t19 = _t0 * S(-0.0075);
-  const S _t20 = _t19 - _t18;
-  const S _t21 = _t3 * _t20;
-  const S _t22 = S(0.05) * _t15;
-  const S _t23 = _t21 + _t22;
-  const S _t24 = S(0.05) * _t21;
-  const S _t25 = S(-0.05) * _t23;
-  const S _t26 = _t17 + _t24;
-  const S _t27 = _t26 - _t25;
-  const S _t28 = S(0.00017166666700000002) + _t27;
-  M[0] = _t28;
-  M[1] = _t10;
+  const S _t2 = _t1 * S(0.018);
+  const S _t3 = _t0 * S(0.0075);
+  const S _t4 = _t3 - _t2;
+  const S _t5 = _t4 * S(0.05);
+  const S _t6 = S(-0.0016947999999999998) + _t5;
+  const S _t7 = -_t6;
+  const S _t8 = _t0 * S(-0.0075);
+  const S _t9 = _t2 + _t8;
+  const S _t10 = _t9 + S(0.015);
+  const S _t11 = _t9 + _t10;
+  const S _t12 = S(0.05) * _t11;
+  const S _t13 = S(0.0016947999999999998) + _t12;
+  const S _t14 = S(0.00017166666700000002) + _t13;
+  M[0] = _t14;
+  M[1] = _t7;
   M[2] = S(0);
-  M[3] = _t10;
+  M[3] = _t7;
   M[4] = S(0.0016947999999999998);
   M[5] = S(0);
   M[6] = S(0);

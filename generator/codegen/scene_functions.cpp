@@ -11,7 +11,8 @@ namespace mbgen::codegen {
 
 const std::vector<std::string>& all_functions() {
   static const std::vector<std::string> functions = {
-      "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "forward_kinematics", "frame_poses",
+      "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
+      "mass_matrix_solve", "forward_kinematics", "frame_poses",
       "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
   return functions;
@@ -26,7 +27,7 @@ const std::map<std::string, std::vector<std::string>>& output_functions() {
   static const std::map<std::string, std::vector<std::string>> table = {
       {"forward_dynamics", {"forward_dynamics", "full_accelerations", "velocity_map", "full_velocities", "acceleration_bias"}},
       {"inverse_dynamics", {"inverse_dynamics", "actuator_forces"}},
-      {"mass_matrix", {"mass_matrix"}},
+      {"mass_matrix", {"mass_matrix", "mass_matrix_factor", "mass_matrix_solve"}},
       {"forward_kinematics", {"forward_kinematics", "frame_poses"}},
       {"jacobians", {"frame_poses", "frame_jacobians"}},
       {"center_of_mass", {"center_of_mass"}},

@@ -128,6 +128,43 @@ TracedFunction trace_mass_matrix(const Model& model) {
   return f;
 }
 
+TracedFunction trace_mass_matrix_factor(const Model& model) {
+  TracedFunction f;
+  f.name = "mass_matrix_factor";
+  f.doc = "The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit "
+          "lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"LD", model.nv() * model.nv(),
+                fmt::format("[{0} x {0}, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve "
+                            "takes it)",
+                            model.nv())}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  const SymVec q = inputs(0, model.nq());
+  f.output_ids = {ids_of(mass_matrix_factor<Sym>(model, data, q))};
+  return f;
+}
+
+TracedFunction trace_mass_matrix_solve(const Model& model) {
+  const int n = model.nv();
+  TracedFunction f;
+  f.name = "mass_matrix_solve";
+  f.doc = "x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint "
+          "accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.";
+  f.inputs = {{"LD", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix_factor's output", n)},
+              v_spec(model, "b", "right-hand side (joint forces)")};
+  f.outputs = {v_spec(model, "x", "M^-1 b")};
+  Recording rec(f.graph);
+  const SymVec LD = inputs(0, n * n);
+  MatX<Sym> factor(n, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) factor(r, c) = LD[r * n + c];
+  SymVec x = inputs(1, n);
+  mass_matrix_solve_in_place<Sym>(model, factor, x);
+  f.output_ids = {ids_of(x)};
+  return f;
+}
+
 TracedFunction trace_forward_kinematics(const Model& model) {
   const int nb = model.num_bodies() - 1;
   TracedFunction f;

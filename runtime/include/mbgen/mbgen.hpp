@@ -17,6 +17,7 @@
 #include "mbgen/algorithm/kinematics.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/loop_inverse_dynamics.hpp"
+#include "mbgen/algorithm/mass_matrix_factor.hpp"
 #include "mbgen/algorithm/rnea.hpp"
 #include "mbgen/data.hpp"
 #include "mbgen/model.hpp"

@@ -117,6 +117,10 @@ class Model {
   /// q index of velocity coordinate v when its joint has one DoF (position and rate then pair
   /// up), else -1 (inside a floating joint, or out of range).
   int q_index_of_v(int v) const;
+  /// The velocity coordinate before v on the path to the root: the previous coordinate of v's
+  /// joint, else the last coordinate of the parent body's joint; -1 at a root (Featherstone's
+  /// lambda over coordinates: M(v, w) can be nonzero only if one is an ancestor of the other).
+  int velocity_parent(int v) const { return velocity_parents_[static_cast<std::size_t>(v)]; }
 
   /// Total mass of the moving bodies.
   double total_mass() const;
@@ -128,6 +132,7 @@ class Model {
   IndexedVector<JointIndex, Joint> joints_;
   IndexedVector<FrameIndex, Frame> frames_;
   int nq_ = 0, nv_ = 0;
+  std::vector<int> velocity_parents_;
 };
 
 inline const char* to_string(JointType type) {
@@ -166,6 +171,10 @@ inline BodyIndex Model::add_body(BodyIndex parent, Joint joint, std::string body
   joint.X_PJ_is_identity = joint.X_PJ.rotation == Mat3<double>::Identity() && joint.X_PJ.translation.isZero(0.0);
   joint.idx_q = nq_;
   joint.idx_v = nv_;
+  for (int k = 0; k < joint.nv; ++k) {
+    const Joint& parent_joint = joints_[JointIndex(parent.value())];
+    velocity_parents_.push_back(k > 0 ? nv_ + k - 1 : parent == kWorldBody ? -1 : parent_joint.idx_v + parent_joint.nv - 1);
+  }
   nq_ += joint.nq;
   nv_ += joint.nv;
   Body body;
