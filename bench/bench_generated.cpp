@@ -3,7 +3,7 @@
 //   aba        -> NAME::forward_dynamics          rnea -> NAME::inverse_dynamics
 //   crba       -> NAME::mass_matrix               centroidal -> NAME::centroidal_momentum_matrix
 //   jacobians  -> NAME::frame_jacobians (the leaf bodies' frames, as the generic benchmark)
-//   minv       -> M^-1 tau: NAME::mass_matrix_factor + NAME::mass_matrix_solve (`generated`) against
+//   minv       -> M^-1 tau: NAME::mass_matrix + mass_matrix_factor + mass_matrix_solve (`generated`) against
 //                 NAME::mass_matrix + Eigen's dense LLT and its solve (`eigen`)
 #include "bench_generated.hpp"
 
@@ -58,7 +58,8 @@ void add(const Robot& robot, const GeneratedApi& api, const std::string& impleme
     return out->data();
   });
   add_benchmark("minv", robot, implementation, [api, factor = buffer(), out = buffer()](const Sample& s) {
-    api.mass_matrix_factor(s.q.data(), factor->data());
+    api.mass_matrix(s.q.data(), out->data());
+    api.mass_matrix_factor(out->data(), factor->data());
     api.mass_matrix_solve(factor->data(), s.tau.data(), out->data());
     return out->data();
   });

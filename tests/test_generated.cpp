@@ -356,16 +356,17 @@ TEST_F(GeneratedTest, MassMatrixFactorRebuildsMAndSolveEqualsGeneric) {
   std::mt19937_64 rng(77);
   const int nv = model.nv();
   std::vector<double> LD(static_cast<std::size_t>(nv * nv)), M(LD.size()), x(static_cast<std::size_t>(nv));
-  std::vector<float> LDf(LD.size());
+  std::vector<float> LDf(LD.size()), Mf(LD.size());
   double worst_factor = 0, worst_factor_f = 0, worst_solve = 0, worst_backward = 0;
   for (int trial = 0; trial < 50; ++trial) {
     const VecX<double> q = random_configuration<double>(model, rng);
     const VecX<double> b = random_vector<double>(nv, rng, 10.0);
-    gen_ns::mass_matrix_factor(q.data(), LD.data());
-    gen_ns::mass_matrix_solve(LD.data(), b.data(), x.data());
     gen_ns::mass_matrix(q.data(), M.data());
+    gen_ns::mass_matrix_factor(M.data(), LD.data());
+    gen_ns::mass_matrix_solve(LD.data(), b.data(), x.data());
     const std::vector<float> qf = narrow<float>(q);
-    gen_ns::mass_matrix_factor(qf.data(), LDf.data());
+    gen_ns::mass_matrix(qf.data(), Mf.data());
+    gen_ns::mass_matrix_factor(Mf.data(), LDf.data());
     const MatX<double> M_generic = crba<double>(model, data, q);
     worst_factor = std::max(worst_factor, relative_error(rebuilt_mass_matrix(LD, nv), M_generic));
     worst_factor_f = std::max(worst_factor_f, relative_error(rebuilt_mass_matrix(LDf, nv), M_generic));
@@ -426,8 +427,8 @@ TEST_F(GeneratedTest, NoAllocation) {
   gen_ns::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
   gen_ns::actuator_forces(q.data(), v.data(), v.data(), out.data(), out.data() + gen_ns::nv);
   gen_ns::mass_matrix(q.data(), out.data());
-  gen_ns::mass_matrix_factor(q.data(), out.data());
-  gen_ns::mass_matrix_solve(out.data(), v.data(), out.data() + gen_ns::nv * gen_ns::nv);
+  gen_ns::mass_matrix_factor(out.data(), out.data() + gen_ns::nv * gen_ns::nv);
+  gen_ns::mass_matrix_solve(out.data() + gen_ns::nv * gen_ns::nv, v.data(), out.data());
   gen_ns::forward_kinematics(q.data(), out.data());
   gen_ns::frame_poses(q.data(), out.data());
   gen_ns::frame_jacobians(q.data(), out.data());

@@ -20,6 +20,24 @@ bool is_ancestor(const Model& model, int ancestor, int k) {
   return false;
 }
 
+// Model::velocity_parent against the body tree: the ancestors of coordinate k are the earlier
+// coordinates of its own joint and every coordinate of the joints on its body's path to the root.
+TEST_P(MassMatrixFactorTest, VelocityParentsFollowTheBodyTree) {
+  const Model model = load_tree(GetParam().path, GetParam().base);
+  for (int k = 0; k < model.nv(); ++k) {
+    const Joint& own = model.joint(model.joint_of_v(k));
+    std::vector<int> expected;
+    for (int v = k - 1; v >= own.idx_v; --v) expected.push_back(v);
+    for (BodyIndex b = model.body(own.child).parent; b != kWorldBody; b = model.body(b).parent) {
+      const Joint& joint = model.joint(model.body(b).joint);
+      for (int v = joint.idx_v + joint.nv - 1; v >= joint.idx_v; --v) expected.push_back(v);
+    }
+    std::vector<int> chain;
+    for (int i = model.velocity_parent(k); i >= 0; i = model.velocity_parent(i)) chain.push_back(i);
+    EXPECT_EQ(chain, expected) << "coordinate " << k;
+  }
+}
+
 TEST_P(MassMatrixFactorTest, RebuildsTheMassMatrixWithoutFillIn) {
   const Model model = load_tree(GetParam().path, GetParam().base);
   Data<double> data(model);

@@ -108,11 +108,11 @@ void actuator_forces(const double* q, const double* vy, const double* ydd, doubl
 /// Cost: 15 operations: 7 additions/subtractions, 5 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
 void mass_matrix(const double* q, double* M);
 
-/// The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).
-/// in  q: [3] joint positions
+/// The mass matrix's sparse factor M = L^T D L (Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in). Takes mass_matrix's output, so that a controller needing M and M^-1 computes M once; only the entries of ancestor pairs are read.
+/// in  M: [3 x 3, row-major] mass_matrix's output
 /// out LD: [3 x 3, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve takes it)
-/// Cost: 18 operations: 8 additions/subtractions, 7 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
-void mass_matrix_factor(const double* q, double* LD);
+/// Cost: 4 operations: 1 additions/subtractions, 2 multiplications, 1 divisions, 0 negations, 0 sin/cos, 0 square roots.
+void mass_matrix_factor(const double* M, double* LD);
 
 /// x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.
 /// in  LD: [3 x 3, row-major] mass_matrix_factor's output

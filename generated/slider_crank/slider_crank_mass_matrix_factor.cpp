@@ -11,42 +11,28 @@ namespace slider_crank {
 
 namespace {
 
-// The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).
-// 18 operations: 8 additions/subtractions, 7 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
+// The mass matrix's sparse factor M = L^T D L (Featherstone's LTDL: L unit lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in). Takes mass_matrix's output, so that a controller needing M and M^-1 computes M once; only the entries of ancestor pairs are read.
+// 4 operations: 1 additions/subtractions, 2 multiplications, 1 divisions, 0 negations, 0 sin/cos, 0 square roots.
 template <typename S>
-void mass_matrix_factor_impl(const S* q, S* LD) {
-  (void)q;
-  const S _t0 = std::cos(q[1]);
-  const S _t1 = std::sin(q[1]);
-  const S _t2 = _t1 * S(0.018);
-  const S _t3 = _t0 * S(0.0075);
-  const S _t4 = _t3 - _t2;
-  const S _t5 = _t4 * S(0.05);
-  const S _t6 = S(-0.0016947999999999998) + _t5;
-  const S _t7 = _t0 * S(-0.0075);
-  const S _t8 = _t2 + _t7;
-  const S _t9 = _t8 + S(0.015);
-  const S _t10 = _t8 + _t9;
-  const S _t11 = S(0.05) * _t10;
-  const S _t12 = S(0.0016947999999999998) + _t11;
-  const S _t13 = S(0.00017166666700000002) + _t12;
-  const S _t14 = _t6 * S(590.0401227283456);
-  const S _t15 = -_t14;
-  const S _t16 = _t6 * _t14;
-  const S _t17 = _t13 - _t16;
-  LD[0] = _t17;
+void mass_matrix_factor_impl(const S* M, S* LD) {
+  (void)M;
+  const S _t0 = S(1) / M[4];
+  const S _t1 = M[3] * _t0;
+  const S _t2 = M[3] * _t1;
+  const S _t3 = M[0] - _t2;
+  LD[0] = _t3;
   LD[1] = S(0);
   LD[2] = S(0);
-  LD[3] = _t15;
-  LD[4] = S(0.0016947999999999998);
+  LD[3] = _t1;
+  LD[4] = M[4];
   LD[5] = S(0);
-  LD[6] = S(0);
-  LD[7] = S(0);
-  LD[8] = S(0.5);
+  LD[6] = M[6];
+  LD[7] = M[7];
+  LD[8] = M[8];
 }
 
 }  // namespace
 
-void mass_matrix_factor(const double* q, double* LD) { mass_matrix_factor_impl<double>(q, LD); }
+void mass_matrix_factor(const double* M, double* LD) { mass_matrix_factor_impl<double>(M, LD); }
 
 }  // namespace slider_crank

@@ -136,7 +136,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const Actuation actuation = gen::description_actuation(description, options.notes);
   add("actuator_forces", [&] { return trace_actuator_forces(model, actuation); });
   add("mass_matrix", [&] { return trace_mass_matrix(tree); });
-  add("mass_matrix_factor", [&] { return trace_mass_matrix_factor(tree); });
+  add("mass_matrix_factor", [&] { return trace_mass_matrix_factor(tree); });  // of mass_matrix's output
   add("mass_matrix_solve", [&] { return trace_mass_matrix_solve(tree); });
   add("forward_kinematics", [&] { return trace_forward_kinematics(tree); });
   if (!frames.empty()) {

@@ -129,19 +129,21 @@ TracedFunction trace_mass_matrix(const Model& model) {
 }
 
 TracedFunction trace_mass_matrix_factor(const Model& model) {
+  const int n = model.nv();
   TracedFunction f;
   f.name = "mass_matrix_factor";
-  f.doc = "The mass matrix's sparse factor M(q) = L^T D L (composite-rigid-body algorithm, then Featherstone's LTDL: L unit "
-          "lower triangular, nonzero only where the column's coordinate is an ancestor of the row's, so no fill-in).";
-  f.inputs = {q_spec(model)};
-  f.outputs = {{"LD", model.nv() * model.nv(),
+  f.doc = "The mass matrix's sparse factor M = L^T D L (Featherstone's LTDL: L unit lower triangular, nonzero only where "
+          "the column's coordinate is an ancestor of the row's, so no fill-in). Takes mass_matrix's output, so that a "
+          "controller needing M and M^-1 computes M once; only the entries of ancestor pairs are read.";
+  f.inputs = {{"M", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix's output", n)}};
+  f.outputs = {{"LD", n * n,
                 fmt::format("[{0} x {0}, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve "
                             "takes it)",
-                            model.nv())}};
+                            n)}};
   Recording rec(f.graph);
-  Data<Sym> data(model);
-  const SymVec q = inputs(0, model.nq());
-  f.output_ids = {ids_of(mass_matrix_factor<Sym>(model, data, q))};
+  MatX<Sym> LD = square_input(0, n);
+  factor_mass_matrix_in_place<Sym>(model, LD);
+  f.output_ids = {ids_of(LD)};
   return f;
 }
 
@@ -155,10 +157,7 @@ TracedFunction trace_mass_matrix_solve(const Model& model) {
               v_spec(model, "b", "right-hand side (joint forces)")};
   f.outputs = {v_spec(model, "x", "M^-1 b")};
   Recording rec(f.graph);
-  const SymVec LD = inputs(0, n * n);
-  MatX<Sym> factor(n, n);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) factor(r, c) = LD[r * n + c];
+  const MatX<Sym> factor = square_input(0, n);
   SymVec x = inputs(1, n);
   mass_matrix_solve_in_place<Sym>(model, factor, x);
   f.output_ids = {ids_of(x)};

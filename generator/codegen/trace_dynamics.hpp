@@ -24,7 +24,7 @@ TracedFunction trace_full_accelerations(const Model& model);
 /// actuated coordinates' forces and the residual on the independent ones, from (q, vy, ydd).
 TracedFunction trace_actuator_forces(const Model& model, const Actuation& actuation);
 TracedFunction trace_mass_matrix(const Model& model);
-/// The mass matrix's L^T D L factor (algorithm/mass_matrix_factor.hpp) and x = M^-1 b from it.
+/// The L^T D L factor of a mass matrix given as input (algorithm/mass_matrix_factor.hpp) and x = M^-1 b from it.
 TracedFunction trace_mass_matrix_factor(const Model& model);
 TracedFunction trace_mass_matrix_solve(const Model& model);
 /// All body poses, 12 numbers each: the 3x4 matrix [R_WB | p_WB], row-major.

@@ -20,6 +20,15 @@ inline SymVec inputs(int argument, int size) {
   return x;
 }
 
+/// Symbolic n x n input matrix, row-major as every emitted matrix is: element (r, c) is element
+/// r n + c of argument `argument`.
+inline MatX<Sym> square_input(int argument, int n) {
+  MatX<Sym> m(n, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) m(r, c) = Sym::input(argument, r * n + c);
+  return m;
+}
+
 /// Node ids of a symbolic matrix in row-major order, as every emitted matrix is.
 inline std::vector<int> ids_of(const Eigen::Ref<const MatX<Sym>>& m) {
   std::vector<int> ids;
