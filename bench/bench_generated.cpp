@@ -5,9 +5,12 @@
 //   jacobians  -> NAME::frame_jacobians (the leaf bodies' frames, as the generic benchmark)
 //   minv       -> M^-1 tau: NAME::mass_matrix + mass_matrix_factor + mass_matrix_solve (`generated`) against
 //                 NAME::mass_matrix + Eigen's dense LLT and its solve (`eigen`)
+//   aba_batch/<robot>/<W> -> NAME_batch<W>::forward_dynamics_batch, W states per call (x86-64-v3; hyq
+//                 and talos): items_per_second counts states, to compare with aba/<robot>/generated_v3
 #include "bench_generated.hpp"
 
 #include <Eigen/Cholesky>
+#include <array>
 #include <memory>
 
 #include "hyq.hpp"
@@ -17,6 +20,8 @@
 #include "hyq_v3.hpp"
 #include "iiwa14_v3.hpp"
 #include "talos_v3.hpp"
+#include "hyq_batch4.hpp"
+#include "talos_batch4.hpp"
 #endif
 
 namespace mbgen::bench {
@@ -88,6 +93,35 @@ void add(const Robot& robot, const GeneratedApi& api, const std::string& impleme
   });
 }
 
+/// aba_batch/<robot>/<W>: the batch forward dynamics on the robot's pool, W consecutive states
+/// per call, packed beforehand (q[i][w]) so that no packing is timed.
+template <int W, int nq, int nv>
+void add_batch(const Robot& robot,
+               void (*forward_dynamics_batch)(const double (*)[W], const double (*)[W], const double (*)[W], double (*)[W])) {
+  struct Batch {
+    std::array<double, nq * W> q;
+    std::array<double, nv * W> v, tau;
+  };
+  auto pool = std::make_shared<std::vector<Batch>>(kPoolSize);
+  for (std::size_t k = 0; k < kPoolSize; ++k)
+    for (int w = 0; w < W; ++w) {
+      const Sample& s = (*robot.pool)[(k * W + static_cast<std::size_t>(w)) % kPoolSize];
+      for (int i = 0; i < nq; ++i) (*pool)[k].q[static_cast<std::size_t>(i * W + w)] = s.q[i];
+      for (int i = 0; i < nv; ++i) {
+        (*pool)[k].v[static_cast<std::size_t>(i * W + w)] = s.v[i];
+        (*pool)[k].tau[static_cast<std::size_t>(i * W + w)] = s.tau[i];
+      }
+    }
+  auto lanes = [](const auto& a) { return reinterpret_cast<const double(*)[W]>(a.data()); };
+  add_benchmark<Batch>(
+      "aba_batch", robot.name, std::to_string(W), pool,
+      [forward_dynamics_batch, lanes, out = std::make_shared<std::array<double, nv * W>>()](const Batch& b) {
+        forward_dynamics_batch(lanes(b.q), lanes(b.v), lanes(b.tau), reinterpret_cast<double(*)[W]>(out->data()));
+        return out->data();
+      },
+      W);
+}
+
 }  // namespace
 
 void add_generated(const Robot& robot) {
@@ -101,6 +135,9 @@ void add_generated(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14_v3), "generated_v3");
   if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq_v3), "generated_v3");
   if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos_v3), "generated_v3");
+  if (robot.name == "hyq") add_batch<hyq_batch4::batch_width, hyq_batch4::nq, hyq_batch4::nv>(robot, &hyq_batch4::forward_dynamics_batch);
+  if (robot.name == "talos")
+    add_batch<talos_batch4::batch_width, talos_batch4::nq, talos_batch4::nv>(robot, &talos_batch4::forward_dynamics_batch);
 #endif
 }
 

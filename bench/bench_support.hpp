@@ -62,14 +62,15 @@ inline std::shared_ptr<const std::vector<Sample>> make_pool(const Model& model, 
 /// turn, passes the pointer to DoNotOptimize and clobbers memory so that the outputs are
 /// written. `fn` is copied into the benchmark and may own its work memory (mutable lambda). A
 /// peer library that needs its own input types gets a pool of the same states converted
-/// beforehand, so that no conversion is timed.
+/// beforehand, so that no conversion is timed. `states_per_call` > 1 for a batch function: the
+/// items_per_second column counts states, comparable with the one-state benchmarks'.
 template <typename T, typename Fn>
 benchmark::internal::Benchmark* add_benchmark(const std::string& algorithm, const std::string& robot,
                                               const std::string& implementation,
-                                              std::shared_ptr<const std::vector<T>> pool, Fn fn) {
+                                              std::shared_ptr<const std::vector<T>> pool, Fn fn, int states_per_call = 1) {
   const std::string name = algorithm + "/" + robot + "/" + implementation;
   if (pool->size() != kPoolSize) throw std::invalid_argument(name + ": the input pool must hold kPoolSize states");
-  return benchmark::RegisterBenchmark(name.c_str(), [pool, fn](benchmark::State& state) mutable {
+  return benchmark::RegisterBenchmark(name.c_str(), [pool, fn, states_per_call](benchmark::State& state) mutable {
     const std::vector<T>& inputs = *pool;
     std::size_t k = 0;
     for (auto _ : state) {
@@ -77,7 +78,7 @@ benchmark::internal::Benchmark* add_benchmark(const std::string& algorithm, cons
       benchmark::ClobberMemory();
       k = (k + 1) & (kPoolSize - 1);
     }
-    state.SetItemsProcessed(state.iterations());
+    state.SetItemsProcessed(state.iterations() * states_per_call);
   });
 }
 

@@ -1,7 +1,8 @@
 # mbgen_add_robot(TARGET <target> DESCRIPTION <urdf>
 #                 [EXTRAS <yaml>] [NAME <namespace>] [SCALAR double|float|both]
 #                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUTS <output>... | all] [OUTPUT_DIR <dir>]
-#                 [FLAVOUR cpp|c | TEMPLATES <dir>] [ARCH <cpu> | ARCH <flag>...])
+#                 [FLAVOUR cpp|c | TEMPLATES <dir>] [ARCH <cpu> | ARCH <flag>...] [BATCH <W>]
+#                 [MAX_STATEMENTS <n>])
 #
 # Generates a robot's unrolled C++ at build time and adds the static library <target> whose
 # public include directory holds its header (<NAME>.hpp; <NAME>.h in the c flavour). Shaped like protobuf_generate: the outputs follow
@@ -24,6 +25,12 @@
 #               (x86-64-v3) g++ contracts a*b+c into one instruction and it runs about twice as
 #               fast (bench/README.md). Only this library's sources: the code calling it keeps its
 #               own flags. Default: the build's flags.
+#   BATCH       also generate <function>_batch over W states per call (W = 2, 4, 8 or 16; q[i][w]
+#               layout) for the functions of MBGEN_BATCHED_FUNCTIONS: sampling-based control and
+#               learning. Each state equals the one-state function bit for bit under the same
+#               flags; with ARCH x86-64-v3, W = 4 fills the AVX2 registers with double.
+#   MAX_STATEMENTS  statements per part above which a function is split into noinline parts
+#               (default 20000; compile time against a few loads and stores)
 
 # The source files of every generation, one per function (<NAME>_<function>.cpp), so that the
 # outputs follow from the arguments alone: a function the scene's outputs leave out
@@ -36,8 +43,14 @@ set(MBGEN_GENERATED_FUNCTIONS
     center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
     self_distances contact_points contact_accelerations)
 
+# The functions `--batch` emits over W states (generator/codegen/emit_batch.cpp), one file each
+# (<NAME>_<function>_batch.cpp).
+set(MBGEN_BATCHED_FUNCTIONS
+    forward_dynamics inverse_dynamics actuator_forces mass_matrix mass_matrix_factor mass_matrix_solve
+    forward_kinematics frame_poses frame_jacobians center_of_mass centroidal_momentum_matrix)
+
 function(mbgen_add_robot)
-  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES" "FRAMES;OUTPUTS;ARCH"
+  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES;BATCH;MAX_STATEMENTS" "FRAMES;OUTPUTS;ARCH"
                         ${ARGN})
   if(NOT MB_TARGET OR NOT MB_DESCRIPTION)
     message(FATAL_ERROR "mbgen_add_robot: TARGET and DESCRIPTION are required")
@@ -81,6 +94,13 @@ function(mbgen_add_robot)
   if(MB_OUTPUTS)
     string(REPLACE ";" "," outputs "${MB_OUTPUTS}")
     list(APPEND arguments --outputs ${outputs})
+  endif()
+
+  if(MB_BATCH)
+    list(APPEND arguments --batch ${MB_BATCH})
+  endif()
+  if(MB_MAX_STATEMENTS)
+    list(APPEND arguments --max-statements ${MB_MAX_STATEMENTS})
   endif()
 
   if(MB_FLAVOUR AND MB_TEMPLATES)
@@ -128,6 +148,12 @@ function(mbgen_add_robot)
     string(REPLACE "{function}" "${function}" source "${source_name}")
     list(APPEND sources ${MB_OUTPUT_DIR}/${source})
   endforeach()
+  if(MB_BATCH)
+    foreach(function IN LISTS MBGEN_BATCHED_FUNCTIONS)
+      string(REPLACE "{function}" "${function}_batch" source "${source_name}")
+      list(APPEND sources ${MB_OUTPUT_DIR}/${source})
+    endforeach()
+  endif()
   add_custom_command(
     OUTPUT ${header} ${sources}
     COMMAND ${generator} ${arguments}

@@ -254,4 +254,45 @@ TEST(GenerateCommand, AnUnknownOutputNamesTheOnesThereAre) {
   EXPECT_NE(errors.find("mass_matrix"), std::string::npos) << errors;
 }
 
+TEST(GenerateCommand, BatchAddsOneFilePerBatchedFunction) {
+  const fs::path dir = fresh_dir("batch");
+  ASSERT_EQ(generate(dir, "arm", "--batch 8 --outputs forward_dynamics,mass_matrix"), 0);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) (void)entry, ++files;
+  // The header, one file per function and one per batched function (MBGEN_BATCHED_FUNCTIONS).
+  EXPECT_EQ(files, 1 + MBGEN_GENERATED_FUNCTION_COUNT + MBGEN_BATCHED_FUNCTION_COUNT);
+  const std::string header = read(dir / "arm.hpp");
+  EXPECT_NE(header.find("constexpr int batch_width = 8;"), std::string::npos);
+  EXPECT_NE(header.find("void forward_dynamics_batch(const double (*q)[8], const double (*v)[8], const double (*tau)[8], "
+                        "double (*qdd)[8]);"),
+            std::string::npos);
+  EXPECT_NE(read(dir / "arm_mass_matrix_factor_batch.cpp").find("mass_matrix_factor_batch_impl"), std::string::npos);
+  // A batched function the outputs leave out keeps its file, with a note only.
+  EXPECT_NE(read(dir / "arm_inverse_dynamics_batch.cpp").find("inverse_dynamics_batch is left out: inverse_dynamics is not generated"),
+            std::string::npos);
+  EXPECT_EQ(header.find("inverse_dynamics_batch("), std::string::npos);
+}
+
+TEST(GenerateCommand, ABatchWidthThatIsNotAPowerOfTwoIsRefused) {
+  for (const char* width : {"3", "1", "32", "four"}) {
+    const auto [status, errors] = generate_with_errors(fresh_dir("batch_width"), std::string("--batch ") + width);
+    EXPECT_NE(status, 0) << width;
+    EXPECT_NE(errors.find(std::string(width) + " states per call: W must be a power of two from 2 to 16"), std::string::npos)
+        << errors;
+  }
+}
+
+TEST(GenerateCommand, MaxStatementsSplitsTheFunctionsIntoParts) {
+  const fs::path whole = fresh_dir("whole"), split = fresh_dir("split");
+  ASSERT_EQ(generate(whole, "arm", "--outputs forward_dynamics"), 0);
+  ASSERT_EQ(generate(split, "arm", "--outputs forward_dynamics --max-statements 100"), 0);
+  EXPECT_EQ(read(whole / "arm_forward_dynamics.cpp").find("forward_dynamics_part0"), std::string::npos);
+  const std::string source = read(split / "arm_forward_dynamics.cpp");
+  EXPECT_NE(source.find("forward_dynamics_part0"), std::string::npos);
+  EXPECT_NE(source.find("forward_dynamics_part4"), std::string::npos);  // iiwa14's ~800 statements
+  const auto [status, errors] = generate_with_errors(fresh_dir("no_statements"), "--max-statements 0");
+  EXPECT_NE(status, 0);
+  EXPECT_NE(errors.find("--max-statements"), std::string::npos) << errors;
+}
+
 }  // namespace

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 
+#include "codegen/emit_batch.hpp"
 #include "codegen/generate_robot.hpp"
 #include "codegen/output_files.hpp"
 #include "codegen/templates.hpp"
@@ -28,6 +29,8 @@ struct GenerateOptions {
   std::vector<std::string> outputs;  ///< overrides the scene's outputs; {"all"}: everything
   bool floating = false, fixed = false, quiet = false, repair_inertia = false;
   long max_operations = codegen::kDefaultGraphLimit;
+  int batch = 0;  ///< --batch W: states per call of the batch functions, 0 none
+  int max_statements = codegen::kMaxStatementsPerPart;
 };
 
 int run_generate(const GenerateOptions& o) {
@@ -53,6 +56,8 @@ int run_generate(const GenerateOptions& o) {
                                           : codegen::ScalarChoice::Both;
     options.frames = o.frames;
     options.max_operations = o.max_operations;
+    options.batch = o.batch;
+    options.max_statements_per_part = o.max_statements;
     options.outputs = o.outputs;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
@@ -121,6 +126,23 @@ void add_generate_command(CLI::App& app, int& status) {
                   "largest traced function, in operations, before generation stops with an error (default 10000000; "
                   "a 5,000-link chain stops at its mass matrix after 20 s and 1.8 GB)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--batch", options->batch,
+                  "also emit <function>_batch for the dynamics and kinematics over W states per call "
+                  "(structure of arrays, q[i][w]; GCC vectors; equal to the one-state functions bit for bit); "
+                  "W a power of two from 2 to 16")
+      ->check([](const std::string& value) -> std::string {
+        int w = 0;
+        try {
+          w = std::stoi(value);
+        } catch (const std::exception&) {
+        }
+        return codegen::valid_batch_width(w) ? std::string()
+                                             : value + " states per call: W must be a power of two from 2 to 16 (4 fills AVX2's registers with double)";
+      });
+  cmd->add_option("--max-statements", options->max_statements,
+                  "statements per part above which a function is split into functions of its own (default 20000): "
+                  "g++'s time on one function grows faster than its size, and a split costs a few loads and stores")
+      ->check(CLI::Range(1, 1000000000));
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_generate(*options); });
 }

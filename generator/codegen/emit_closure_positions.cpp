@@ -90,7 +90,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
     for (const bool with_velocities : {false, true}) {
       const TracedFunction step = trace_closure_newton_step(model, with_velocities);
       out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
-      const SplitStatements split = split_statements(step, step.name, kMaxStatementsPerPart);
+      const SplitStatements split = split_statements(step, step.name, ctx.max_statements_per_part);
       if (!split.parts.empty() && !noinline_defined) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
       out += split.parts;
       out += with_velocities ? "template <typename S>\nvoid closure_newton_step_velocities(const S* q, const S* v, S* residual, "

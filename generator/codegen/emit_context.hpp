@@ -10,6 +10,12 @@ namespace mbgen::codegen {
 
 enum class ScalarChoice { Double, Float, Both };
 
+/// Statements per part above which a function is split (split_statements; mbgen generate
+/// --max-statements sets EmitContext::max_statements_per_part). g++'s register allocation grows
+/// faster than linearly with a function's size: wl16_like's full_accelerations (~39k statements
+/// per scalar) took 200 s in one piece at -O3.
+inline constexpr int kMaxStatementsPerPart = 20000;
+
 /// `S` wrappers wanted by the choice: double first.
 std::vector<std::string> scalar_types(ScalarChoice choice);
 
@@ -19,6 +25,7 @@ struct EmitContext {
   std::string header;  ///< header_file.fmt rendered
   std::string banner;  ///< banner.fmt rendered
   ScalarChoice scalars = ScalarChoice::Both;
+  int max_statements_per_part = kMaxStatementsPerPart;
 
   /// public_name.fmt: the entry point of `function` for `scalar`.
   std::string public_name(const std::string& function, const std::string& scalar) const {

@@ -29,11 +29,7 @@ std::vector<bool> reachable(const TracedFunction& f) {
   return seen;
 }
 
-std::string input_parameters(const TracedFunction& f, const std::string& scalar) {
-  std::string args;
-  for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
-  return args;
-}
+}  // namespace
 
 std::string call_arguments(const TracedFunction& f) {
   std::string args;
@@ -41,8 +37,6 @@ std::string call_arguments(const TracedFunction& f) {
   for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}", args.empty() ? "" : ", ", a.name);
   return args;
 }
-
-}  // namespace
 
 std::string literal(double value) {
   // fmt prints the shortest representation that reads back to the same double.
@@ -88,11 +82,7 @@ std::string describe_operations(const OpCount& c) {
                      c.pow > 0 ? fmt::format(", {} powers", c.pow) : std::string());
 }
 
-std::string parameters(const TracedFunction& f, const std::string& scalar) {
-  std::string args = input_parameters(f, scalar);
-  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, a.name);
-  return args;
-}
+std::string parameters(const TracedFunction& f, const std::string& scalar) { return batch_parameters(f, scalar, 0); }
 
 std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx) {
   std::string arguments, prototypes;
@@ -127,48 +117,172 @@ namespace {
 
 bool is_statement(const Node& n) { return n.op != Op::Constant && n.op != Op::Input; }
 
-/// The right-hand side of node n's statement, its operands named by `name`.
-template <typename Name> std::string expression(const Node& n, Name name) {
-  switch (n.op) {
-    case Op::Add: return fmt::format("{} + {}", name(n.a), name(n.b));
-    case Op::Sub: return fmt::format("{} - {}", name(n.a), name(n.b));
-    case Op::Mul: return fmt::format("{} * {}", name(n.a), name(n.b));
-    case Op::Div: return fmt::format("{} / {}", name(n.a), name(n.b));
-    case Op::Neg: return fmt::format("-{}", name(n.a));
-    case Op::Sin: return fmt::format("std::sin({})", name(n.a));
-    case Op::Cos: return fmt::format("std::cos({})", name(n.a));
-    case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
-    // A select, not std::fmax: no libm call on a microcontroller.
-    case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
-    case Op::Pow: return fmt::format("std::pow({}, {})", name(n.a), name(n.b));
-    case Op::Constant:
-    case Op::Input: break;
-  }
-  throw std::logic_error("expression: not a statement");
+/// An array parameter: `S* q` for one state, `S (*q)[lanes]` (q[i][w]: entry i of state w) for lanes.
+std::string array_parameter(const std::string& name, const std::string& scalar, int lanes) {
+  return lanes > 0 ? fmt::format("{} (*{})[{}]", scalar, name, lanes) : fmt::format("{}* {}", scalar, name);
 }
 
-/// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
-std::vector<std::string> leaf_and_temporary_names(const TracedFunction& f, const std::vector<bool>& seen) {
-  std::vector<std::string> names(static_cast<std::size_t>(f.graph.size()));
-  int temporaries = 0;
-  for (int id = 0; id < f.graph.size(); ++id) {
-    if (!seen[static_cast<std::size_t>(id)]) continue;
-    const Node& n = f.graph.node(id);
-    std::string& name = names[static_cast<std::size_t>(id)];
-    if (n.op == Op::Constant) name = literal(n.value);
-    else if (n.op == Op::Input) name = fmt::format("{}[{}]", f.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
-    else name = fmt::format("_t{}", temporaries++);
-  }
-  return names;
+std::string input_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
+  std::string args;
+  for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}", args.empty() ? "" : ", ", array_parameter(a.name, scalar, lanes));
+  return args;
 }
 
-std::string output_assignments(const TracedFunction& f, const std::vector<std::string>& names) {
+/// How statements are printed: for one state (`const S _t3 = _t1 * _t2;`) or for `lanes` states
+/// at once (`const V _t3 = _t1 * _t2;`, V a GCC vector of S; batch_source.fmt defines the
+/// lanes_* helpers). The operations and their order are the same, so that each lane computes
+/// bit for bit what the one-state function computes.
+class StatementPrinter {
+ public:
+  StatementPrinter(const TracedFunction& f, const std::vector<bool>& seen, int lanes) : f_(f), seen_(seen), lanes_(lanes) {
+    if (!batch()) return;
+    // sin and cos of one argument are computed together (lanes_sincos): g++ merges them into
+    // one sincos call in the one-state code, and would not across two loops over the lanes.
+    std::vector<int> sin_of(static_cast<std::size_t>(f.graph.size()), -1), cos_of(sin_of);
+    for (int id = 0; id < f.graph.size(); ++id) {
+      if (!seen[static_cast<std::size_t>(id)]) continue;
+      const Node& n = f.graph.node(id);
+      if (n.op == Op::Sin) sin_of[static_cast<std::size_t>(n.a)] = id;
+      if (n.op == Op::Cos) cos_of[static_cast<std::size_t>(n.a)] = id;
+    }
+    partner_.assign(static_cast<std::size_t>(f.graph.size()), -1);
+    for (std::size_t x = 0; x < sin_of.size(); ++x)
+      if (sin_of[x] >= 0 && cos_of[x] >= 0) {
+        partner_[static_cast<std::size_t>(sin_of[x])] = cos_of[x];
+        partner_[static_cast<std::size_t>(cos_of[x])] = sin_of[x];
+      }
+  }
+
+  bool batch() const { return lanes_ > 0; }
+  /// The type of a temporary.
+  const char* value_type() const { return batch() ? "V" : "S"; }
+
+  /// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
+  std::vector<std::string> leaf_and_temporary_names() const {
+    std::vector<std::string> names(static_cast<std::size_t>(f_.graph.size()));
+    int temporaries = 0;
+    for (int id = 0; id < f_.graph.size(); ++id) {
+      if (!seen_[static_cast<std::size_t>(id)]) continue;
+      const Node& n = f_.graph.node(id);
+      std::string& name = names[static_cast<std::size_t>(id)];
+      if (n.op == Op::Constant) {
+        name = literal(n.value);
+      } else if (n.op == Op::Input) {
+        const std::string element = fmt::format("{}[{}]", f_.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
+        name = batch() ? fmt::format("lanes_load<V>({})", element) : element;
+      } else {
+        name = fmt::format("_t{}", temporaries++);
+      }
+    }
+    return names;
+  }
+
+  /// The statements of `run` (ids in topological order), their operands named by `name`, each
+  /// declared `const <value_type> <name(id)> = ...;`. A sin/cos pair within the run is printed
+  /// once, at the first of the two.
+  template <typename Name> std::string statements(const std::vector<int>& run, Name name) const {
+    std::string out;
+    std::vector<int> in_run, order = run;
+    if (batch()) {
+      in_run = run;  // sorted: ids ascend
+      // The libm calls of inputs first: every call spills the live vectors (no vector register
+      // survives a call), and at the top nothing is live yet. Their values do not change.
+      std::stable_partition(order.begin(), order.end(), [&](int id) { return is_libm_call_of_leaves(f_.graph.node(id)); });
+    }
+    for (int id : order) {
+      const Node& n = f_.graph.node(id);
+      const int partner = batch() && (n.op == Op::Sin || n.op == Op::Cos) ? partner_[static_cast<std::size_t>(id)] : -1;
+      if (partner >= 0 && std::binary_search(in_run.begin(), in_run.end(), partner)) {
+        if (std::find(order.begin(), order.end(), partner) < std::find(order.begin(), order.end(), id)) continue;  // printed with its partner
+        const int s = n.op == Op::Sin ? id : partner, c = n.op == Op::Sin ? partner : id;
+        out += fmt::format("  const auto [{}, {}] = lanes_sincos({});\n", name(s), name(c), vector_operand(n.a, name));
+        continue;
+      }
+      out += fmt::format("  const {} {} = {};\n", value_type(), name(id), expression(id, name));
+    }
+    return out;
+  }
+
+  bool is_libm_call_of_leaves(const Node& n) const {
+    const bool call = n.op == Op::Sin || n.op == Op::Cos || n.op == Op::Sqrt || n.op == Op::Pow;
+    return call && !is_statement(f_.graph.node(n.a)) && (n.b < 0 || !is_statement(f_.graph.node(n.b)));
+  }
+
+  /// `target = value;` for an output element or a workspace slot.
+  template <typename Name> std::string assignment(const std::string& target, int id, Name name) const {
+    return batch() ? fmt::format("  lanes_store({}, {});\n", target, vector_operand(id, name))
+                   : fmt::format("  {} = {};\n", target, name(id));
+  }
+
+ private:
+  /// An operand that must be a vector: a constant is broadcast.
+  template <typename Name> std::string vector_operand(int id, Name name) const {
+    return f_.graph.is_constant(id) ? fmt::format("lanes_broadcast<V>({})", name(id)) : std::string(name(id));
+  }
+
+  template <typename Name> std::string expression(int id, Name name) const {
+    const Node& n = f_.graph.node(id);
+    if (!batch()) {
+      switch (n.op) {
+        case Op::Sin: return fmt::format("std::sin({})", name(n.a));
+        case Op::Cos: return fmt::format("std::cos({})", name(n.a));
+        case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
+        // A select, not std::fmax: no libm call on a microcontroller.
+        case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
+        case Op::Pow: return fmt::format("std::pow({}, {})", name(n.a), name(n.b));
+        default: return arithmetic(n, name(n.a), n.b >= 0 ? std::string(name(n.b)) : std::string());
+      }
+    }
+    switch (n.op) {
+      case Op::Sin: return fmt::format("lanes_sin({})", vector_operand(n.a, name));
+      case Op::Cos: return fmt::format("lanes_cos({})", vector_operand(n.a, name));
+      case Op::Sqrt: return fmt::format("lanes_sqrt({})", vector_operand(n.a, name));
+      case Op::Max: return fmt::format("lanes_max({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
+      case Op::Pow: return fmt::format("lanes_pow({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
+      default: {
+        // Vector (op) scalar is a vector; scalar (op) scalar is not: then the first is broadcast.
+        const bool all_constant = f_.graph.is_constant(n.a) && (n.b < 0 || f_.graph.is_constant(n.b));
+        return arithmetic(n, all_constant ? vector_operand(n.a, name) : std::string(name(n.a)),
+                          n.b >= 0 ? std::string(name(n.b)) : std::string());
+      }
+    }
+  }
+
+  static std::string arithmetic(const Node& n, const std::string& a, const std::string& b) {
+    switch (n.op) {
+      case Op::Add: return fmt::format("{} + {}", a, b);
+      case Op::Sub: return fmt::format("{} - {}", a, b);
+      case Op::Mul: return fmt::format("{} * {}", a, b);
+      case Op::Div: return fmt::format("{} / {}", a, b);
+      case Op::Neg: return fmt::format("-{}", a);
+      default: break;
+    }
+    throw std::logic_error("expression: not a statement");
+  }
+
+  const TracedFunction& f_;
+  const std::vector<bool>& seen_;
+  int lanes_;
+  std::vector<int> partner_;  ///< batch: the cos of a sin's argument and vice versa, else -1
+};
+
+std::string output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names) {
+  auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::string body;
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     for (std::size_t i = 0; i < f.output_ids[o].size(); ++i)
-      body += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, names[static_cast<std::size_t>(f.output_ids[o][i])]);
+      body += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), f.output_ids[o][i], name);
   return body;
 }
+
+std::vector<int> statement_ids(const TracedFunction& f, const std::vector<bool>& seen) {
+  std::vector<int> statements;
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id))) statements.push_back(id);
+  return statements;
+}
+
+}  // namespace
 
 std::string unused_inputs(const TracedFunction& f) {
   std::string out;
@@ -179,27 +293,27 @@ std::string unused_inputs(const TracedFunction& f) {
   return out;
 }
 
-}  // namespace
-
-std::string emit_statements(const TracedFunction& f) {
+std::string emit_statements(const TracedFunction& f, int lanes) {
   const std::vector<bool> seen = reachable(f);
-  const std::vector<std::string> names = leaf_and_temporary_names(f, seen);
+  const StatementPrinter printer(f, seen, lanes);
+  const std::vector<std::string> names = printer.leaf_and_temporary_names();
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
-  std::string body;
-  body.reserve(64 * static_cast<std::size_t>(f.graph.size()));
-  for (int id = 0; id < f.graph.size(); ++id)
-    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id)))
-      body += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
-  return body + output_assignments(f, names);
+  std::string body = printer.statements(statement_ids(f, seen), name);
+  return body + output_assignments(f, printer, names);
 }
 
-SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements) {
+std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
+  std::string args = input_parameters(f, scalar, lanes);
+  for (const ArraySpec& a : f.outputs) args += fmt::format("{}{}", args.empty() ? "" : ", ", array_parameter(a.name, scalar, lanes));
+  return args;
+}
+
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, int lanes) {
   const std::vector<bool> seen = reachable(f);
-  std::vector<int> statements;
-  for (int id = 0; id < f.graph.size(); ++id)
-    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id))) statements.push_back(id);
+  const StatementPrinter printer(f, seen, lanes);
+  const std::vector<int> statements = statement_ids(f, seen);
   const int count = static_cast<int>(statements.size());
-  if (count <= max_statements) return {"", emit_statements(f)};
+  if (count <= max_statements) return {"", emit_statements(f, lanes)};
 
   // Parts of equal size, in id order (a topological order): part_of[id] for statements.
   const int parts = (count + max_statements - 1) / max_statements;
@@ -246,24 +360,25 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
     }
   }
 
-  const std::vector<std::string> local_names = leaf_and_temporary_names(f, seen);
+  const std::vector<std::string> local_names = printer.leaf_and_temporary_names();
   std::vector<std::string> workspace_names(local_names);
   for (int id : statements)
     if (slot[static_cast<std::size_t>(id)] >= 0) workspace_names[static_cast<std::size_t>(id)] = fmt::format("w[{}]", slot[static_cast<std::size_t>(id)]);
 
+  const std::string value = printer.value_type();
   SplitStatements out;
   for (int p = 0; p < parts; ++p) {
-    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, S* w) {{\n", prefix, p,
-                             input_parameters(f, "S"));
+    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, {}* w) {{\n", prefix, p,
+                             input_parameters(f, "S", lanes), printer.batch() ? "typename Lanes<S>::type" : "S");
+    if (printer.batch()) out.parts += "  typedef typename Lanes<S>::type V __attribute__((unused));\n";
     out.parts += unused_inputs(f);
     auto name = [&](int id) -> const std::string& {
       const std::size_t i = static_cast<std::size_t>(id);
       return part_of[i] == p ? local_names[i] : workspace_names[i];
     };
-    for (int k = p * per_part; k < std::min(count, (p + 1) * per_part); ++k) {
-      const int id = statements[static_cast<std::size_t>(k)];
-      out.parts += fmt::format("  const S {} = {};\n", name(id), expression(f.graph.node(id), name));
-    }
+    const std::vector<int> run(statements.begin() + p * per_part, statements.begin() + std::min(count, (p + 1) * per_part));
+    out.parts += printer.statements(run, name);
+    // A workspace slot holds a vector whole: plain assignment in both forms.
     for (int id : stored[static_cast<std::size_t>(p)])
       out.parts += fmt::format("  {} = {};\n", workspace_names[static_cast<std::size_t>(id)], local_names[static_cast<std::size_t>(id)]);
     out.parts += "}\n\n";
@@ -271,15 +386,15 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
   std::string arguments;
   for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
   out.body = fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
-                         "  // w carries the {} values that cross a part boundary.\n  S w[{}];\n",
-                         count, parts, slots, std::max(slots, 1));
+                         "  // w carries the {} values that cross a part boundary.\n  {} w[{}];\n",
+                         count, parts, slots, value, std::max(slots, 1));
   for (int p = 0; p < parts; ++p) out.body += fmt::format("  {}_part{}<S>({}w);\n", prefix, p, arguments);
-  out.body += output_assignments(f, workspace_names);
+  out.body += output_assignments(f, printer, workspace_names);
   return out;
 }
 
 std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
-  const SplitStatements split = split_statements(f, f.name, kMaxStatementsPerPart);
+  const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, 0);
   const std::string entry_points =
       emit_entry_points(f.name, call_arguments(f), [&](const std::string& s) { return parameters(f, s); }, ctx);
   return ctx.templates.render("function_source",

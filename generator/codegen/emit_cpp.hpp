@@ -18,6 +18,12 @@ std::string describe_operations(const OpCount& count);
 /// f's parameter list for `scalar`: `const S* in..., S* out...`.
 std::string parameters(const TracedFunction& f, const std::string& scalar);
 
+/// f's parameter names, inputs then outputs: `q, v, qdd`.
+std::string call_arguments(const TracedFunction& f);
+
+/// `(void)name;` for every input (a function may read none of them) and every empty output.
+std::string unused_inputs(const TracedFunction& f);
+
 /// function_declaration.fmt for f: doc comment with argument sizes and op count, the prototypes.
 std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx);
 
@@ -26,27 +32,31 @@ std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx);
 std::string emit_entry_points(const std::string& function, const std::string& arguments,
                               const std::function<std::string(const std::string&)>& parameters_for, const EmitContext& ctx);
 
+/// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
+/// S (*out)[lanes]...` (in[i][w]: entry i of state w); lanes 0 gives parameters(f, scalar).
+std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
+
 /// The straight-line statements of f's body: `const S _tN = ...;` in topological order, then one
 /// assignment per output element (`name[i] = ...;`), two-space indented. emit_definition wraps
 /// them in a function; emit_self_distances in a function with local output arrays.
-std::string emit_statements(const TracedFunction& f);
+/// With lanes > 0, the same operations in the same order on `V`, a GCC vector of `lanes` S
+/// (`const V _tN = ...;`, inputs read by lanes_load, outputs written by lanes_store, libm
+/// functions lane by lane: the helpers of batch_source.fmt), so that every lane equals the
+/// one-state function bit for bit under the same compiler flags.
+std::string emit_statements(const TracedFunction& f, int lanes = 0);
 
-/// Statements per part above which a function is split (split_statements). g++'s register
-/// allocation grows faster than linearly with a function's size: wl16_like's full_accelerations
-/// (~39k statements per scalar) took 200 s in one piece at -O3.
-inline constexpr int kMaxStatementsPerPart = 20000;
 
 /// A function body split into parts: `parts` defines `template <typename S> void
 /// <prefix>_part<k>(inputs..., S* w)` (marked noinline, see noinline_macro), each computing
 /// one run of consecutive statements and storing at its end the values later parts or the
 /// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
 /// the outputs. Functions of at most max_statements statements are not split: parts is empty
-/// and body is emit_statements(f). Deterministic: slots are reused lowest first.
+/// and body is emit_statements(f, lanes). With lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
 struct SplitStatements {
   std::string parts;
   std::string body;
 };
-SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements);
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, int lanes = 0);
 
 /// `S(value)` in shortest round-trip form.
 std::string literal(double value);

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <set>
 
+#include "codegen/emit_batch.hpp"
 #include "codegen/emit_closure_positions.hpp"
 #include "codegen/emit_self_distances.hpp"
 #include "codegen/scene_functions.hpp"
@@ -85,7 +86,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                           const TemplateSet& templates) {
   const Model& model = description.model;
   const EmitContext ctx{templates, options.name, templates.render("header_file", {{"robot", options.name}}),
-                        banner(options, templates), options.scalars};
+                        banner(options, templates), options.scalars, options.max_statements_per_part};
 
   std::vector<std::string> frame_names = options.frames.empty() ? default_frames(model) : options.frames;
   std::vector<FrameIndex> frames;
@@ -242,6 +243,25 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                                  {"ground_offset", number(spec.ground.offset)}});
   }
   header_fields.push_back({"contact", contact_block});
+  // Batch functions: those of batched_functions() the scene generates, over options.batch states.
+  std::string batch_block;
+  std::vector<const TracedFunction*> batched;
+  if (options.batch > 0) {
+    if (!valid_batch_width(options.batch))
+      throw std::invalid_argument(fmt::format("batch width {}: must be a power of two from 2 to 16", options.batch));
+    std::vector<std::string> names;
+    for (const std::string& name : batched_functions()) {
+      const auto it = std::find_if(functions.begin(), functions.end(), [&](const TracedFunction& g) { return g.name == name; });
+      if (it == functions.end()) continue;
+      batched.push_back(&*it);
+      names.push_back(batch_name(name));
+    }
+    batch_block = templates.render("batch_width", {{"robot", ctx.robot},
+                                                   {"lanes", std::to_string(options.batch)},
+                                                   {"functions", fmt::format("{}", fmt::join(names, ", "))}});
+    for (const TracedFunction* f : batched) batch_block += emit_batch_declaration(*f, options.batch, ctx);
+  }
+  header_fields.push_back({"batch", batch_block});
   const std::vector<std::string> scalars = scalar_types(options.scalars);
   const bool has_double = std::find(scalars.begin(), scalars.end(), "double") != scalars.end();
   const Vec3<double>& g = model.gravity;
@@ -298,6 +318,18 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   files.push_back({ctx.source_file("closure_positions"),
                    traced("closure_positions", [&] { return emit_closure_positions_definition(model, ctx); })});
   if (selection.emits("self_distances")) files.push_back({ctx.source_file("self_distances"), distances.source});
+  if (options.batch > 0)
+    for (const std::string& name : batched_functions()) {
+      const auto it = std::find_if(batched.begin(), batched.end(), [&](const TracedFunction* g) { return g->name == name; });
+      files.push_back({ctx.source_file(batch_name(name)),
+                       it != batched.end()
+                           ? emit_batch_definition(**it, options.batch, ctx)
+                           : templates.render("left_out_source", {{"banner", ctx.banner},
+                                                                  {"header", ctx.header},
+                                                                  {"robot", ctx.robot},
+                                                                  {"function", batch_name(name)},
+                                                                  {"reason", fmt::format("{} is not generated", name)}})});
+    }
   for (const std::string& f : selection.left_out)
     files.push_back({ctx.source_file(f), templates.render("left_out_source", {{"banner", ctx.banner},
                                                                               {"header", ctx.header},

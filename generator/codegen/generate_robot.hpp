@@ -30,6 +30,10 @@ struct CodegenOptions {
   std::vector<std::string> outputs;
   /// Nodes a traced function's expression graph may have (GraphLimit): past it, a LoadError.
   long max_operations = kDefaultGraphLimit;
+  /// States per call of the batch functions (emit_batch.hpp; valid_batch_width), 0: none.
+  int batch = 0;
+  /// Statements per part above which a function is split into noinline parts (split_statements).
+  int max_statements_per_part = kMaxStatementsPerPart;
 };
 
 struct GeneratedFile {
