@@ -49,7 +49,7 @@ std::string emit_batch_declaration(const TracedFunction& f, int lanes, const Emi
 
 std::string emit_batch_definition(const TracedFunction& f, int lanes, const EmitContext& ctx) {
   const std::string name = batch_name(f.name);
-  const SplitStatements split = split_statements(f, name, ctx.max_statements_per_part, lanes);
+  const SplitStatements split = split_statements(f, name, ctx.max_statements_per_part, {lanes, true});
   const std::string entry_points =
       emit_entry_points(name, call_arguments(f), [&](const std::string& s) { return batch_parameters(f, s, lanes); }, ctx);
   return ctx.templates.render("batch_source",
@@ -58,6 +58,7 @@ std::string emit_batch_definition(const TracedFunction& f, int lanes, const Emit
                                {"robot", ctx.robot},
                                {"function", f.name},
                                {"lanes", std::to_string(lanes)},
+                               {"sincos", ctx.templates.render("sincos", {})},
                                {"doc", f.doc},
                                {"cost", describe_operations(count_operations(f))},
                                {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},

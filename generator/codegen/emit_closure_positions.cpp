@@ -90,7 +90,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
     for (const bool with_velocities : {false, true}) {
       const TracedFunction step = trace_closure_newton_step(model, with_velocities);
       out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));
-      const SplitStatements split = split_statements(step, step.name, ctx.max_statements_per_part);
+      const SplitStatements split = split_statements(step, step.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});
       if (!split.parts.empty() && !noinline_defined) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
       out += split.parts;
       out += with_velocities ? "template <typename S>\nvoid closure_newton_step_velocities(const S* q, const S* v, S* residual, "
@@ -125,6 +125,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   return ctx.templates.render("closure_positions_source", {{"banner", ctx.banner},
                                                            {"header", ctx.header},
                                                            {"robot", ctx.robot},
+                                                           {"sincos", sincos_helper(ctx)},
                                                            {"implementation", out},
                                                            {"entry_points", entry_points}});
 }

@@ -31,6 +31,8 @@ std::vector<bool> reachable(const TracedFunction& f) {
 
 }  // namespace
 
+std::string sincos_helper(const EmitContext& ctx) { return ctx.inline_sincos ? ctx.templates.render("sincos", {}) : std::string(); }
+
 std::string call_arguments(const TracedFunction& f) {
   std::string args;
   for (const ArraySpec& a : f.inputs) args += fmt::format("{}{}", args.empty() ? "" : ", ", a.name);
@@ -134,10 +136,10 @@ std::string input_parameters(const TracedFunction& f, const std::string& scalar,
 /// bit for bit what the one-state function computes.
 class StatementPrinter {
  public:
-  StatementPrinter(const TracedFunction& f, const std::vector<bool>& seen, int lanes) : f_(f), seen_(seen), lanes_(lanes) {
-    if (!batch()) return;
-    // sin and cos of one argument are computed together (lanes_sincos): g++ merges them into
-    // one sincos call in the one-state code, and would not across two loops over the lanes.
+  StatementPrinter(const TracedFunction& f, const std::vector<bool>& seen, StatementStyle style)
+      : f_(f), seen_(seen), lanes_(style.lanes), inline_sincos_(style.inline_sincos || style.lanes > 0) {
+    if (!inline_sincos_) return;
+    // sin and cos of one argument are computed together (sincos_of gives both).
     std::vector<int> sin_of(static_cast<std::size_t>(f.graph.size()), -1), cos_of(sin_of);
     for (int id = 0; id < f.graph.size(); ++id) {
       if (!seen[static_cast<std::size_t>(id)]) continue;
@@ -179,23 +181,23 @@ class StatementPrinter {
 
   /// The statements of `run` (ids in topological order), their operands named by `name`, each
   /// declared `const <value_type> <name(id)> = ...;`. A sin/cos pair within the run is printed
-  /// once, at the first of the two.
+  /// once, at the first of the two, when they are inline.
   template <typename Name> std::string statements(const std::vector<int>& run, Name name) const {
     std::string out;
     std::vector<int> in_run, order = run;
     if (batch()) {
-      in_run = run;  // sorted: ids ascend
       // The libm calls of inputs first: every call spills the live vectors (no vector register
       // survives a call), and at the top nothing is live yet. Their values do not change.
       std::stable_partition(order.begin(), order.end(), [&](int id) { return is_libm_call_of_leaves(f_.graph.node(id)); });
     }
+    if (inline_sincos_) in_run = run;  // sorted: ids ascend
     for (int id : order) {
       const Node& n = f_.graph.node(id);
-      const int partner = batch() && (n.op == Op::Sin || n.op == Op::Cos) ? partner_[static_cast<std::size_t>(id)] : -1;
+      const int partner = inline_sincos_ && (n.op == Op::Sin || n.op == Op::Cos) ? partner_[static_cast<std::size_t>(id)] : -1;
       if (partner >= 0 && std::binary_search(in_run.begin(), in_run.end(), partner)) {
         if (std::find(order.begin(), order.end(), partner) < std::find(order.begin(), order.end(), id)) continue;  // printed with its partner
         const int s = n.op == Op::Sin ? id : partner, c = n.op == Op::Sin ? partner : id;
-        out += fmt::format("  const auto [{}, {}] = lanes_sincos({});\n", name(s), name(c), vector_operand(n.a, name));
+        out += fmt::format("  const auto [{}, {}] = sincos_of<S>({});\n", name(s), name(c), vector_operand(n.a, name));
         continue;
       }
       out += fmt::format("  const {} {} = {};\n", value_type(), name(id), expression(id, name));
@@ -204,7 +206,7 @@ class StatementPrinter {
   }
 
   bool is_libm_call_of_leaves(const Node& n) const {
-    const bool call = n.op == Op::Sin || n.op == Op::Cos || n.op == Op::Sqrt || n.op == Op::Pow;
+    const bool call = n.op == Op::Sqrt || n.op == Op::Pow;  // sin and cos are inline in a batch
     return call && !is_statement(f_.graph.node(n.a)) && (n.b < 0 || !is_statement(f_.graph.node(n.b)));
   }
 
@@ -215,13 +217,15 @@ class StatementPrinter {
   }
 
  private:
-  /// An operand that must be a vector: a constant is broadcast.
+  /// An operand that must be a vector in a batch: a constant is broadcast.
   template <typename Name> std::string vector_operand(int id, Name name) const {
-    return f_.graph.is_constant(id) ? fmt::format("lanes_broadcast<V>({})", name(id)) : std::string(name(id));
+    return batch() && f_.graph.is_constant(id) ? fmt::format("lanes_broadcast<V>({})", name(id)) : std::string(name(id));
   }
 
   template <typename Name> std::string expression(int id, Name name) const {
     const Node& n = f_.graph.node(id);
+    if (inline_sincos_ && (n.op == Op::Sin || n.op == Op::Cos))
+      return fmt::format("sincos_of<S>({}).{}", vector_operand(n.a, name), n.op == Op::Sin ? "sin" : "cos");
     if (!batch()) {
       switch (n.op) {
         case Op::Sin: return fmt::format("std::sin({})", name(n.a));
@@ -234,8 +238,6 @@ class StatementPrinter {
       }
     }
     switch (n.op) {
-      case Op::Sin: return fmt::format("lanes_sin({})", vector_operand(n.a, name));
-      case Op::Cos: return fmt::format("lanes_cos({})", vector_operand(n.a, name));
       case Op::Sqrt: return fmt::format("lanes_sqrt({})", vector_operand(n.a, name));
       case Op::Max: return fmt::format("lanes_max({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
       case Op::Pow: return fmt::format("lanes_pow({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
@@ -263,7 +265,8 @@ class StatementPrinter {
   const TracedFunction& f_;
   const std::vector<bool>& seen_;
   int lanes_;
-  std::vector<int> partner_;  ///< batch: the cos of a sin's argument and vice versa, else -1
+  bool inline_sincos_;
+  std::vector<int> partner_;  ///< inline sin/cos: the cos of a sin's argument and vice versa, else -1
 };
 
 std::string output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names) {
@@ -293,9 +296,9 @@ std::string unused_inputs(const TracedFunction& f) {
   return out;
 }
 
-std::string emit_statements(const TracedFunction& f, int lanes) {
+std::string emit_statements(const TracedFunction& f, StatementStyle style) {
   const std::vector<bool> seen = reachable(f);
-  const StatementPrinter printer(f, seen, lanes);
+  const StatementPrinter printer(f, seen, style);
   const std::vector<std::string> names = printer.leaf_and_temporary_names();
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::string body = printer.statements(statement_ids(f, seen), name);
@@ -308,12 +311,12 @@ std::string batch_parameters(const TracedFunction& f, const std::string& scalar,
   return args;
 }
 
-SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, int lanes) {
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
   const std::vector<bool> seen = reachable(f);
-  const StatementPrinter printer(f, seen, lanes);
+  const StatementPrinter printer(f, seen, style);
   const std::vector<int> statements = statement_ids(f, seen);
   const int count = static_cast<int>(statements.size());
-  if (count <= max_statements) return {"", emit_statements(f, lanes)};
+  if (count <= max_statements) return {"", emit_statements(f, style)};
 
   // Parts of equal size, in id order (a topological order): part_of[id] for statements.
   const int parts = (count + max_statements - 1) / max_statements;
@@ -369,7 +372,7 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
   SplitStatements out;
   for (int p = 0; p < parts; ++p) {
     out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, {}* w) {{\n", prefix, p,
-                             input_parameters(f, "S", lanes), printer.batch() ? "typename Lanes<S>::type" : "S");
+                             input_parameters(f, "S", style.lanes), printer.batch() ? "typename Lanes<S>::type" : "S");
     if (printer.batch()) out.parts += "  typedef typename Lanes<S>::type V __attribute__((unused));\n";
     out.parts += unused_inputs(f);
     auto name = [&](int id) -> const std::string& {
@@ -394,7 +397,7 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
 }
 
 std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
-  const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, 0);
+  const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});
   const std::string entry_points =
       emit_entry_points(f.name, call_arguments(f), [&](const std::string& s) { return parameters(f, s); }, ctx);
   return ctx.templates.render("function_source",
@@ -404,6 +407,7 @@ std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
                                {"function", f.name},
                                {"doc", f.doc},
                                {"cost", describe_operations(count_operations(f))},
+                               {"sincos", sincos_helper(ctx)},
                                {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
                                {"parts", split.parts},
                                {"impl_parameters", parameters(f, "S")},

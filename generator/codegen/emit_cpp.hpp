@@ -18,6 +18,9 @@ std::string describe_operations(const OpCount& count);
 /// f's parameter list for `scalar`: `const S* in..., S* out...`.
 std::string parameters(const TracedFunction& f, const std::string& scalar);
 
+/// sincos.fmt rendered when ctx.inline_sincos, else nothing: the {sincos} of the source templates.
+std::string sincos_helper(const EmitContext& ctx);
+
 /// f's parameter names, inputs then outputs: `q, v, qdd`.
 std::string call_arguments(const TracedFunction& f);
 
@@ -32,6 +35,14 @@ std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx);
 std::string emit_entry_points(const std::string& function, const std::string& arguments,
                               const std::function<std::string(const std::string&)>& parameters_for, const EmitContext& ctx);
 
+/// How statements are printed: for one state or for `lanes` states at once (lanes > 0, batch
+/// functions), and sin and cos by libm (std::sin, std::cos) or inline (sincos_of<S>, sincos.fmt:
+/// arithmetic alone, the same for one state and for lanes; always inline in a batch).
+struct StatementStyle {
+  int lanes = 0;
+  bool inline_sincos = false;
+};
+
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
 /// S (*out)[lanes]...` (in[i][w]: entry i of state w); lanes 0 gives parameters(f, scalar).
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
@@ -39,11 +50,11 @@ std::string batch_parameters(const TracedFunction& f, const std::string& scalar,
 /// The straight-line statements of f's body: `const S _tN = ...;` in topological order, then one
 /// assignment per output element (`name[i] = ...;`), two-space indented. emit_definition wraps
 /// them in a function; emit_self_distances in a function with local output arrays.
-/// With lanes > 0, the same operations in the same order on `V`, a GCC vector of `lanes` S
-/// (`const V _tN = ...;`, inputs read by lanes_load, outputs written by lanes_store, libm
-/// functions lane by lane: the helpers of batch_source.fmt), so that every lane equals the
-/// one-state function bit for bit under the same compiler flags.
-std::string emit_statements(const TracedFunction& f, int lanes = 0);
+/// With style.lanes > 0, the same operations in the same order on `V`, a GCC vector of `lanes` S
+/// (`const V _tN = ...;`, inputs read by lanes_load, outputs written by lanes_store, sqrt and pow
+/// lane by lane: the helpers of batch_source.fmt; sin and cos by sincos_of), so that every lane
+/// equals the one-state function printed with inline_sincos bit for bit under the same flags.
+std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 
 
 /// A function body split into parts: `parts` defines `template <typename S> void
@@ -51,12 +62,12 @@ std::string emit_statements(const TracedFunction& f, int lanes = 0);
 /// one run of consecutive statements and storing at its end the values later parts or the
 /// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
 /// the outputs. Functions of at most max_statements statements are not split: parts is empty
-/// and body is emit_statements(f, lanes). With lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
+/// and body is emit_statements(f, style). With style.lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
 struct SplitStatements {
   std::string parts;
   std::string body;
 };
-SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, int lanes = 0);
+SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style = {});
 
 /// `S(value)` in shortest round-trip form.
 std::string literal(double value);

@@ -244,7 +244,7 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
     body += fmt::format("  S J[{}];  // world joint-Jacobian columns {{", 6 * plan.columns.size());
     for (std::size_t k = 0; k < plan.columns.size(); ++k) body += fmt::format("{}{}", k ? ", " : "", plan.columns[k]);
     body += "}, 6 each\n";
-    body += emit_statements(traced);
+    body += emit_statements(traced, {0, ctx.inline_sincos});
     for (std::size_t k = 0; k < np; ++k) body += pair_block(model, scene, plan, k);
     body += "  if (num_near) *num_near = m;\n";
   }
@@ -266,6 +266,7 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
        {"header", ctx.header},
        {"robot", ctx.robot},
        {"cost", cost},
+       {"sincos", sincos_helper(ctx)},
        {"impl_parameters", impl_arguments()},
        {"full_parameters", arguments("S")},
        {"near_parameters", near_arguments("S")},

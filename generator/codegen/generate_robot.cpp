@@ -86,7 +86,8 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                           const TemplateSet& templates) {
   const Model& model = description.model;
   const EmitContext ctx{templates, options.name, templates.render("header_file", {{"robot", options.name}}),
-                        banner(options, templates), options.scalars, options.max_statements_per_part};
+                        banner(options, templates), options.scalars, options.max_statements_per_part,
+                        /*inline_sincos=*/options.batch > 0};
 
   std::vector<std::string> frame_names = options.frames.empty() ? default_frames(model) : options.frames;
   std::vector<FrameIndex> frames;

@@ -39,6 +39,7 @@ const PlaceholderSpec kDoc{"doc", "the function's one-line description"};
 const PlaceholderSpec kCost{"cost", "its operation count: 12 operations: 5 additions/subtractions, ..."};
 const PlaceholderSpec kCallee{"callee", "the public name of the function computed first, for this scalar"};
 const PlaceholderSpec kSourceFunction{"source_function", "the name of the function computed first"};
+const PlaceholderSpec kSinCos{"sincos", "sincos.fmt rendered when sin and cos are computed inline (--batch), else nothing"};
 
 std::vector<TemplateSpec> make_catalog() {
   return {
@@ -128,7 +129,7 @@ std::vector<TemplateSpec> make_catalog() {
         {"close_loops", "close_loops' public name for this scalar"},
         {"independent_velocities", "independent_velocities' public name for this scalar"}}},
       {"function_source", "the source file of a traced function",
-       {kBanner, kHeader, kRobot, kFunction, kDoc, kCost,
+       {kBanner, kHeader, kRobot, kFunction, kDoc, kCost, kSinCos,
         {"noinline", "noinline_macro.fmt rendered when the function is split into parts, else nothing"},
         {"parts", "the parts' definitions (template functions <function>_part<k>), or nothing"},
         {"impl_parameters", "the parameter list with scalar S"},
@@ -138,13 +139,14 @@ std::vector<TemplateSpec> make_catalog() {
        {kPublicName, kParameters, kFunction, kScalar, kArguments, kRobot}},
       {"noinline_macro", "defines MBGEN_GENERATED_NOINLINE, which the parts of a split function carry", {}},
       {"batch_source", "the source file of a function over `lanes` states at once (mbgen generate --batch): the lanes_* helpers and <function>_batch_impl<S> on V, a GCC vector of lanes S",
-       {kBanner, kHeader, kRobot, kFunction, kDoc, kCost,
+       {kBanner, kHeader, kRobot, kFunction, kDoc, kCost, kSinCos,
         {"lanes", "the number of states per call (--batch)"},
         {"noinline", "noinline_macro.fmt rendered when the function is split into parts, else nothing"},
         {"parts", "the parts' definitions (template functions <function>_batch_part<k>), or nothing"},
         {"impl_parameters", "the parameter list with scalar S: const S (*q)[lanes], ..."},
         {"body", "the statements of <function>_batch_impl<S>, on V"},
         kEntryPoints}},
+      {"sincos", "sincos_of<S>(x): sin and cos in arithmetic alone, for one state and for lanes alike (--batch)", {}},
       {"batch_width", "the header's batch constant, when generated with --batch",
        {kRobot, {"lanes", "the number of states per call"}, {"functions", "the batched functions' names, comma-separated"}}},
       {"selection_source", "the source of a function that keeps some entries of another's output",
@@ -176,13 +178,13 @@ std::vector<TemplateSpec> make_catalog() {
         {"arguments", "the inputs A depends on, comma-separated"},
         {"rows", "the statements computing y, one per line"}}},
       {"closure_positions_source", "the source of closure_positions",
-       {kBanner, kHeader, kRobot,
+       {kBanner, kHeader, kRobot, kSinCos,
         {"implementation", "closure_positions_impl<S, with velocities> (the traced Newton steps and their loop, or the no-loop return)"},
         kEntryPoints}},
       {"closure_entry_point", "closure_positions and close_loops for one scalar, calling closure_positions_impl<scalar, ...>",
        {kPublicName, kScalar, kRobot, {"close_loops", "close_loops' public name for this scalar"}}},
       {"self_distances_source", "the source of self_distances and self_distances_near",
-       {kBanner, kHeader, kRobot, kCost,
+       {kBanner, kHeader, kRobot, kCost, kSinCos,
         {"impl_parameters", "the parameter list of distances_impl<S>, the implementation both share"},
         {"full_parameters", "self_distances' parameter list with scalar S"},
         {"near_parameters", "self_distances_near's parameter list with scalar S"},
