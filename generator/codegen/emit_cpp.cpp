@@ -195,7 +195,7 @@ class StatementPrinter {
       const Node& n = f_.graph.node(id);
       const int partner = inline_sincos_ && (n.op == Op::Sin || n.op == Op::Cos) ? partner_[static_cast<std::size_t>(id)] : -1;
       if (partner >= 0 && std::binary_search(in_run.begin(), in_run.end(), partner)) {
-        if (std::find(order.begin(), order.end(), partner) < std::find(order.begin(), order.end(), id)) continue;  // printed with its partner
+        if (partner < id) continue;  // printed with its partner (sin and cos keep their order: only sqrt and pow move up)
         const int s = n.op == Op::Sin ? id : partner, c = n.op == Op::Sin ? partner : id;
         out += fmt::format("  const auto [{}, {}] = sincos_of<S>({});\n", name(s), name(c), vector_operand(n.a, name));
         continue;
