@@ -166,6 +166,9 @@ template <typename Backend> class BasicDifferentialIk {
     xd_ = VecX<S>::Zero(m_);
     A_ = MatX<S>::Zero(m_, nc_);
     T_ = RowMatX::Zero(nv_, loops_ ? nc_ : 0);
+    t_row_.assign(static_cast<std::size_t>(T_.size()), 0);
+    t_col_.assign(static_cast<std::size_t>(T_.size()), 0);
+    t_value_.assign(static_cast<std::size_t>(T_.size()), S(0));
     Jcom_ = Mat3X<S>::Zero(3, nv_);
     gradient_ = VecX<S>::Zero(nv_);
     gradient_c_ = VecX<S>::Zero(nc_);
@@ -205,7 +208,8 @@ template <typename Backend> class BasicDifferentialIk {
     for (std::size_t i = 0; i < tasks_.size(); ++i) write_task_rows(tasks_[i], targets_[i]);
     if (loops_) {
       backend_.velocity_map(q.data(), T_.data());
-      A_.noalias() = J_ * T_;
+      gather_velocity_map_entries();
+      times_velocity_map(J_, A_);
     } else {
       A_ = J_;
     }
@@ -237,7 +241,7 @@ template <typename Backend> class BasicDifferentialIk {
     u2_ = uc_;
     if (options_.angular_momentum.enabled) {
       if (loops_) {
-        Bk_.noalias() = Ag_.template bottomRows<3>() * T_;
+        times_velocity_map(Ag_.template bottomRows<3>(), Bk_);
       } else {
         Bk_ = Ag_.template bottomRows<3>();
       }
@@ -269,7 +273,11 @@ template <typename Backend> class BasicDifferentialIk {
     c_ *= limit_scale;
     report.limit_scale = static_cast<double>(limit_scale);
     if (loops_) {
-      v.noalias() = T_ * c_;
+      v.setZero();
+      for (int k = 0; k < t_count_; ++k) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        v[t_row_[i]] += t_value_[i] * c_[t_col_[i]];
+      }
     } else {
       v = c_;
     }
@@ -349,10 +357,38 @@ template <typename Backend> class BasicDifferentialIk {
       case TaskKind::CenterOfMass: break;
     }
   }
-  /// x_c = T^T x (covector: gradient in solved coordinates).
+  /// The entries of T that are not zero, row by row: T is the identity off the loops and each
+  /// sub-system's G on its coordinates (Lola: 108 of 46 x 30 entries), so J T as a dense product
+  /// (Eigen's GEMM, its packing included) was a sixth of the step. Gathered at every step from T
+  /// itself (a NaN entry counts: it reaches the product as it would have).
+  void gather_velocity_map_entries() {
+    t_count_ = 0;
+    for (int r = 0; r < nv_; ++r)
+      for (int c = 0; c < nc_; ++c)
+        if (T_(r, c) != S(0)) {
+          const std::size_t k = static_cast<std::size_t>(t_count_++);
+          t_row_[k] = r;
+          t_col_[k] = c;
+          t_value_[k] = T_(r, c);
+        }
+  }
+  /// out = X T (X: rows x nv, out: rows x nc) from the gathered entries: column c of out is the
+  /// sum of T(r, c) X.col(r) over T's entries in column c, added in row order.
+  template <typename In, typename Out> void times_velocity_map(const In& X, Out& out) const {
+    out.setZero();
+    for (int k = 0; k < t_count_; ++k) {
+      const std::size_t i = static_cast<std::size_t>(k);
+      out.col(t_col_[i]) += t_value_[i] * X.col(t_row_[i]);
+    }
+  }
+  /// x_c = T^T x (covector: gradient in solved coordinates), from T's gathered entries.
   void to_coordinates(const VecX<S>& x, VecX<S>& x_c) const {
     if (loops_) {
-      x_c.noalias() = T_.transpose() * x;
+      x_c.setZero();
+      for (int k = 0; k < t_count_; ++k) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        x_c[t_col_[i]] += t_value_[i] * x[t_row_[i]];
+      }
     } else {
       x_c = x;
     }
@@ -376,6 +412,9 @@ template <typename Backend> class BasicDifferentialIk {
   std::vector<int> near_;
   Vec3<S> com_ = Vec3<S>::Zero();
   RowMatX Ag_, distance_J_, T_;
+  std::vector<int> t_row_, t_col_;  ///< T's entries that are not zero (gather_velocity_map_entries)
+  std::vector<S> t_value_;
+  int t_count_ = 0;
   MatX<S> J_, A_;
   Eigen::Matrix<S, Eigen::Dynamic, 3> C_;  ///< N (Bk D)^T
   VecX<S> xd_;
