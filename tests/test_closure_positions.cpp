@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <random>
 
@@ -132,6 +133,42 @@ TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
 
 /// The generated code's float settings (closure_options_float): a float Newton's tolerances.
 ClosureOptions float_options() { return default_closure_options<float>(); }
+
+TEST_P(LoopMapsTest, ResidualCheckOfThePredictedFinalIterateKeepsQAndTheIterations) {
+  // closure_positions checks a final iterate that quadratic convergence predicts closed by its
+  // residual alone (detail::residual_check_predicted); close_loops always factors. Both must return
+  // the same q bit for bit and the same iteration count; closure_positions' pivot ratios are then
+  // the factor's one step before q (seen as a difference from close_loops'), within 1e-3 relative
+  // (the residual is the same: the same kinematics at the same q)
+  // at these regular poses. From warm starts 1e-3 off (Newton takes two steps or more), the check
+  // must fire on some of them: counted, and required where any draw took two steps or more.
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int draws = 0, checked_by_residual = 0, two_steps_or_more = 0;
+  for (int trial = 0; trial < 64 && draws < 16; ++trial) {
+    VecX<double> q, v;
+    if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;
+    ++draws;
+    VecX<double> moved = q;
+    for (int z : dependent_coordinates(model)) moved[model.q_index_of_v(z)] += 1e-3 * unit(rng);
+    VecX<double> q_positions = moved, q_both = moved, v_both = v;
+    const ClosureResult<double> positions = closure_positions<double>(model, data, q_positions);
+    const ClosureResult<double> both = close_loops<double>(model, data, q_both, v_both);
+    ASSERT_EQ(positions.status, ClosureStatus::Converged);
+    ASSERT_EQ(both.status, ClosureStatus::Converged);
+    EXPECT_EQ(q_positions, q_both);
+    EXPECT_EQ(positions.iterations, both.iterations);
+    EXPECT_EQ(positions.residual, both.residual);  // at the same q, by the same kinematics
+    EXPECT_LT(std::abs(positions.pivot_ratio - both.pivot_ratio), 1e-3 * both.pivot_ratio);
+    if (positions.pivot_ratio != both.pivot_ratio) ++checked_by_residual;
+    if (both.iterations >= 2) ++two_steps_or_more;
+  }
+  ASSERT_GT(draws, 0);
+  if (two_steps_or_more > 0) EXPECT_GT(checked_by_residual, 0) << "no final iterate was checked by its residual alone";
+  RecordProperty("checked_by_residual", std::to_string(checked_by_residual) + " of " + std::to_string(draws));
+  std::printf("  %s: %d of %d draws closed by a residual-only check (%d took two steps or more)\n", model.name.c_str(), checked_by_residual,
+              draws, two_steps_or_more);
+}
 
 TEST_P(LoopMapsTest, NewtonOnRegularPosesIsConvergedInDoubleAndFloat) {
   // No false dead point: from seeded random closed poses (spread 0.05, as test_generated) with

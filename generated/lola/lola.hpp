@@ -196,7 +196,7 @@ template <typename S> struct ClosureResult {
   ClosureStatus status;
   int iterations;   ///< Newton steps taken
   S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
-  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops)
+  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops); of the last factorisation, one Newton step before q when the final iterate was checked by its residual alone
   S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
   int subsystem;    ///< a failure's sub-system (0-based; Backend::subsystem_name names it): the worst relative pivot ratio when singular, the largest residual when not converged; -1 when converged
 };

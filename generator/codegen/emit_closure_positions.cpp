@@ -22,7 +22,19 @@ const char* kNewtonLoop = R"(template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
   S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
+  S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
+  bool residual_check = false;
   for (;; ++result.iterations) {
+    if (residual_check) {  // the final iterate by its residual alone; the pivot ratios stay the last factor's
+      closure_residual<S>(q, residual);
+      bool closed = true;
+      S largest = S(0);
+      for (int i = 0; i < R; ++i) {
+        if (!(std::fabs(residual[i]) < options.tolerance)) closed = false;
+        if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
+      }
+      if (closed) return result.residual = largest, result;
+    }
     if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, residual, pivots, step, vz);
     else closure_newton_step<S>(q, residual, pivots, step);
     bool finite = true;
@@ -65,6 +77,14 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
     }
     if (result.iterations == options.max_iterations)
       return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
+    // The runtime's detail::residual_check_predicted: quadratic convergence predicts the next
+    // residual below the tolerance, far from a dead point; never with velocities (they need the
+    // factor at the returned q).
+    const S r = result.residual;
+    residual_check = !kVelocities && previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual &&
+                     result.pivot_ratio >= S(100) * options.singular_tolerance &&
+                     result.relative_pivot_ratio >= S(100) * options.dead_point_tolerance;
+    previous_residual = result.residual;
     // Steps limited to max_step in their largest entry, per sub-system.
     for (int k = 0; k < num_subsystems; ++k) {
       S largest = S(0);
@@ -87,6 +107,14 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
            "  return {ClosureStatus::converged, 0, S(0), S(1), S(1), -1};\n}\n";
   } else {
     bool noinline_defined = false;
+    {
+      const TracedFunction residual = trace_closure_residual(model);
+      out += fmt::format("// {}\n// {}.\n", residual.doc, describe_operations(count_operations(residual)));
+      const SplitStatements split = split_statements(residual, residual.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});
+      if (!split.parts.empty()) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
+      out += split.parts;
+      out += "template <typename S> void closure_residual(const S* q, S* residual) {\n" + split.body + "}\n\n";
+    }
     for (const bool with_velocities : {false, true}) {
       const TracedFunction step = trace_closure_newton_step(model, with_velocities);
       out += fmt::format("// {}\n// {}.\n", step.doc, describe_operations(count_operations(step)));

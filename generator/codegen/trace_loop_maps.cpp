@@ -55,6 +55,24 @@ TracedFunction trace_closure_newton_step(const Model& model, bool with_velocitie
   return f;
 }
 
+TracedFunction trace_closure_residual(const Model& model) {
+  if (model.subsystems.empty()) throw std::logic_error("trace_closure_residual: the model has no loops");
+  const int r = num_dependent(model);
+  TracedFunction f;
+  f.name = "closure_residual";
+  f.doc = "The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"residual", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  closure_residual<Sym>(model, data, inputs(0, model.nq()));
+  std::vector<int> residual;
+  for (const SubSystem& sub : model.subsystems)
+    for (int i = 0; i < sub.rank(); ++i) residual.push_back(data.Phi[sub.rows[static_cast<std::size_t>(i)]].id());
+  f.output_ids = {residual};
+  return f;
+}
+
 TracedFunction trace_velocity_map(const Model& model) {
   const int ny = num_independent(model);
   TracedFunction f;

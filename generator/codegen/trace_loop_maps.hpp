@@ -17,6 +17,9 @@ int num_dependent(const Model& model);
 /// closure_newton_step_velocities(q, v, residual, pivots, step, vz), also the dependent velocities
 /// from v's independent ones at q (vz, the same order), for close_loops.
 TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities = false);
+/// closure_residual(q, residual): the kept closure rows at q alone (the step's residual output,
+/// the same expressions): the generated closure_positions checks a predicted final iterate with it.
+TracedFunction trace_closure_residual(const Model& model);
 /// velocity_map(q, T): T (nv x ny, row-major) with v = T vy.
 TracedFunction trace_velocity_map(const Model& model);
 /// full_velocities(q, vy, v): v = T vy.

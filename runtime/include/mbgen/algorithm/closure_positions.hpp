@@ -89,8 +89,10 @@ template <typename S> struct ClosureResult {
   ClosureStatus status = ClosureStatus::Converged;
   int iterations = 0;      ///< Newton steps taken
   S residual = S(0);       ///< max |Phi| over the kept rows at the returned q
-  S pivot_ratio = S(1);    ///< subsystem_pivot_ratio at the returned q (1 without loops)
-  S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio at the returned q (1 without loops)
+  /// subsystem_pivot_ratio at the returned q (1 without loops); when the final iterate was
+  /// checked by its residual alone (closure_positions), at the iterate one Newton step before.
+  S pivot_ratio = S(1);
+  S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio, at the same q as pivot_ratio
   /// A failure's sub-system (index into Model::subsystems): the one with the worst relative pivot
   /// ratio when Singular, the largest (or a non-finite) kept residual when NotConverged; -1 when
   /// Converged. The generated closure_positions reports the same.
@@ -187,15 +189,42 @@ template <typename S> int worst_pivot_subsystem(const Model& model, const Data<S
 
 }  // namespace detail
 
-/// Closes the loops: solves Phi(y, z) = 0 for the dependent coordinates z of every sub-system by
-/// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
-/// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
-/// aba() and forward_dynamics_loops do themselves).
+namespace detail {
+
+/// Whether the iterate after a Newton step is checked by its residual alone (closure_residual:
+/// the kinematics of the loop bodies, no Jacobian, no factorisation) before a full step is paid
+/// for. Newton converging quadratically has residual_{k+1} ~ K residual_k^2, and K estimated from
+/// the last two residuals (K ~ residual_k / residual_{k-1}^2) predicts residual_{k+1} ~
+/// residual_k^3 / residual_{k-1}^2: tried when that is below the tolerance. Only where the last
+/// factor was far from singular (pivot ratios 100 times their tolerances), since the result then
+/// reports that factor's ratios, one step away from the returned q: near a dead point the
+/// ratios move with the residual (sigma^2 ~ 2 h r, ClosureOptions::dead_point_tolerance), and
+/// there every check keeps its full factorisation. A failed try costs one residual evaluation.
 template <typename S>
-ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
+bool residual_check_predicted(const ClosureResult<S>& last, S previous_residual, const ClosureOptions& options) {
+  const S r = last.residual;
+  return previous_residual > S(0) && r * r * r < S(options.tolerance) * previous_residual * previous_residual &&
+         last.pivot_ratio >= S(100 * options.singular_tolerance) && last.relative_pivot_ratio >= S(100 * options.dead_point_tolerance);
+}
+
+/// closure_positions; with factor_at_solution (close_loops) every iterate gets the full step, so
+/// that the factor of Phi_z left in data is the one at the returned q.
+template <typename S>
+ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options,
+                                 bool factor_at_solution) {
   using std::abs;
   ClosureResult<S> result;
+  S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
+  bool residual_check = false;
   for (;; ++result.iterations) {
+    if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
+      closure_residual<S>(model, data, q);
+      S residual;
+      if (kept_residual<S>(model, data, residual) && residual < S(options.tolerance)) {
+        result.residual = residual;
+        return result;
+      }
+    }
     detail::closure_newton_step<S>(model, data, q);
     const bool finite = detail::kept_residual<S>(model, data, result.residual);
     result.pivot_ratio = subsystem_pivot_ratio<S>(model, data);
@@ -212,6 +241,8 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
       return result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? (result.status = ClosureStatus::Converged, result)
                                                                              : fail(ClosureStatus::Singular);
     if (result.iterations == options.max_iterations) return fail(ClosureStatus::NotConverged);
+    residual_check = !factor_at_solution && residual_check_predicted<S>(result, previous_residual, options);
+    previous_residual = result.residual;
     for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
       const SubSystem& sub = model.subsystems[k];
       const SubSystemWork<S>& w = data.subsystem[k];
@@ -226,6 +257,20 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
   }
 }
 
+}  // namespace detail
+
+/// Closes the loops: solves Phi(y, z) = 0 for the dependent coordinates z of every sub-system by
+/// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
+/// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
+/// aba() and forward_dynamics_loops do themselves). When Newton converges quadratically and
+/// far from a dead point, the final iterate is checked by its residual alone
+/// (detail::residual_check_predicted): the result's pivot ratios are then those of the last
+/// factorisation, one Newton step before the returned q.
+template <typename S>
+ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
+  return detail::close_positions<S>(model, data, q, options, false);
+}
+
 /// Closes the loops and makes v consistent with them in one pass: closure_positions, then, when
 /// it converged, the dependent entries of v (nv) from its independent ones at the closed q
 /// (v = T vy, as full_velocities), from the factor of the Newton step that found q closed. The
@@ -233,7 +278,7 @@ ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref
 template <typename S>
 ClosureResult<S> close_loops(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, Eigen::Ref<VecX<S>> v,
                              const ClosureOptions& options = {}) {
-  const ClosureResult<S> result = closure_positions<S>(model, data, q, options);
+  const ClosureResult<S> result = detail::close_positions<S>(model, data, q, options, true);
   if (result.status == ClosureStatus::Converged) detail::dependent_velocities_from_factor<S>(model, data, v);
   return result;
 }
