@@ -187,10 +187,6 @@ template <typename S> int worst_pivot_subsystem(const Model& model, const Data<S
   return worst;
 }
 
-}  // namespace detail
-
-namespace detail {
-
 /// Whether the iterate after a Newton step is checked by its residual alone (closure_residual:
 /// the kinematics of the loop bodies, no Jacobian, no factorisation) before a full step is paid
 /// for. Newton converging quadratically has residual_{k+1} ~ K residual_k^2, and K estimated from
