@@ -41,14 +41,18 @@ std::string emit_entry_points(const std::string& function, const std::string& ar
 struct StatementStyle {
   int lanes = 0;
   bool inline_sincos = false;
+  /// Outputs written as soon as their values exist (emit_statements); false: all at the end.
+  bool early_outputs = true;
 };
 
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
 /// S (*out)[lanes]...` (in[i][w]: entry i of state w); lanes 0 gives parameters(f, scalar).
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
 
-/// The straight-line statements of f's body: `const S _tN = ...;` in topological order, then one
-/// assignment per output element (`name[i] = ...;`), two-space indented. emit_definition wraps
+/// The straight-line statements of f's body: `const S _tN = ...;` in topological order, with one
+/// assignment per output element (`name[i] = ...;`) as soon as its value exists, but after the
+/// last statement reading an input (so inputs are all read before any output is written), or
+/// all at the end without style.early_outputs; two-space indented. emit_definition wraps
 /// them in a function; emit_self_distances in a function with local output arrays.
 /// With style.lanes > 0, the same operations in the same order on `V`, a GCC vector of `lanes` S
 /// (`const V _tN = ...;`, inputs read by lanes_load, outputs written by lanes_store, sqrt and pow
