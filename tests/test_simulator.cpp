@@ -294,12 +294,17 @@ TEST(SimulatorFloat, GenericBackendSwingsTheFourBarInFloat) {
 }
 
 // The slider-crank driven by its slider, pushed to the stroke end (its dead point, slider at
-// 0.06 m): the closure reports it, the simulation stops before it.
+// 0.06 m): the closure reports it, the simulation stops before it. The step (1 ms) carries the
+// slider past the stroke end, where no closed pose exists: Newton stops at the dead point
+// (singular) or runs out of iterations (not converged), which of the two depends on the last
+// bits of the iterates. With 0.1 ms steps RK4 may instead resolve the turn, and the slider comes
+// back as the real mechanism's would with its crank turning on; whether it does depends on the
+// rounding as well (it did once the Givens rotations took one division instead of three).
 TEST(SimulatorFailure, SliderCrankThroughItsDeadPointLosesTheClosure) {
   const gen::Description d = load_mechanism(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf",
                                             MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
   SimulatorOptions o;
-  o.step = 1e-4;
+  o.step = 1e-3;
   Simulator<GenericBackend<double>> sim{GenericBackend<double>(d.model), o};
   const VecX<double> v = VecX<double>::Zero(d.model.nv());
   sim.set_state(d.assembly.q.data(), v.data());
@@ -309,7 +314,9 @@ TEST(SimulatorFailure, SliderCrankThroughItsDeadPointLosesTheClosure) {
     tau[slider] = 50;  // N, towards the stroke end
   });
   EXPECT_EQ(sim.run_until(2.0), StepStatus::closure_lost);
-  EXPECT_EQ(sim.closure_status(), 2);  // singular
+  EXPECT_TRUE(sim.closure_status() == static_cast<int>(ClosureStatus::Singular) ||
+              sim.closure_status() == static_cast<int>(ClosureStatus::NotConverged))
+      << sim.closure_status();
   ASSERT_EQ(sim.closure_subsystem(), 0);
   EXPECT_STREQ(sim.backend().subsystem_name(0), "rod_slider");
   EXPECT_TRUE(sim.q().allFinite() && sim.v().allFinite());
