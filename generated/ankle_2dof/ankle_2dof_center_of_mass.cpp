@@ -115,10 +115,10 @@ void center_of_mass_impl(const S* q, S* com) {
   const S _t96 = S(1.1) * _t91;
   const S _t97 = _t83 + _t96;
   const S _t98 = _t93 / S(2.5800000000000005);
-  const S _t99 = _t95 / S(2.5800000000000005);
-  const S _t100 = _t97 / S(2.5800000000000005);
   com[0] = _t98;
+  const S _t99 = _t95 / S(2.5800000000000005);
   com[1] = _t99;
+  const S _t100 = _t97 / S(2.5800000000000005);
   com[2] = _t100;
 }
 

@@ -55,11 +55,6 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
   const S _t36 = -_t35;
   const S _t37 = std::cos(q[7]);
   const S _t38 = std::sin(q[7]);
-  const S _t39 = -_t38;
-  const S _t40 = _t35 * _t38;
-  const S _t41 = _t34 * _t38;
-  const S _t42 = _t35 * _t37;
-  const S _t43 = _t34 * _t37;
   X_WB[0] = _t0;
   X_WB[1] = S(0);
   X_WB[2] = _t1;
@@ -145,17 +140,22 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
   X_WB[82] = _t34;
   X_WB[83] = S(0.08000000000000002);
   X_WB[84] = _t34;
-  X_WB[85] = _t40;
-  X_WB[86] = _t42;
   X_WB[87] = S(0);
   X_WB[88] = S(0);
   X_WB[89] = _t37;
-  X_WB[90] = _t39;
   X_WB[91] = S(0);
   X_WB[92] = _t36;
-  X_WB[93] = _t41;
-  X_WB[94] = _t43;
   X_WB[95] = S(0.08000000000000002);
+  const S _t39 = -_t38;
+  X_WB[90] = _t39;
+  const S _t40 = _t35 * _t38;
+  X_WB[85] = _t40;
+  const S _t41 = _t34 * _t38;
+  X_WB[93] = _t41;
+  const S _t42 = _t35 * _t37;
+  X_WB[86] = _t42;
+  const S _t43 = _t34 * _t37;
+  X_WB[94] = _t43;
 }
 
 }  // namespace

@@ -388,6 +388,12 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t367 = -_t133;
   const S _t368 = q[2] * _t131;
   const S _t369 = q[2] * _t132;
+  tau[2] = _t367;
+  tau[3] = _t366;
+  tau[4] = _t360;
+  tau[5] = _t351;
+  tau[6] = _t350;
+  tau[7] = _t344;
   const S _t370 = _t134 + _t369;
   const S _t371 = _t135 - _t368;
   const S _t372 = S(-0.22) * _t131;
@@ -395,6 +401,7 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t374 = _t370 - _t373;
   const S _t375 = _t371 + _t372;
   const S _t376 = _t51 + _t374;
+  tau[1] = _t376;
   const S _t377 = _t52 + _t375;
   const S _t378 = _t53 + _t136;
   const S _t379 = _t6 * _t378;
@@ -402,13 +409,6 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t381 = _t380 - _t379;
   const S _t382 = _t4 + _t381;
   tau[0] = _t382;
-  tau[1] = _t376;
-  tau[2] = _t367;
-  tau[3] = _t366;
-  tau[4] = _t360;
-  tau[5] = _t351;
-  tau[6] = _t350;
-  tau[7] = _t344;
 }
 
 }  // namespace

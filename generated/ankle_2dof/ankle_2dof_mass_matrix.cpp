@@ -64,27 +64,6 @@ void mass_matrix_impl(const S* q, S* M) {
   const S _t45 = S(0.00057792) - _t44;
   const S _t46 = q[2] * S(-0.0072);
   const S _t47 = q[2] * _t42;
-  const S _t48 = S(3.84e-06) + _t47;
-  const S _t49 = _t46 + _t48;
-  const S _t50 = _t49 - _t44;
-  const S _t51 = S(-0.0264) + _t42;
-  const S _t52 = _t42 + _t51;
-  const S _t53 = S(-0.22) * _t52;
-  const S _t54 = _t45 + _t53;
-  const S _t55 = S(-0.22) * _t42;
-  const S _t56 = S(-0.22) * _t51;
-  const S _t57 = _t50 - _t56;
-  const S _t58 = _t57 - _t55;
-  const S _t59 = _t53 + _t58;
-  const S _t60 = S(0.007419270833000001) + _t54;
-  const S _t61 = S(0.000171875) + _t59;
-  const S _t62 = _t0 * _t60;
-  const S _t63 = _t1 * _t61;
-  const S _t64 = _t1 * _t63;
-  const S _t65 = _t0 * _t62;
-  const S _t66 = _t64 + _t65;
-  const S _t67 = S(1.333333e-06) + _t66;
-  M[0] = _t67;
   M[1] = S(0);
   M[2] = S(0);
   M[3] = S(0);
@@ -93,7 +72,6 @@ void mass_matrix_impl(const S* q, S* M) {
   M[6] = S(0);
   M[7] = S(0);
   M[8] = S(0);
-  M[9] = _t60;
   M[10] = S(0);
   M[11] = S(0);
   M[12] = S(0);
@@ -148,6 +126,28 @@ void mass_matrix_impl(const S* q, S* M) {
   M[61] = S(0);
   M[62] = _t7;
   M[63] = S(0.004876666667);
+  const S _t48 = S(3.84e-06) + _t47;
+  const S _t49 = _t46 + _t48;
+  const S _t50 = _t49 - _t44;
+  const S _t51 = S(-0.0264) + _t42;
+  const S _t52 = _t42 + _t51;
+  const S _t53 = S(-0.22) * _t52;
+  const S _t54 = _t45 + _t53;
+  const S _t55 = S(-0.22) * _t42;
+  const S _t56 = S(-0.22) * _t51;
+  const S _t57 = _t50 - _t56;
+  const S _t58 = _t57 - _t55;
+  const S _t59 = _t53 + _t58;
+  const S _t60 = S(0.007419270833000001) + _t54;
+  M[9] = _t60;
+  const S _t61 = S(0.000171875) + _t59;
+  const S _t62 = _t0 * _t60;
+  const S _t63 = _t1 * _t61;
+  const S _t64 = _t1 * _t63;
+  const S _t65 = _t0 * _t62;
+  const S _t66 = _t64 + _t65;
+  const S _t67 = S(1.333333e-06) + _t66;
+  M[0] = _t67;
 }
 
 }  // namespace

@@ -52,7 +52,6 @@ void mass_matrix_solve_impl(const S* LD, const S* b, S* x) {
   const S _t32 = LD[43] * _t17;
   const S _t33 = _t31 - _t32;
   const S _t34 = LD[62] * _t20;
-  const S _t35 = _t21 - _t34;
   x[0] = _t14;
   x[1] = _t23;
   x[2] = _t27;
@@ -60,6 +59,7 @@ void mass_matrix_solve_impl(const S* LD, const S* b, S* x) {
   x[4] = _t29;
   x[5] = _t33;
   x[6] = _t20;
+  const S _t35 = _t21 - _t34;
   x[7] = _t35;
 }
 

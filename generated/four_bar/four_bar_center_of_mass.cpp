@@ -32,6 +32,7 @@ void center_of_mass_impl(const S* q, S* com) {
   const S _t13 = _t0 * S(0.05);
   const S _t14 = std::cos(q[2]);
   const S _t15 = std::sin(q[2]);
+  com[1] = S(0);
   const S _t16 = _t1 * S(0.025);
   const S _t17 = _t0 * S(0.025);
   const S _t18 = S(0.2) * _t16;
@@ -60,9 +61,8 @@ void center_of_mass_impl(const S* q, S* com) {
   const S _t41 = S(0.25) * _t37;
   const S _t42 = _t31 + _t41;
   const S _t43 = _t40 / S(0.75);
-  const S _t44 = _t42 / S(0.75);
   com[0] = _t43;
-  com[1] = S(0);
+  const S _t44 = _t42 / S(0.75);
   com[2] = _t44;
 }
 

@@ -34,7 +34,6 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
   const S _t15 = _t0 * S(0.05);
   const S _t16 = std::cos(q[2]);
   const S _t17 = std::sin(q[2]);
-  const S _t18 = -_t17;
   X_WB[0] = _t0;
   X_WB[1] = S(0);
   X_WB[2] = _t2;
@@ -61,7 +60,6 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
   X_WB[23] = _t15;
   X_WB[24] = _t16;
   X_WB[25] = S(0);
-  X_WB[26] = _t18;
   X_WB[27] = S(0.19);
   X_WB[28] = S(0);
   X_WB[29] = S(1);
@@ -71,6 +69,8 @@ void forward_kinematics_impl(const S* q, S* X_WB) {
   X_WB[33] = S(0);
   X_WB[34] = _t16;
   X_WB[35] = S(0);
+  const S _t18 = -_t17;
+  X_WB[26] = _t18;
 }
 
 }  // namespace

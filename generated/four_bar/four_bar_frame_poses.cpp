@@ -33,7 +33,6 @@ void frame_poses_impl(const S* q, S* X_WF) {
   const S _t14 = _t0 * S(0.05);
   const S _t15 = std::cos(q[2]);
   const S _t16 = std::sin(q[2]);
-  const S _t17 = -_t16;
   X_WF[0] = _t6;
   X_WF[1] = S(0);
   X_WF[2] = _t11;
@@ -48,7 +47,6 @@ void frame_poses_impl(const S* q, S* X_WF) {
   X_WF[11] = _t14;
   X_WF[12] = _t15;
   X_WF[13] = S(0);
-  X_WF[14] = _t17;
   X_WF[15] = S(0.19);
   X_WF[16] = S(0);
   X_WF[17] = S(1);
@@ -58,6 +56,8 @@ void frame_poses_impl(const S* q, S* X_WF) {
   X_WF[21] = S(0);
   X_WF[22] = _t15;
   X_WF[23] = S(0);
+  const S _t17 = -_t16;
+  X_WF[14] = _t17;
 }
 
 }  // namespace

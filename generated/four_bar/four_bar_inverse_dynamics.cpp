@@ -90,7 +90,9 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t69 = qdd[2] * S(0.000316333333);
   const S _t70 = _t68 - _t69;
   const S _t71 = -_t70;
+  tau[2] = _t71;
   const S _t72 = -_t55;
+  tau[1] = _t72;
   const S _t73 = _t13 * _t54;
   const S _t74 = _t12 * _t53;
   const S _t75 = _t74 - _t73;
@@ -99,8 +101,6 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t78 = _t11 + _t77;
   const S _t79 = -_t78;
   tau[0] = _t79;
-  tau[1] = _t72;
-  tau[2] = _t71;
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ namespace four_bar {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 75 operations: 24 additions/subtractions, 33 multiplications, 5 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
+// 76 operations: 24 additions/subtractions, 36 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -32,6 +32,7 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t13 = _t0 * S(0.05);
   const S _t14 = std::cos(q[2]);
   const S _t15 = std::sin(q[2]);
+  T[0] = S(1);
   const S _t16 = _t15 * S(0.12);
   const S _t17 = _t14 * S(-0.022);
   const S _t18 = _t17 - _t16;
@@ -65,35 +66,35 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t46 = _t44 + _t45;
   const S _t47 = std::sqrt(_t46);
   const S _t48 = S(1.1754943508222875e-38) > _t47 ? S(1.1754943508222875e-38) : _t47;
-  const S _t49 = _t47 / _t48;
-  const S _t50 = S(1) - _t49;
-  const S _t51 = _t35 / _t48;
-  const S _t52 = _t50 + _t51;
-  const S _t53 = _t39 / _t48;
-  const S _t54 = _t39 * _t53;
-  const S _t55 = _t35 * _t52;
-  const S _t56 = _t54 + _t55;
-  const S _t57 = _t29 * _t53;
-  const S _t58 = _t26 * _t52;
-  const S _t59 = _t57 + _t58;
-  const S _t60 = _t26 * _t53;
-  const S _t61 = _t29 * _t52;
-  const S _t62 = _t61 - _t60;
-  const S _t63 = _t43 * _t53;
-  const S _t64 = _t41 * _t52;
-  const S _t65 = _t63 + _t64;
-  const S _t66 = _t41 * _t53;
-  const S _t67 = _t43 * _t52;
-  const S _t68 = _t67 - _t66;
-  const S _t69 = _t68 / _t62;
-  const S _t70 = _t59 * _t69;
-  const S _t71 = _t65 - _t70;
-  const S _t72 = _t71 / _t56;
-  const S _t73 = -_t72;
-  const S _t74 = -_t69;
-  T[0] = S(1);
-  T[1] = _t73;
-  T[2] = _t74;
+  const S _t49 = S(1) / _t48;
+  const S _t50 = _t47 * _t49;
+  const S _t51 = S(1) - _t50;
+  const S _t52 = _t35 * _t49;
+  const S _t53 = _t51 + _t52;
+  const S _t54 = _t39 * _t49;
+  const S _t55 = _t39 * _t54;
+  const S _t56 = _t35 * _t53;
+  const S _t57 = _t55 + _t56;
+  const S _t58 = _t29 * _t54;
+  const S _t59 = _t26 * _t53;
+  const S _t60 = _t58 + _t59;
+  const S _t61 = _t26 * _t54;
+  const S _t62 = _t29 * _t53;
+  const S _t63 = _t62 - _t61;
+  const S _t64 = _t43 * _t54;
+  const S _t65 = _t41 * _t53;
+  const S _t66 = _t64 + _t65;
+  const S _t67 = _t41 * _t54;
+  const S _t68 = _t43 * _t53;
+  const S _t69 = _t68 - _t67;
+  const S _t70 = _t69 / _t63;
+  const S _t71 = _t60 * _t70;
+  const S _t72 = _t66 - _t71;
+  const S _t73 = _t72 / _t57;
+  const S _t74 = -_t73;
+  T[1] = _t74;
+  const S _t75 = -_t70;
+  T[2] = _t75;
 }
 
 }  // namespace

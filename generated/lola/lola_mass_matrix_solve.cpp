@@ -1642,7 +1642,6 @@ void mass_matrix_solve_impl(const S* LD, const S* b, S* x) {
   const S _t1622 = LD[2071] * _t837;
   const S _t1623 = _t1621 - _t1622;
   const S _t1624 = LD[2070] * _t790;
-  const S _t1625 = _t1623 - _t1624;
   x[0] = _t790;
   x[1] = _t837;
   x[2] = _t841;
@@ -1688,6 +1687,7 @@ void mass_matrix_solve_impl(const S* LD, const S* b, S* x) {
   x[42] = _t1559;
   x[43] = _t1579;
   x[44] = _t1601;
+  const S _t1625 = _t1623 - _t1624;
   x[45] = _t1625;
 }
 

@@ -31,6 +31,7 @@ void center_of_mass_impl(const S* q, S* com) {
   const S _t12 = _t1 * S(0.05);
   const S _t13 = _t0 * S(0.05);
   const S _t14 = q[2] + S(0.12);
+  com[1] = S(0);
   const S _t15 = _t1 * S(0.025);
   const S _t16 = _t0 * S(0.025);
   const S _t17 = S(0.2) * _t15;
@@ -47,11 +48,10 @@ void center_of_mass_impl(const S* q, S* com) {
   const S _t28 = _t27 - _t17;
   const S _t29 = S(0.3) * _t26;
   const S _t30 = _t18 + _t29;
+  com[2] = _t30;
   const S _t31 = _t14 * S(0.5);
   const S _t32 = _t28 + _t31;
   com[0] = _t32;
-  com[1] = S(0);
-  com[2] = _t30;
 }
 
 }  // namespace

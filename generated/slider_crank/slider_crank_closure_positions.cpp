@@ -48,182 +48,213 @@ template <typename S> void closure_residual(const S* q, S* residual) {
   residual[1] = _t29;
 }
 
-// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step).
-// 68 operations: 23 additions/subtractions, 31 multiplications, 5 divisions, 3 negations, 4 sin/cos, 1 square roots, 1 max (selects).
-template <typename S> void closure_newton_step(const S* q, S* residual, S* pivots, S* step) {
+// The values of closure_newton_step that depend only on inputs the loop does not change, computed once before it.
+// 4 operations: 0 additions/subtractions, 2 multiplications, 0 divisions, 0 negations, 2 sin/cos, 0 square roots.
+template <typename S>
+void closure_newton_step_setup(const S* q, S* invariants) {
+  (void)q;
   const S _t0 = std::cos(q[0]);
   const S _t1 = std::sin(q[0]);
-  const S _t2 = std::cos(q[1]);
-  const S _t3 = std::sin(q[1]);
-  const S _t4 = _t1 * _t3;
-  const S _t5 = _t0 * _t2;
-  const S _t6 = _t5 - _t4;
-  const S _t7 = _t0 * _t3;
-  const S _t8 = _t1 * _t2;
-  const S _t9 = _t7 + _t8;
-  const S _t10 = -_t7;
-  const S _t11 = _t10 - _t8;
-  const S _t12 = _t1 * S(0.05);
-  const S _t13 = _t0 * S(0.05);
-  const S _t14 = q[2] + S(0.12);
-  const S _t15 = _t11 * S(-0.05);
-  const S _t16 = _t6 * S(0.12);
-  const S _t17 = _t15 + _t16;
-  const S _t18 = _t6 * S(-0.05);
-  const S _t19 = _t9 * S(0.12);
-  const S _t20 = _t18 + _t19;
-  const S _t21 = _t17 - _t12;
-  const S _t22 = _t13 + _t20;
-  const S _t23 = _t12 + _t14;
-  const S _t24 = _t9 * _t23;
-  const S _t25 = _t6 * _t13;
+  const S _t2 = _t1 * S(0.05);
+  const S _t3 = _t0 * S(0.05);
+  invariants[0] = _t0;
+  invariants[1] = _t1;
+  invariants[2] = _t2;
+  invariants[3] = _t3;
+}
+
+// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step).
+// 65 operations: 23 additions/subtractions, 32 multiplications, 3 divisions, 3 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
+template <typename S>
+void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step) {
+  (void)q;
+  (void)invariants;
+  const S _t0 = std::cos(q[1]);
+  const S _t1 = std::sin(q[1]);
+  const S _t2 = invariants[1] * _t1;
+  const S _t3 = invariants[0] * _t0;
+  const S _t4 = _t3 - _t2;
+  const S _t5 = invariants[0] * _t1;
+  const S _t6 = invariants[1] * _t0;
+  const S _t7 = _t5 + _t6;
+  const S _t8 = -_t5;
+  const S _t9 = _t8 - _t6;
+  const S _t10 = q[2] + S(0.12);
+  const S _t11 = _t9 * S(-0.05);
+  const S _t12 = _t4 * S(0.12);
+  const S _t13 = _t11 + _t12;
+  const S _t14 = _t4 * S(-0.05);
+  const S _t15 = _t7 * S(0.12);
+  const S _t16 = _t14 + _t15;
+  const S _t17 = _t13 - invariants[2];
+  const S _t18 = invariants[3] + _t16;
+  const S _t19 = invariants[2] + _t10;
+  const S _t20 = _t7 * _t19;
+  const S _t21 = _t4 * invariants[3];
+  const S _t22 = -_t21;
+  const S _t23 = _t22 - _t20;
+  const S _t24 = _t4 * _t19;
+  const S _t25 = _t9 * invariants[3];
   const S _t26 = -_t25;
   const S _t27 = _t26 - _t24;
-  const S _t28 = _t6 * _t23;
-  const S _t29 = _t11 * _t13;
-  const S _t30 = -_t29;
-  const S _t31 = _t30 - _t28;
-  const S _t32 = _t14 - _t21;
-  const S _t33 = _t9 * _t22;
-  const S _t34 = _t6 * _t32;
-  const S _t35 = _t34 - _t33;
-  const S _t36 = _t6 * _t22;
-  const S _t37 = _t11 * _t32;
-  const S _t38 = _t37 - _t36;
-  const S _t39 = _t31 * _t31;
-  const S _t40 = _t27 * _t27;
-  const S _t41 = _t39 + _t40;
-  const S _t42 = std::sqrt(_t41);
-  const S _t43 = S(1.1754943508222875e-38) > _t42 ? S(1.1754943508222875e-38) : _t42;
-  const S _t44 = _t42 / _t43;
-  const S _t45 = S(1) - _t44;
-  const S _t46 = _t27 / _t43;
-  const S _t47 = _t45 + _t46;
-  const S _t48 = _t31 / _t43;
-  const S _t49 = _t31 * _t48;
-  const S _t50 = _t27 * _t47;
+  const S _t28 = _t10 - _t17;
+  const S _t29 = _t7 * _t18;
+  const S _t30 = _t4 * _t28;
+  const S _t31 = _t30 - _t29;
+  const S _t32 = _t4 * _t18;
+  const S _t33 = _t9 * _t28;
+  const S _t34 = _t33 - _t32;
+  const S _t35 = _t27 * _t27;
+  const S _t36 = _t23 * _t23;
+  const S _t37 = _t35 + _t36;
+  const S _t38 = std::sqrt(_t37);
+  const S _t39 = S(1.1754943508222875e-38) > _t38 ? S(1.1754943508222875e-38) : _t38;
+  const S _t40 = S(1) / _t39;
+  const S _t41 = _t38 * _t40;
+  const S _t42 = S(1) - _t41;
+  const S _t43 = _t23 * _t40;
+  const S _t44 = _t42 + _t43;
+  const S _t45 = _t27 * _t40;
+  const S _t46 = _t27 * _t45;
+  const S _t47 = _t23 * _t44;
+  const S _t48 = _t46 + _t47;
+  const S _t49 = _t9 * _t45;
+  const S _t50 = _t4 * _t44;
   const S _t51 = _t49 + _t50;
-  const S _t52 = _t11 * _t48;
-  const S _t53 = _t6 * _t47;
-  const S _t54 = _t52 + _t53;
-  const S _t55 = _t6 * _t48;
-  const S _t56 = _t11 * _t47;
-  const S _t57 = _t56 - _t55;
-  const S _t58 = _t38 * _t48;
-  const S _t59 = _t35 * _t47;
-  const S _t60 = _t58 + _t59;
-  const S _t61 = _t35 * _t48;
-  const S _t62 = _t38 * _t47;
-  const S _t63 = _t62 - _t61;
-  const S _t64 = _t63 / _t57;
-  const S _t65 = _t54 * _t64;
-  const S _t66 = _t60 - _t65;
-  const S _t67 = _t66 / _t51;
-  residual[0] = _t35;
-  residual[1] = _t38;
-  pivots[0] = _t51;
-  pivots[1] = _t57;
-  step[0] = _t67;
-  step[1] = _t64;
+  const S _t52 = _t4 * _t45;
+  const S _t53 = _t9 * _t44;
+  const S _t54 = _t53 - _t52;
+  const S _t55 = _t34 * _t45;
+  const S _t56 = _t31 * _t44;
+  const S _t57 = _t55 + _t56;
+  const S _t58 = _t31 * _t45;
+  const S _t59 = _t34 * _t44;
+  const S _t60 = _t59 - _t58;
+  const S _t61 = _t60 / _t54;
+  const S _t62 = _t51 * _t61;
+  const S _t63 = _t57 - _t62;
+  const S _t64 = _t63 / _t48;
+  residual[0] = _t31;
+  residual[1] = _t34;
+  pivots[0] = _t48;
+  pivots[1] = _t54;
+  step[0] = _t64;
+  step[1] = _t61;
+}
+
+// The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
+// 4 operations: 0 additions/subtractions, 2 multiplications, 0 divisions, 0 negations, 2 sin/cos, 0 square roots.
+template <typename S>
+void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants) {
+  (void)q;
+  (void)v;
+  const S _t0 = std::cos(q[0]);
+  const S _t1 = std::sin(q[0]);
+  const S _t2 = _t1 * S(0.05);
+  const S _t3 = _t0 * S(0.05);
+  invariants[0] = _t0;
+  invariants[1] = _t1;
+  invariants[2] = _t2;
+  invariants[3] = _t3;
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
-// 85 operations: 26 additions/subtractions, 40 multiplications, 7 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+// 82 operations: 26 additions/subtractions, 41 multiplications, 5 divisions, 6 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
-void closure_newton_step_velocities(const S* q, const S* v, S* residual, S* pivots, S* step, S* vz) {
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = std::cos(q[1]);
-  const S _t3 = std::sin(q[1]);
-  const S _t4 = _t1 * _t3;
-  const S _t5 = _t0 * _t2;
-  const S _t6 = _t5 - _t4;
-  const S _t7 = _t0 * _t3;
-  const S _t8 = _t1 * _t2;
-  const S _t9 = _t7 + _t8;
-  const S _t10 = -_t7;
-  const S _t11 = _t10 - _t8;
-  const S _t12 = _t1 * S(0.05);
-  const S _t13 = _t0 * S(0.05);
-  const S _t14 = q[2] + S(0.12);
-  const S _t15 = _t11 * S(-0.05);
-  const S _t16 = _t6 * S(0.12);
-  const S _t17 = _t15 + _t16;
-  const S _t18 = _t6 * S(-0.05);
-  const S _t19 = _t9 * S(0.12);
-  const S _t20 = _t18 + _t19;
-  const S _t21 = _t17 - _t12;
-  const S _t22 = _t13 + _t20;
-  const S _t23 = _t12 + _t14;
-  const S _t24 = _t9 * _t23;
-  const S _t25 = _t6 * _t13;
+void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
+  (void)q;
+  (void)v;
+  (void)invariants;
+  const S _t0 = std::cos(q[1]);
+  const S _t1 = std::sin(q[1]);
+  const S _t2 = invariants[1] * _t1;
+  const S _t3 = invariants[0] * _t0;
+  const S _t4 = _t3 - _t2;
+  const S _t5 = invariants[0] * _t1;
+  const S _t6 = invariants[1] * _t0;
+  const S _t7 = _t5 + _t6;
+  const S _t8 = -_t5;
+  const S _t9 = _t8 - _t6;
+  const S _t10 = q[2] + S(0.12);
+  const S _t11 = _t9 * S(-0.05);
+  const S _t12 = _t4 * S(0.12);
+  const S _t13 = _t11 + _t12;
+  const S _t14 = _t4 * S(-0.05);
+  const S _t15 = _t7 * S(0.12);
+  const S _t16 = _t14 + _t15;
+  const S _t17 = _t13 - invariants[2];
+  const S _t18 = invariants[3] + _t16;
+  const S _t19 = invariants[2] + _t10;
+  const S _t20 = _t7 * _t19;
+  const S _t21 = _t4 * invariants[3];
+  const S _t22 = -_t21;
+  const S _t23 = _t22 - _t20;
+  const S _t24 = _t4 * _t19;
+  const S _t25 = _t9 * invariants[3];
   const S _t26 = -_t25;
   const S _t27 = _t26 - _t24;
-  const S _t28 = _t6 * _t23;
-  const S _t29 = _t11 * _t13;
-  const S _t30 = -_t29;
-  const S _t31 = _t30 - _t28;
-  const S _t32 = _t9 * _t14;
-  const S _t33 = _t6 * _t14;
-  const S _t34 = _t14 - _t21;
-  const S _t35 = _t9 * _t22;
-  const S _t36 = _t6 * _t34;
-  const S _t37 = _t36 - _t35;
-  const S _t38 = _t6 * _t22;
-  const S _t39 = _t11 * _t34;
-  const S _t40 = _t39 - _t38;
-  const S _t41 = _t31 * _t31;
-  const S _t42 = _t27 * _t27;
-  const S _t43 = _t41 + _t42;
-  const S _t44 = std::sqrt(_t43);
-  const S _t45 = S(1.1754943508222875e-38) > _t44 ? S(1.1754943508222875e-38) : _t44;
-  const S _t46 = _t44 / _t45;
-  const S _t47 = S(1) - _t46;
-  const S _t48 = _t27 / _t45;
-  const S _t49 = _t47 + _t48;
-  const S _t50 = _t31 / _t45;
-  const S _t51 = _t31 * _t50;
-  const S _t52 = _t27 * _t49;
+  const S _t28 = _t7 * _t10;
+  const S _t29 = _t4 * _t10;
+  const S _t30 = _t10 - _t17;
+  const S _t31 = _t7 * _t18;
+  const S _t32 = _t4 * _t30;
+  const S _t33 = _t32 - _t31;
+  const S _t34 = _t4 * _t18;
+  const S _t35 = _t9 * _t30;
+  const S _t36 = _t35 - _t34;
+  const S _t37 = _t27 * _t27;
+  const S _t38 = _t23 * _t23;
+  const S _t39 = _t37 + _t38;
+  const S _t40 = std::sqrt(_t39);
+  const S _t41 = S(1.1754943508222875e-38) > _t40 ? S(1.1754943508222875e-38) : _t40;
+  const S _t42 = S(1) / _t41;
+  const S _t43 = _t40 * _t42;
+  const S _t44 = S(1) - _t43;
+  const S _t45 = _t23 * _t42;
+  const S _t46 = _t44 + _t45;
+  const S _t47 = _t27 * _t42;
+  const S _t48 = _t27 * _t47;
+  const S _t49 = _t23 * _t46;
+  const S _t50 = _t48 + _t49;
+  const S _t51 = _t9 * _t47;
+  const S _t52 = _t4 * _t46;
   const S _t53 = _t51 + _t52;
-  const S _t54 = _t11 * _t50;
-  const S _t55 = _t6 * _t49;
-  const S _t56 = _t54 + _t55;
-  const S _t57 = _t6 * _t50;
-  const S _t58 = _t11 * _t49;
-  const S _t59 = _t58 - _t57;
-  const S _t60 = _t40 * _t50;
-  const S _t61 = _t37 * _t49;
-  const S _t62 = _t60 + _t61;
-  const S _t63 = _t37 * _t50;
-  const S _t64 = _t40 * _t49;
-  const S _t65 = _t64 - _t63;
-  const S _t66 = _t65 / _t59;
-  const S _t67 = _t56 * _t66;
-  const S _t68 = _t62 - _t67;
-  const S _t69 = _t68 / _t53;
-  const S _t70 = _t32 * v[0];
-  const S _t71 = _t33 * v[0];
-  const S _t72 = _t50 * _t71;
-  const S _t73 = _t49 * _t70;
-  const S _t74 = -_t73;
-  const S _t75 = _t74 - _t72;
-  const S _t76 = _t50 * _t70;
-  const S _t77 = _t49 * _t71;
-  const S _t78 = _t76 - _t77;
-  const S _t79 = _t78 / _t59;
-  const S _t80 = _t56 * _t79;
-  const S _t81 = _t75 - _t80;
-  const S _t82 = _t81 / _t53;
-  const S _t83 = -_t82;
-  const S _t84 = -_t79;
-  residual[0] = _t37;
-  residual[1] = _t40;
-  pivots[0] = _t53;
-  pivots[1] = _t59;
-  step[0] = _t69;
-  step[1] = _t66;
-  vz[0] = _t83;
-  vz[1] = _t84;
+  const S _t54 = _t4 * _t47;
+  const S _t55 = _t9 * _t46;
+  const S _t56 = _t55 - _t54;
+  const S _t57 = _t36 * _t47;
+  const S _t58 = _t33 * _t46;
+  const S _t59 = _t57 + _t58;
+  const S _t60 = _t33 * _t47;
+  const S _t61 = _t36 * _t46;
+  const S _t62 = _t61 - _t60;
+  const S _t63 = _t62 / _t56;
+  const S _t64 = _t53 * _t63;
+  const S _t65 = _t59 - _t64;
+  const S _t66 = _t65 / _t50;
+  const S _t67 = _t28 * v[0];
+  const S _t68 = _t29 * v[0];
+  const S _t69 = _t47 * _t68;
+  const S _t70 = _t46 * _t67;
+  const S _t71 = -_t70;
+  const S _t72 = _t71 - _t69;
+  const S _t73 = _t47 * _t67;
+  const S _t74 = _t46 * _t68;
+  const S _t75 = _t73 - _t74;
+  const S _t76 = _t75 / _t56;
+  const S _t77 = _t53 * _t76;
+  const S _t78 = _t72 - _t77;
+  const S _t79 = _t78 / _t50;
+  const S _t80 = -_t79;
+  const S _t81 = -_t76;
+  residual[0] = _t33;
+  residual[1] = _t36;
+  pivots[0] = _t50;
+  pivots[1] = _t56;
+  step[0] = _t66;
+  step[1] = _t63;
+  vz[0] = _t80;
+  vz[1] = _t81;
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;
@@ -233,12 +264,19 @@ constexpr int num_subsystems = 1;
 constexpr int subsystem_begin[2] = {0, 2};
 constexpr int dependent_q[2] = {1, 2};
 constexpr int dependent_v[2] = {1, 2};
+// The sizes of the setups' invariants (at least 1).
+constexpr int closure_newton_step_setup_size = 4;
+constexpr int closure_newton_step_velocities_setup_size = 4;
 // Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).
 template <typename S> constexpr S nominal_pivot_ratio[1] = {S(1.4e-01)};
 
 template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
   S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
+  // The step's values that depend only on what the loop does not move (q's independent entries; v).
+  S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
+  if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
+  else closure_newton_step_setup<S>(q, invariants);
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
@@ -253,8 +291,8 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
       }
       if (closed) return result.residual = largest, result;
     }
-    if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, residual, pivots, step, vz);
-    else closure_newton_step<S>(q, residual, pivots, step);
+    if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, invariants, residual, pivots, step, vz);
+    else closure_newton_step<S>(q, invariants, residual, pivots, step);
     bool finite = true;
     int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);

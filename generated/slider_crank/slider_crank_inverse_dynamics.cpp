@@ -75,7 +75,9 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t54 = _t47 - _t37;
   const S _t55 = _t41 + _t52;
   const S _t56 = qdd[2] * S(0.5);
+  tau[2] = _t56;
   const S _t57 = -_t55;
+  tau[1] = _t57;
   const S _t58 = _t13 * _t54;
   const S _t59 = _t12 * _t53;
   const S _t60 = _t59 - _t58;
@@ -84,8 +86,6 @@ void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   const S _t63 = _t11 + _t62;
   const S _t64 = -_t63;
   tau[0] = _t64;
-  tau[1] = _t57;
-  tau[2] = _t56;
 }
 
 }  // namespace

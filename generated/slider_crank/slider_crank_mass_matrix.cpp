@@ -18,12 +18,20 @@ void mass_matrix_impl(const S* q, S* M) {
   (void)q;
   const S _t0 = std::cos(q[1]);
   const S _t1 = std::sin(q[1]);
+  M[2] = S(0);
+  M[4] = S(0.0016947999999999998);
+  M[5] = S(0);
+  M[6] = S(0);
+  M[7] = S(0);
+  M[8] = S(0.5);
   const S _t2 = _t1 * S(0.018);
   const S _t3 = _t0 * S(0.0075);
   const S _t4 = _t3 - _t2;
   const S _t5 = _t4 * S(0.05);
   const S _t6 = S(-0.0016947999999999998) + _t5;
   const S _t7 = -_t6;
+  M[1] = _t7;
+  M[3] = _t7;
   const S _t8 = _t0 * S(-0.0075);
   const S _t9 = _t2 + _t8;
   const S _t10 = _t9 + S(0.015);
@@ -32,14 +40,6 @@ void mass_matrix_impl(const S* q, S* M) {
   const S _t13 = S(0.0016947999999999998) + _t12;
   const S _t14 = S(0.00017166666700000002) + _t13;
   M[0] = _t14;
-  M[1] = _t7;
-  M[2] = S(0);
-  M[3] = _t7;
-  M[4] = S(0.0016947999999999998);
-  M[5] = S(0);
-  M[6] = S(0);
-  M[7] = S(0);
-  M[8] = S(0.5);
 }
 
 }  // namespace

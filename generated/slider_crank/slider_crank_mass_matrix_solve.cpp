@@ -23,10 +23,10 @@ void mass_matrix_solve_impl(const S* LD, const S* b, S* x) {
   const S _t3 = b[1] / LD[4];
   const S _t4 = b[2] / LD[8];
   const S _t5 = LD[3] * _t2;
-  const S _t6 = _t3 - _t5;
   x[0] = _t2;
-  x[1] = _t6;
   x[2] = _t4;
+  const S _t6 = _t3 - _t5;
+  x[1] = _t6;
 }
 
 }  // namespace

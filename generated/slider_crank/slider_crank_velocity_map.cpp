@@ -12,7 +12,7 @@ namespace slider_crank {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 58 operations: 16 additions/subtractions, 25 multiplications, 5 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+// 59 operations: 16 additions/subtractions, 28 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -31,6 +31,7 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t12 = _t1 * S(0.05);
   const S _t13 = _t0 * S(0.05);
   const S _t14 = q[2] + S(0.12);
+  T[0] = S(1);
   const S _t15 = _t12 + _t14;
   const S _t16 = _t9 * _t15;
   const S _t17 = _t6 * _t13;
@@ -47,36 +48,36 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t28 = _t26 + _t27;
   const S _t29 = std::sqrt(_t28);
   const S _t30 = S(1.1754943508222875e-38) > _t29 ? S(1.1754943508222875e-38) : _t29;
-  const S _t31 = _t29 / _t30;
-  const S _t32 = S(1) - _t31;
-  const S _t33 = _t19 / _t30;
-  const S _t34 = _t32 + _t33;
-  const S _t35 = _t23 / _t30;
-  const S _t36 = _t23 * _t35;
-  const S _t37 = _t19 * _t34;
-  const S _t38 = _t36 + _t37;
-  const S _t39 = _t11 * _t35;
-  const S _t40 = _t6 * _t34;
-  const S _t41 = _t39 + _t40;
-  const S _t42 = _t6 * _t35;
-  const S _t43 = _t11 * _t34;
-  const S _t44 = _t43 - _t42;
-  const S _t45 = _t25 * _t35;
-  const S _t46 = _t24 * _t34;
-  const S _t47 = -_t46;
-  const S _t48 = _t47 - _t45;
-  const S _t49 = _t24 * _t35;
-  const S _t50 = _t25 * _t34;
-  const S _t51 = _t49 - _t50;
-  const S _t52 = _t51 / _t44;
-  const S _t53 = _t41 * _t52;
-  const S _t54 = _t48 - _t53;
-  const S _t55 = _t54 / _t38;
-  const S _t56 = -_t55;
-  const S _t57 = -_t52;
-  T[0] = S(1);
-  T[1] = _t56;
-  T[2] = _t57;
+  const S _t31 = S(1) / _t30;
+  const S _t32 = _t29 * _t31;
+  const S _t33 = S(1) - _t32;
+  const S _t34 = _t19 * _t31;
+  const S _t35 = _t33 + _t34;
+  const S _t36 = _t23 * _t31;
+  const S _t37 = _t23 * _t36;
+  const S _t38 = _t19 * _t35;
+  const S _t39 = _t37 + _t38;
+  const S _t40 = _t11 * _t36;
+  const S _t41 = _t6 * _t35;
+  const S _t42 = _t40 + _t41;
+  const S _t43 = _t6 * _t36;
+  const S _t44 = _t11 * _t35;
+  const S _t45 = _t44 - _t43;
+  const S _t46 = _t25 * _t36;
+  const S _t47 = _t24 * _t35;
+  const S _t48 = -_t47;
+  const S _t49 = _t48 - _t46;
+  const S _t50 = _t24 * _t36;
+  const S _t51 = _t25 * _t35;
+  const S _t52 = _t50 - _t51;
+  const S _t53 = _t52 / _t45;
+  const S _t54 = _t42 * _t53;
+  const S _t55 = _t49 - _t54;
+  const S _t56 = _t55 / _t39;
+  const S _t57 = -_t56;
+  T[1] = _t57;
+  const S _t58 = -_t53;
+  T[2] = _t58;
 }
 
 }  // namespace
