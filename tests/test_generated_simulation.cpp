@@ -220,7 +220,7 @@ TEST(GeneratedSimulation, AnotherContactExponentIsRefused) {
 
 // A closure that fails says in which sub-system, the generated Newton as the generic one: each of
 // Lola's four linkages in turn gets a NaN dependent coordinate (not converged there), and each
-// in turn is moved 0.3 rad off (converges; -1).
+// in turn is moved 0.3 rad off (converges; -1); a NaN off the loops blames none (-1).
 TEST(GeneratedSimulation, AFailedClosureNamesItsSubSystem) {
   const gen::Description d = load_lola();
   sim::GenericBackend<double> generic(d.model);
@@ -240,6 +240,14 @@ TEST(GeneratedSimulation, AFailedClosureNamesItsSubSystem) {
     }
     EXPECT_STREQ(generated.subsystem_name(static_cast<int>(k)), generic.subsystem_name(static_cast<int>(k)));
   }
+  // A NaN off the loops (the floating base's x): not converged, and no sub-system to blame.
+  VecX<double> q = d.assembly.q, qg = d.assembly.q;
+  q[0] = qg[0] = std::nan("");
+  int sub = -2, sub_g = -2;
+  EXPECT_EQ(generic.closure_positions(q.data(), &sub), 1);
+  EXPECT_EQ(generated.closure_positions(qg.data(), &sub_g), 1);
+  EXPECT_EQ(sub, -1);
+  EXPECT_EQ(sub_g, -1);
 }
 
 // One step from Lola standing 0.5 mm deep in the ground (every foot sphere pressing, friction

@@ -48,7 +48,7 @@ void acceleration_bias_impl(const S* q, const S* vy, S* g) {
   const S _t28 = _t15 * S(-0.022);
   const S _t29 = _t27 + _t28;
   const S _t30 = S(0.19) + _t26;
-  const S _t31 = S(-0.19) + _t30;
+  const S _t31 = _t30 + S(-0.19);
   const S _t32 = _t9 * _t31;
   const S _t33 = _t6 * _t29;
   const S _t34 = _t32 - _t33;

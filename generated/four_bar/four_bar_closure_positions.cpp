@@ -105,7 +105,7 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t24 = _t11 * S(-0.022);
   const S _t25 = _t23 + _t24;
   const S _t26 = S(0.19) + _t22;
-  const S _t27 = S(-0.19) + _t26;
+  const S _t27 = _t26 + S(-0.19);
   const S _t28 = _t7 * _t27;
   const S _t29 = _t4 * _t25;
   const S _t30 = _t28 - _t29;
@@ -218,7 +218,7 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t24 = _t11 * S(-0.022);
   const S _t25 = _t23 + _t24;
   const S _t26 = S(0.19) + _t22;
-  const S _t27 = S(-0.19) + _t26;
+  const S _t27 = _t26 + S(-0.19);
   const S _t28 = _t7 * _t27;
   const S _t29 = _t4 * _t25;
   const S _t30 = _t28 - _t29;
@@ -302,12 +302,15 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;
-// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]].
+// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]]. off_loop_q: the q
+// entries of the joints on no loop (num_off_loop_q of them; the array has at least one).
 constexpr int R = 2;
 constexpr int num_subsystems = 1;
+constexpr int num_off_loop_q = 0;
 constexpr int subsystem_begin[2] = {0, 2};
 constexpr int dependent_q[2] = {1, 2};
 constexpr int dependent_v[2] = {1, 2};
+constexpr int off_loop_q[1] = {0};
 // The sizes of the setups' invariants (at least 1).
 constexpr int closure_newton_step_setup_size = 4;
 constexpr int closure_newton_step_velocities_setup_size = 4;
@@ -316,6 +319,10 @@ template <typename S> constexpr S nominal_pivot_ratio[1] = {S(6.6e-01)};
 
 template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
+  // A non-finite coordinate is no pose, closed or not. The step reads only the loops' own
+  // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
+  for (int i = 0; i < num_off_loop_q; ++i)
+    if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
   S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];

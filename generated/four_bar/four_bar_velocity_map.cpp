@@ -40,7 +40,7 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t20 = _t15 * S(-0.022);
   const S _t21 = _t19 + _t20;
   const S _t22 = S(0.19) + _t18;
-  const S _t23 = S(-0.19) + _t22;
+  const S _t23 = _t22 + S(-0.19);
   const S _t24 = _t9 * _t23;
   const S _t25 = _t6 * _t21;
   const S _t26 = _t24 - _t25;

@@ -23,6 +23,10 @@ std::string int_array(const std::string& name, const std::vector<int>& items) {
 // dependent_v, the setup sizes: see the tables above it.
 const char* kNewtonLoop = R"(template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
+  // A non-finite coordinate is no pose, closed or not. The step reads only the loops' own
+  // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
+  for (int i = 0; i < num_off_loop_q; ++i)
+    if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
   S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
@@ -155,9 +159,23 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
       setup_sizes += fmt::format("constexpr int {}_setup_size = {};\n", step.name, std::max(hoisted.setup.outputs[0].size, 1));
     }
     out += "// Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;\n"
-           "// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]].\n";
+           "// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]]. off_loop_q: the q\n"
+           "// entries of the joints on no loop (num_off_loop_q of them; the array has at least one).\n";
     out += fmt::format("constexpr int R = {};\nconstexpr int num_subsystems = {};\n", num_dependent(model), model.subsystems.size());
-    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v);
+    std::vector<int> off_loop_q;
+    for (int k = 1; k < model.num_bodies(); ++k) {
+      const Body& body = model.body(BodyIndex(k));
+      const bool on_loop = std::any_of(model.subsystems.begin(), model.subsystems.end(), [&](const SubSystem& sub) {
+        return std::find(sub.bodies.begin(), sub.bodies.end(), BodyIndex(k)) != sub.bodies.end();
+      });
+      const Joint& joint = model.joint(body.joint);
+      if (!on_loop)
+        for (int i = 0; i < joint.nq; ++i) off_loop_q.push_back(joint.idx_q + i);
+    }
+    out += fmt::format("constexpr int num_off_loop_q = {};\n", off_loop_q.size());
+    if (off_loop_q.empty()) off_loop_q.push_back(0);
+    out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v) +
+           int_array("off_loop_q", off_loop_q);
     out += "// The sizes of the setups' invariants (at least 1).\n" + setup_sizes;
     // SubSystem::nominal_pivot_ratio holds two significant digits: printed back exactly.
     // (A variable template: the float code converts at compile time, no double arithmetic.)

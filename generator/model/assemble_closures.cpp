@@ -15,6 +15,7 @@
 
 #include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/configuration.hpp"
+#include "mbgen/algorithm/jacobian.hpp"
 #include "load/load_error.hpp"
 #include "model/topology.hpp"
 

@@ -11,6 +11,9 @@ template <typename S> struct Data {
         X_PB(model.num_bodies()),
         X_WB(model.num_bodies()),
         X_WF(model.num_frames()),
+        X_TB(model.num_bodies()),
+        v_T(model.num_bodies()),
+        a_T(model.num_bodies()),
         v(model.num_bodies()),
         a(model.num_bodies()),
         c(model.num_bodies()),
@@ -57,6 +60,12 @@ template <typename S> struct Data {
   IndexedVector<BodyIndex, SE3<S>> X_PB;   ///< pose of each body in its parent
   IndexedVector<BodyIndex, SE3<S>> X_WB;   ///< pose of each body in the world
   IndexedVector<FrameIndex, SE3<S>> X_WF;  ///< pose of each frame in the world
+  /// A loop's cycle relative to its top body T (the common ancestor of the closure's two bodies,
+  /// taken at rest): pose in T, velocity and acceleration at zero joint accelerations (body
+  /// frame) of each body on the cycle (algorithm/closure.hpp). Valid for the last closure computed.
+  IndexedVector<BodyIndex, SE3<S>> X_TB;
+  IndexedVector<BodyIndex, Motion<S>> v_T;
+  IndexedVector<BodyIndex, Motion<S>> a_T;
   IndexedVector<BodyIndex, Motion<S>> v;   ///< body spatial velocity, body frame
   IndexedVector<BodyIndex, Motion<S>> a;   ///< body spatial acceleration (incl. -gravity), body frame
   IndexedVector<BodyIndex, Motion<S>> c;   ///< velocity-product acceleration v x (S v_j), body frame

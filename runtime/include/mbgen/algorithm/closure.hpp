@@ -14,9 +14,13 @@
 // Phi = 0 (where R a = a, R = I), which is where the dynamics use them; Newton, which may start
 // off it, keeps its quadratic convergence (the Jacobian error is O(|Phi|)).
 //
-// Only the joints strictly below the closure's common ancestor enter Phi_q: those above move
-// Ca and Cb alike, and their columns are exact zeros rather than round-off.
-#include "mbgen/algorithm/jacobian.hpp"
+// Only the joints strictly below the closure's common ancestor T (its top) enter Phi, Phi_q and
+// gamma: those above move Ca and Cb alike. So every row is computed from the cycle alone, in T's
+// frame with T taken at rest (cycle_kinematics): the poses and motion of T and of what is above
+// it, which would cancel exactly in the world frame, never enter (Lola's knee loop is not
+// carried through the floating base and the hip), and the columns of the joints above are exact
+// zeros rather than round-off.
+#include "mbgen/algorithm/kinematics.hpp"
 
 namespace mbgen {
 
@@ -53,38 +57,74 @@ template <typename S> Vec3<S> rotation_skew_vee(const Mat3<S>& R) {
   return Vec3<S>(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / S(2);
 }
 
-/// World quantities of a frame fixed in a body at X_BC: pose, velocity and classical
-/// (non-spatial) acceleration of its origin, angular velocity and acceleration, all in world
-/// axes. Needs data.X_WB and, for the rates, data.v and data.a (body frame) of kinematics.
+/// Fills data.X_TB (and, with v, data.v_T and data.a_T at zero joint accelerations) for the
+/// bodies from top (excluded) down to b, top an ancestor of b or b itself, as if top were at rest.
+/// Needs data.X_PB. Recurses to the top first: a cycle is a few bodies.
+template <typename S> void cycle_branch(const Model& model, Data<S>& data, BodyIndex top, BodyIndex b, const S* v) {
+  if (b == top) return;
+  const BodyIndex parent = model.body(b).parent;
+  cycle_branch<S>(model, data, top, parent, v);
+  const Joint& joint = model.joint(model.body(b).joint);
+  const bool below_top = parent != top;
+  data.X_TB[b] = below_top ? data.X_TB[parent] * data.X_PB[b] : data.X_PB[b];
+  if (!v) return;
+  const Motion<S> vj = joint_velocity<S>(joint, v + joint.idx_v);
+  if (below_top) {
+    data.v_T[b] = data.X_PB[b].act_inv(data.v_T[parent]) + vj;
+    data.a_T[b] = data.X_PB[b].act_inv(data.a_T[parent]) + data.v_T[b].cross(vj);
+  } else {  // T at rest: v = vj, and vj x vj = 0
+    data.v_T[b] = vj;
+    data.a_T[b] = Motion<S>::Zero();
+  }
+}
+
+/// The closure's top T (common ancestor of its bodies) after filling the cycle's data.X_TB (and
+/// with v, data.v_T, data.a_T) on both branches. Needs data.X_PB (forward kinematics).
+template <typename S> BodyIndex cycle_kinematics(const Model& model, Data<S>& data, const LoopClosure& c, const S* v) {
+  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+  cycle_branch<S>(model, data, top, c.body_a, v);
+  cycle_branch<S>(model, data, top, c.body_b, v);
+  return top;
+}
+
+/// Quantities of a closure frame fixed in body b at X_BC, relative to the cycle's top T at rest:
+/// pose, velocity and classical (non-spatial) acceleration of its origin, angular velocity and
+/// acceleration, all in T's axes. Needs cycle_kinematics (with velocities for the rates).
 template <typename S> struct FrameState {
   Mat3<S> R;
   Vec3<S> p, v, w, dv, dw;
 };
 
 template <typename S>
-FrameState<S> closure_frame_state(const Data<S>& data, BodyIndex b, const SE3<double>& X_BC, bool with_rates) {
+FrameState<S> closure_frame_state(const Data<S>& data, BodyIndex top, BodyIndex b, const SE3<double>& X_BC, bool with_rates) {
   FrameState<S> f;
-  const SE3<S>& X_WB = data.X_WB[b];
   const Vec3<S> r = X_BC.translation.cast<S>();
-  f.R = X_WB.rotation * X_BC.rotation.cast<S>();
-  f.p = X_WB.act(r);
+  if (b == top) {  // a frame on T itself is at rest
+    f.R = X_BC.rotation.cast<S>();
+    f.p = r;
+    f.v = f.w = f.dv = f.dw = Vec3<S>::Zero();
+    return f;
+  }
+  const SE3<S>& X_TB = data.X_TB[b];
+  f.R = X_TB.rotation * X_BC.rotation.cast<S>();
+  f.p = X_TB.act(r);
   if (!with_rates) return f;
-  const Motion<S>& vb = data.v[b];
-  const Motion<S>& ab = data.a[b];
+  const Motion<S>& vb = data.v_T[b];
+  const Motion<S>& ab = data.a_T[b];
   const Vec3<S> v_point = vb.linear + vb.angular.cross(r);  // body axes
-  f.v = X_WB.rotation * v_point;
-  f.w = X_WB.rotation * vb.angular;
+  f.v = X_TB.rotation * v_point;
+  f.w = X_TB.rotation * vb.angular;
   // a is the derivative of the body twist's components: the point's classical acceleration
   // adds the transport term w x v_point.
-  f.dv = X_WB.rotation * (ab.linear + ab.angular.cross(r) + vb.angular.cross(v_point));
-  f.dw = X_WB.rotation * ab.angular;
+  f.dv = X_TB.rotation * (ab.linear + ab.angular.cross(r) + vb.angular.cross(v_point));
+  f.dw = X_TB.rotation * ab.angular;
   return f;
 }
 
-/// Residual rows of one closure into out[0 .. rows). Needs data.X_WB.
-template <typename S> void closure_residual_rows(const Data<S>& data, const LoopClosure& c, S* out) {
-  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
-  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
+/// Residual rows of one closure into out[0 .. rows). Needs cycle_kinematics (top: its result).
+template <typename S> void closure_residual_rows(const Data<S>& data, const LoopClosure& c, BodyIndex top, S* out) {
+  const FrameState<S> A = closure_frame_state<S>(data, top, c.body_a, c.X_ACa, false);
+  const FrameState<S> B = closure_frame_state<S>(data, top, c.body_b, c.X_BCb, false);
   const Mat3<S> R = A.R.transpose() * B.R;
   const Vec3<S> r = A.R.transpose() * (B.p - A.p);
   const Mat3<double> basis = closure_axis_basis(c.axis);
@@ -159,16 +199,16 @@ template <typename S> Vec3<S> universal_row_direction(const LoopClosure& c, cons
 /// cycle (the joints between body_a, body_b and their common ancestor) are written; every other
 /// column of J must already be zero, as Data::Phi_q is from its construction. Writing just the
 /// cycle keeps closure_jacobian O(n) over all closures (each cycle is short), where zeroing m x nv
-/// entries would make it O(m nv). Needs compute_joint_jacobians (data.J, data.X_WB).
-template <typename S, typename Block> void closure_jacobian_rows(const Model& model, const Data<S>& data, const LoopClosure& c, Block&& J) {
-  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+/// entries would make it O(m nv). Needs cycle_kinematics (top: its result).
+template <typename S, typename Block>
+void closure_jacobian_rows(const Model& model, const Data<S>& data, const LoopClosure& c, BodyIndex top, Block&& J) {
   for (BodyIndex j : {c.body_a, c.body_b})
     for (; j != top; j = model.body(j).parent) {
       const Joint& joint = model.joint(model.body(j).joint);
       for (int k = 0; k < joint.nv; ++k) J.col(joint.idx_v + k).setZero();
     }
-  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, false);
-  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, false);
+  const FrameState<S> A = closure_frame_state<S>(data, top, c.body_a, c.X_ACa, false);
+  const FrameState<S> B = closure_frame_state<S>(data, top, c.body_b, c.X_BCb, false);
   const Mat3<double> basis = closure_axis_basis(c.axis);
   const Vec3<S> n_u = universal_row_direction<S>(c, basis, Mat3<S>(A.R.transpose() * B.R));
   // A column moves Cb's origin (b side, +) or the point of body A coincident with it (a side, -).
@@ -178,10 +218,10 @@ template <typename S, typename Block> void closure_jacobian_rows(const Model& mo
       const Joint& joint = model.joint(model.body(j).joint);
       for (int k = 0; k < joint.nv; ++k) {
         const int col = joint.idx_v + k;
-        const Vec3<S> lin_W = data.J.col(col).template head<3>();
-        const Vec3<S> ang_W = data.J.col(col).template tail<3>();
-        const Vec3<S> lin = sign * (A.R.transpose() * (lin_W + ang_W.cross(B.p)));
-        const Vec3<S> ang = sign * (A.R.transpose() * ang_W);
+        // The joint's motion in T's axes, its linear part at T's origin.
+        const Motion<S> m = data.X_TB[j].act(joint_subspace_column<S>(joint, k));
+        const Vec3<S> lin = sign * (A.R.transpose() * (m.linear + m.angular.cross(B.p)));
+        const Vec3<S> ang = sign * (A.R.transpose() * m.angular);
         S rows[6];
         select_closure_rows<S>(c, basis, n_u, lin, ang, rows, 1);
         for (int i = 0; i < c.rows(); ++i) J(i, col) += rows[i];
@@ -190,11 +230,11 @@ template <typename S, typename Block> void closure_jacobian_rows(const Model& mo
   }
 }
 
-/// Rows of d/dt (Phi_q v) at zero joint accelerations into out[0 .. rows). Needs kinematics with
-/// velocities v and accelerations 0 (data.X_WB, data.v, data.a).
-template <typename S> void closure_velocity_product_rows(const Data<S>& data, const LoopClosure& c, S* out) {
-  const FrameState<S> A = closure_frame_state<S>(data, c.body_a, c.X_ACa, true);
-  const FrameState<S> B = closure_frame_state<S>(data, c.body_b, c.X_BCb, true);
+/// Rows of d/dt (Phi_q v) at zero joint accelerations into out[0 .. rows). Needs
+/// cycle_kinematics with velocities (top: its result).
+template <typename S> void closure_velocity_product_rows(const Data<S>& data, const LoopClosure& c, BodyIndex top, S* out) {
+  const FrameState<S> A = closure_frame_state<S>(data, top, c.body_a, c.X_ACa, true);
+  const FrameState<S> B = closure_frame_state<S>(data, top, c.body_b, c.X_BCb, true);
   const Mat3<S> Rt = A.R.transpose();
   const Vec3<S> d = B.p - A.p, dd = B.v - A.v;
   // c_lin = Ra^T (vb - va - wa x d), c_ang = Ra^T (wb - wa); d/dt Ra^T = -Ra^T [wa]x.
@@ -219,28 +259,34 @@ template <typename S> void closure_velocity_product_rows(const Data<S>& data, co
 /// returned. Runs forward kinematics for q (size nq).
 template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  for (const LoopClosure& c : model.closures) detail::closure_residual_rows<S>(data, c, data.Phi.data() + c.row_offset);
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, nullptr);
+    detail::closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
+  }
   return data.Phi;
 }
 
 /// Constraint Jacobian Phi_q (m x nv, velocity coordinates: Phi_q v is the stacked relative
-/// velocity of the closures) in data.Phi_q, also returned. Runs compute_joint_jacobians for q.
+/// velocity of the closures) in data.Phi_q, also returned. Runs forward kinematics for q.
 template <typename S> const MatX<S>& closure_jacobian(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
-  compute_joint_jacobians<S>(model, data, q);
-  for (const LoopClosure& c : model.closures)
-    detail::closure_jacobian_rows<S>(model, data, c, data.Phi_q.middleRows(c.row_offset, c.rows()));
+  forward_kinematics<S>(model, data, q);
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, nullptr);
+    detail::closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
+  }
   return data.Phi_q;
 }
 
 /// Bias gamma (m) with Phi_q qdd = gamma on a motion that keeps the loops closed:
-/// gamma = -(d/dt Phi_q) v, from the frame accelerations at qdd = 0. In data.gamma, also
-/// returned. Runs forward kinematics for (q, v, 0).
+/// gamma = -(d/dt Phi_q) v, from the cycles' accelerations at qdd = 0. In data.gamma, also
+/// returned. Runs forward kinematics for q.
 template <typename S>
 const VecX<S>& closure_bias(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  detail::kinematics_pass<S>(model, data, q.data(), v.data(), data.zero_v.data());
+  forward_kinematics<S>(model, data, q);
   for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, v.data());
     S* out = data.gamma.data() + c.row_offset;
-    detail::closure_velocity_product_rows<S>(data, c, out);
+    detail::closure_velocity_product_rows<S>(data, c, top, out);
     for (int i = 0; i < c.rows(); ++i) out[i] = -out[i];
   }
   return data.gamma;

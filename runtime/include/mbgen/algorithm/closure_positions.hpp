@@ -7,7 +7,7 @@
 // traces the step (detail::closure_newton_step) and emits the loop around it.
 //
 // Status, never a silent NaN: a fixed loop with an iteration cap that reports Converged,
-// NotConverged (cap reached, or a non-finite residual) or Singular: a linkage at its dead point,
+// NotConverged (cap reached, a non-finite residual, or a non-finite coordinate off the loops) or Singular: a linkage at its dead point,
 // where z is not a function of y. Singular is found two ways: Phi_z's smallest |R_ii| below
 // singular_tolerance times its largest, along the way or at the solution (no Newton step can be
 // trusted there); or a converged pose that the residual tolerance cannot tell from a dead point,
@@ -15,6 +15,7 @@
 // (what float needs: see dead_point_tolerance). q is left at the last finite iterate. No
 // allocation.
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "mbgen/algorithm/closure.hpp"
@@ -88,14 +89,14 @@ template <typename S> ClosureOptions default_closure_options() {
 template <typename S> struct ClosureResult {
   ClosureStatus status = ClosureStatus::Converged;
   int iterations = 0;      ///< Newton steps taken
-  S residual = S(0);       ///< max |Phi| over the kept rows at the returned q
+  S residual = S(0);       ///< max |Phi| over the kept rows at the returned q; NaN if q is not finite off the loops
   /// subsystem_pivot_ratio at the returned q (1 without loops); when the final iterate was
   /// checked by its residual alone (closure_positions), at the iterate one Newton step before.
   S pivot_ratio = S(1);
   S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio, at the same q as pivot_ratio
   /// A failure's sub-system (index into Model::subsystems): the one with the worst relative pivot
   /// ratio when Singular, the largest (or a non-finite) kept residual when NotConverged; -1 when
-  /// Converged. The generated closure_positions reports the same.
+  /// Converged, or when a coordinate off the loops is not finite. The generated closure_positions reports the same.
   int subsystem = -1;
 };
 
@@ -110,8 +111,12 @@ inline int q_index_of_coordinate(const Model& model, const SubSystem& sub, std::
 /// R factor of Phi_z in data.subsystem[k].R and the full step Phi_z^-1 Phi_kept (to subtract
 /// from z, in SubSystem::dependent order) in the last column of data.subsystem[k].rhs.
 template <typename S> void closure_newton_step(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
-  closure_jacobian<S>(model, data, q);  // also leaves data.X_WB for the residual rows
-  for (const LoopClosure& c : model.closures) closure_residual_rows<S>(data, c, data.Phi.data() + c.row_offset);
+  forward_kinematics<S>(model, data, q);
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
+    closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
+    closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
+  }
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
@@ -210,6 +215,18 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
                                  bool factor_at_solution) {
   using std::abs;
   ClosureResult<S> result;
+  // A non-finite coordinate is no pose, closed or not. The rows read only the loops' own
+  // coordinates (closure.hpp), where Newton finds a NaN and names its sub-system; one elsewhere
+  // (a floating base's) would not reach them.
+  for (int k = 1; k < model.num_bodies(); ++k) {
+    const BodyIndex b(k);
+    const Joint& joint = model.joint(model.body(b).joint);
+    if (data.subsystem_of_body[b] < 0 && !q.segment(joint.idx_q, joint.nq).allFinite()) {
+      result.status = ClosureStatus::NotConverged;
+      result.residual = std::numeric_limits<S>::quiet_NaN();
+      return result;
+    }
+  }
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
   for (;; ++result.iterations) {
