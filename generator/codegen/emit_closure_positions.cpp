@@ -6,6 +6,7 @@
 
 #include "codegen/hoist_invariants.hpp"
 #include "codegen/trace_loop_maps.hpp"
+#include "mbgen/data.hpp"
 
 namespace mbgen::codegen {
 
@@ -162,14 +163,12 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
            "// entry i moves q[dependent_q[i]], and its velocity is v[dependent_v[i]]. off_loop_q: the q\n"
            "// entries of the joints on no loop (num_off_loop_q of them; the array has at least one).\n";
     out += fmt::format("constexpr int R = {};\nconstexpr int num_subsystems = {};\n", num_dependent(model), model.subsystems.size());
+    // The runtime's test (close_positions): a body of no sub-system is off the loops.
+    const IndexedVector<BodyIndex, int> subsystem_of_body = Data<double>(model).subsystem_of_body;
     std::vector<int> off_loop_q;
     for (int k = 1; k < model.num_bodies(); ++k) {
-      const Body& body = model.body(BodyIndex(k));
-      const bool on_loop = std::any_of(model.subsystems.begin(), model.subsystems.end(), [&](const SubSystem& sub) {
-        return std::find(sub.bodies.begin(), sub.bodies.end(), BodyIndex(k)) != sub.bodies.end();
-      });
-      const Joint& joint = model.joint(body.joint);
-      if (!on_loop)
+      const Joint& joint = model.joint(model.body(BodyIndex(k)).joint);
+      if (subsystem_of_body[BodyIndex(k)] < 0)
         for (int i = 0; i < joint.nq; ++i) off_loop_q.push_back(joint.idx_q + i);
     }
     out += fmt::format("constexpr int num_off_loop_q = {};\n", off_loop_q.size());
