@@ -106,8 +106,9 @@ TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
 }
 
 TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
-  // close_loops from a moved pose and an inconsistent v: the same q as closure_positions, and v's
-  // dependent entries those of full_velocities at the closed q (its independent ones kept), to
+  // close_loops from a moved pose and an inconsistent v: q closed as closure_positions closes it
+  // (within 1e-10: closure_positions may end with a simplified step, close_loops never does), and
+  // v's dependent entries those of full_velocities at close_loops' q (its independent ones kept), to
   // 1e-13 relative; an unconverged closure leaves v alone.
   std::mt19937_64 rng(31);
   VecX<double> q, v;
@@ -119,11 +120,11 @@ TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
   const ClosureResult<double> expected = closure_positions<double>(model, data, q_closed);
   const ClosureResult<double> result = close_loops<double>(model, data, q_both, v_both);
   ASSERT_EQ(result.status, ClosureStatus::Converged);
-  EXPECT_EQ(result.iterations, expected.iterations);
-  EXPECT_EQ(q_both, q_closed);
+  EXPECT_LE(std::abs(result.iterations - expected.iterations), 1);
+  EXPECT_LT((q_both - q_closed).cwiseAbs().maxCoeff(), 1e-10);
   VecX<double> vy(static_cast<int>(data.independent_v.size())), v_expected(model.nv());
   for (int i = 0; i < vy.size(); ++i) vy[i] = v_moved[data.independent_v[static_cast<std::size_t>(i)]];
-  full_velocities<double>(model, data, q_closed, vy, v_expected);
+  full_velocities<double>(model, data, q_both, vy, v_expected);
   EXPECT_LT((v_both - v_expected).cwiseAbs().maxCoeff(), 1e-13 * v_expected.cwiseAbs().maxCoeff());
   EXPECT_GT((v_moved - v_expected).cwiseAbs().maxCoeff(), 1e-3) << "the projection did something";
   VecX<double> nan_q = moved, untouched = v_moved;
@@ -135,17 +136,19 @@ TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
 /// The generated code's float settings (closure_options_float): a float Newton's tolerances.
 ClosureOptions float_options() { return default_closure_options<float>(); }
 
-TEST_P(LoopMapsTest, ResidualCheckOfThePredictedFinalIterateKeepsQAndTheIterations) {
-  // closure_positions checks a final iterate that quadratic convergence predicts closed by its
-  // residual alone (detail::residual_check_predicted); close_loops always factors. Both must return
-  // the same q bit for bit and the same iteration count; closure_positions' pivot ratios are then
-  // the factor's one step before q (seen as a difference from close_loops'), within 1e-3 relative
-  // (the residual is the same: the same kinematics at the same q)
-  // at these regular poses. From warm starts 1e-3 off (Newton takes two steps or more), the check
-  // must fire on some of them: counted, and required where any draw took two steps or more.
+TEST_P(LoopMapsTest, ResidualCheckAndSimplifiedStepCloseAsNewtonDoes) {
+  // closure_positions checks an iterate that quadratic convergence predicts closed by its residual
+  // alone, and when that is not yet below the tolerance takes one simplified step with the last
+  // factor (detail::residual_check_predicted); close_loops always takes full Newton steps. Both
+  // must close the loops: the same status, closure_positions' reported residual the kept residual
+  // recomputed at its q and below the tolerance, q within 1e-10 of close_loops' (two poses closed
+  // to 1e-12, kappa(Phi_z) apart at most), at most one step more. Its pivot ratios are the factor's
+  // one or two steps before q, within 1e-3 relative of close_loops' at these regular poses. From
+  // warm starts 1e-3 off, both the check and the simplified step must fire on some draws: counted,
+  // and required for the loop robots whose Newton takes three steps (cassie_like, digit_like_2legs).
   std::mt19937_64 rng(37);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  int draws = 0, checked_by_residual = 0, two_steps_or_more = 0;
+  int draws = 0, checked_by_residual = 0, simplified = 0, three_steps = 0;
   for (int trial = 0; trial < 64 && draws < 16; ++trial) {
     VecX<double> q, v;
     if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;
@@ -157,18 +160,26 @@ TEST_P(LoopMapsTest, ResidualCheckOfThePredictedFinalIterateKeepsQAndTheIteratio
     const ClosureResult<double> both = close_loops<double>(model, data, q_both, v_both);
     ASSERT_EQ(positions.status, ClosureStatus::Converged);
     ASSERT_EQ(both.status, ClosureStatus::Converged);
-    EXPECT_EQ(q_positions, q_both);
-    EXPECT_EQ(positions.iterations, both.iterations);
-    EXPECT_EQ(positions.residual, both.residual);  // at the same q, by the same kinematics
+    double recomputed = 0;
+    closure_residual<double>(model, data, q_positions);
+    ASSERT_TRUE(detail::kept_residual<double>(model, data, recomputed));
+    EXPECT_EQ(positions.residual, recomputed);
+    EXPECT_LT(positions.residual, ClosureOptions{}.tolerance);
+    EXPECT_LT((q_positions - q_both).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LE(positions.iterations, both.iterations + 1);
     EXPECT_LT(std::abs(positions.pivot_ratio - both.pivot_ratio), 1e-3 * both.pivot_ratio);
     if (positions.pivot_ratio != both.pivot_ratio) ++checked_by_residual;
-    if (both.iterations >= 2) ++two_steps_or_more;
+    if (q_positions != q_both) ++simplified;  // the same steps would have given the same bits
+    if (both.iterations >= 3) ++three_steps;
   }
   ASSERT_GT(draws, 0);
-  if (two_steps_or_more > 0) EXPECT_GT(checked_by_residual, 0) << "no final iterate was checked by its residual alone";
+  if (three_steps > 0) {
+    EXPECT_GT(checked_by_residual, 0) << "no iterate was checked by its residual alone";
+    EXPECT_GT(simplified, 0) << "no simplified step was taken";
+  }
   RecordProperty("checked_by_residual", std::to_string(checked_by_residual) + " of " + std::to_string(draws));
-  std::printf("  %s: %d of %d draws closed by a residual-only check (%d took two steps or more)\n", model.name.c_str(), checked_by_residual,
-              draws, two_steps_or_more);
+  std::printf("  %s: %d of %d draws checked by their residual, %d closed through a simplified step (%d took three Newton steps)\n",
+              model.name.c_str(), checked_by_residual, draws, simplified, three_steps);
 }
 
 TEST_P(LoopMapsTest, NewtonOnRegularPosesIsConvergedInDoubleAndFloat) {

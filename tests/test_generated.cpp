@@ -240,14 +240,16 @@ class GeneratedTest : public ::testing::Test {
         EXPECT_LT((widen(closing) - generic).cwiseAbs().maxCoeff(), 1e-12);
       }
       if (!gen_ns::has_loops) EXPECT_EQ(result.iterations, 0);
-      // close_loops: the same q, and v's dependent entries full_velocities' at it (independent kept).
+      // close_loops: q closed as closure_positions' is (not the same bits: closure_positions may end
+      // with a simplified step, close_loops always with Newton's), in at most one step more or fewer;
+      // v's dependent entries full_velocities' at its q (independent kept).
       std::vector<T> closing_both = narrow<T>(moved), v_both(static_cast<std::size_t>(nv), T(7)), v_expected(static_cast<std::size_t>(nv));
       for (int i = 0; i < ny; ++i) v_both[static_cast<std::size_t>(gen_ns::independent_v_index[i])] = vyt[static_cast<std::size_t>(i)];
       const auto both = gen_ns::close_loops(closing_both.data(), v_both.data());
       EXPECT_EQ(both.status, result.status);
-      EXPECT_EQ(both.iterations, result.iterations);
-      EXPECT_EQ(closing_both, closing);
-      gen_ns::full_velocities(closing.data(), vyt.data(), v_expected.data());
+      EXPECT_LE(std::abs(both.iterations - result.iterations), 1);
+      worst[3] = std::max(worst[3], (widen(closing_both) - q).cwiseAbs().maxCoeff());
+      gen_ns::full_velocities(closing_both.data(), vyt.data(), v_expected.data());
       worst[1] = std::max(worst[1], relative_error(widen(v_both), widen(v_expected)));
     }
     EXPECT_GE(states, trials / 2);

@@ -127,10 +127,10 @@ void closure_newton_step_setup(const S* q, S* invariants) {
   invariants[1] = _t1;
 }
 
-// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step).
+// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
 // 563 operations: 190 additions/subtractions, 318 multiplications, 15 divisions, 10 negations, 12 sin/cos, 9 square roots, 9 max (selects) per iteration.
 template <typename S>
-void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step) {
+void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
   (void)invariants;
   const S _t0 = std::cos(q[0]);
@@ -165,6 +165,22 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t29 = std::sin(q[6]);
   const S _t30 = std::cos(q[7]);
   const S _t31 = std::sin(q[7]);
+  factor[0] = S(1);
+  factor[1] = S(1);
+  factor[2] = S(1);
+  factor[5] = S(1);
+  factor[6] = S(1);
+  factor[7] = S(1);
+  factor[15] = S(0);
+  factor[16] = S(0);
+  factor[17] = S(0);
+  factor[20] = S(0);
+  factor[21] = S(0);
+  factor[22] = S(0);
+  factor[32] = S(0);
+  factor[33] = S(0);
+  factor[37] = S(0);
+  factor[38] = S(0);
   const S _t32 = _t29 * _t31;
   const S _t33 = _t28 * _t31;
   const S _t34 = _t6 * S(-0.12);
@@ -376,7 +392,9 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t240 = S(1) - _t239;
   const S _t241 = _t114 * _t238;
   const S _t242 = _t240 + _t241;
+  factor[3] = _t242;
   const S _t243 = _t118 * _t238;
+  factor[18] = _t243;
   const S _t244 = _t118 * _t243;
   const S _t245 = _t114 * _t242;
   const S _t246 = _t244 + _t245;
@@ -408,25 +426,31 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t272 = S(1) - _t271;
   const S _t273 = _t110 * _t270;
   const S _t274 = _t272 + _t273;
+  factor[4] = _t274;
   const S _t275 = _t246 * _t270;
+  factor[19] = _t275;
   const S _t276 = _t246 * _t275;
   const S _t277 = _t110 * _t274;
   const S _t278 = _t276 + _t277;
+  factor[30] = _t278;
   const S _t279 = _t249 * _t275;
   const S _t280 = _t94 * _t274;
   const S _t281 = _t279 + _t280;
+  factor[31] = _t281;
   const S _t282 = _t94 * _t275;
   const S _t283 = _t249 * _t274;
   const S _t284 = _t283 - _t282;
   const S _t285 = _t255 * _t275;
   const S _t286 = _t72 * _t274;
   const S _t287 = _t285 + _t286;
+  factor[34] = _t287;
   const S _t288 = _t72 * _t275;
   const S _t289 = _t255 * _t274;
   const S _t290 = _t289 - _t288;
   const S _t291 = _t261 * _t275;
   const S _t292 = _t58 * _t274;
   const S _t293 = _t291 + _t292;
+  factor[35] = _t293;
   const S _t294 = _t58 * _t275;
   const S _t295 = _t261 * _t274;
   const S _t296 = _t295 - _t294;
@@ -440,19 +464,24 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t304 = S(1) - _t303;
   const S _t305 = _t284 * _t302;
   const S _t306 = _t304 + _t305;
+  factor[8] = _t306;
   const S _t307 = _t252 * _t302;
+  factor[23] = _t307;
   const S _t308 = _t252 * _t307;
   const S _t309 = _t284 * _t306;
   const S _t310 = _t308 + _t309;
+  factor[36] = _t310;
   const S _t311 = _t258 * _t307;
   const S _t312 = _t290 * _t306;
   const S _t313 = _t311 + _t312;
+  factor[39] = _t313;
   const S _t314 = _t290 * _t307;
   const S _t315 = _t258 * _t306;
   const S _t316 = _t315 - _t314;
   const S _t317 = _t264 * _t307;
   const S _t318 = _t296 * _t306;
   const S _t319 = _t317 + _t318;
+  factor[40] = _t319;
   const S _t320 = _t296 * _t307;
   const S _t321 = _t264 * _t306;
   const S _t322 = _t321 - _t320;
@@ -466,7 +495,9 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t330 = S(1) - _t329;
   const S _t331 = _t212 * _t328;
   const S _t332 = _t330 + _t331;
+  factor[9] = _t332;
   const S _t333 = _t216 * _t328;
+  factor[24] = _t333;
   const S _t334 = _t216 * _t333;
   const S _t335 = _t212 * _t332;
   const S _t336 = _t334 + _t335;
@@ -498,7 +529,9 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t362 = S(1) - _t361;
   const S _t363 = _t208 * _t360;
   const S _t364 = _t362 + _t363;
+  factor[10] = _t364;
   const S _t365 = _t336 * _t360;
+  factor[25] = _t365;
   const S _t366 = _t336 * _t365;
   const S _t367 = _t208 * _t364;
   const S _t368 = _t366 + _t367;
@@ -526,19 +559,25 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t390 = S(1) / _t389;
   const S _t391 = _t388 * _t390;
   const S _t392 = S(1) - _t391;
+  factor[11] = _t392;
   const S _t393 = _t368 * _t390;
+  factor[26] = _t393;
   const S _t394 = _t368 * _t393;
+  factor[41] = _t394;
   const S _t395 = _t371 * _t393;
+  factor[42] = _t395;
   const S _t396 = _t371 * _t392;
   const S _t397 = _t377 * _t393;
   const S _t398 = _t316 * _t392;
   const S _t399 = _t397 + _t398;
+  factor[43] = _t399;
   const S _t400 = _t316 * _t393;
   const S _t401 = _t377 * _t392;
   const S _t402 = _t401 - _t400;
   const S _t403 = _t383 * _t393;
   const S _t404 = _t322 * _t392;
   const S _t405 = _t403 + _t404;
+  factor[44] = _t405;
   const S _t406 = _t322 * _t393;
   const S _t407 = _t383 * _t392;
   const S _t408 = _t407 - _t406;
@@ -552,7 +591,9 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t416 = S(1) - _t415;
   const S _t417 = _t374 * _t414;
   const S _t418 = _t416 + _t417;
+  factor[12] = _t418;
   const S _t419 = _t342 * _t414;
+  factor[27] = _t419;
   const S _t420 = _t342 * _t419;
   const S _t421 = _t374 * _t418;
   const S _t422 = _t420 + _t421;
@@ -578,19 +619,24 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t442 = S(1) - _t441;
   const S _t443 = _t396 * _t440;
   const S _t444 = _t442 + _t443;
+  factor[13] = _t444;
   const S _t445 = _t422 * _t440;
+  factor[28] = _t445;
   const S _t446 = _t422 * _t445;
   const S _t447 = _t396 * _t444;
   const S _t448 = _t446 + _t447;
+  factor[45] = _t448;
   const S _t449 = _t425 * _t445;
   const S _t450 = _t402 * _t444;
   const S _t451 = _t449 + _t450;
+  factor[46] = _t451;
   const S _t452 = _t402 * _t445;
   const S _t453 = _t425 * _t444;
   const S _t454 = _t453 - _t452;
   const S _t455 = _t431 * _t445;
   const S _t456 = _t408 * _t444;
   const S _t457 = _t455 + _t456;
+  factor[47] = _t457;
   const S _t458 = _t408 * _t445;
   const S _t459 = _t431 * _t444;
   const S _t460 = _t459 - _t458;
@@ -604,16 +650,21 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t468 = S(1) - _t467;
   const S _t469 = _t454 * _t466;
   const S _t470 = _t468 + _t469;
+  factor[14] = _t470;
   const S _t471 = _t428 * _t466;
+  factor[29] = _t471;
   const S _t472 = _t428 * _t471;
   const S _t473 = _t454 * _t470;
   const S _t474 = _t472 + _t473;
+  factor[48] = _t474;
   const S _t475 = _t434 * _t471;
   const S _t476 = _t460 * _t470;
   const S _t477 = _t475 + _t476;
+  factor[49] = _t477;
   const S _t478 = _t460 * _t471;
   const S _t479 = _t434 * _t470;
   const S _t480 = _t479 - _t478;
+  factor[50] = _t480;
   const S _t481 = _t134 * _t243;
   const S _t482 = _t129 * _t242;
   const S _t483 = _t481 + _t482;
@@ -1454,11 +1505,55 @@ constexpr int subsystem_begin[2] = {0, 6};
 constexpr int dependent_q[6] = {0, 1, 3, 4, 6, 7};
 constexpr int dependent_v[6] = {0, 1, 3, 4, 6, 7};
 constexpr int off_loop_q[1] = {0};
+// Sub-system k's factor (the step's last output): entries [factor_begin[k], factor_begin[k + 1]).
+constexpr int factor_size = 51;
+constexpr int factor_begin[2] = {0, 51};
 // The sizes of the setups' invariants (at least 1).
 constexpr int closure_newton_step_setup_size = 2;
 constexpr int closure_newton_step_velocities_setup_size = 2;
 // Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).
 template <typename S> constexpr S nominal_pivot_ratio[1] = {S(1.9e-01)};
+
+// The step Phi_z^-1 Phi from the kept rows `residual` and the factor of the last Newton step (the
+// runtime's detail::step_from_factor, the same operations in the same order): per sub-system its
+// Givens rotations on the residual (in place: no copy, which g++ would make a memcpy call), then
+// back substitution with R (its upper triangle, row by row) into step.
+template <typename S> void step_from_factor(const S* factor, S* residual, S* step) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    const int b = subsystem_begin[k], n = subsystem_begin[k + 1] - b, rotations = n * (n - 1) / 2;
+    const S* c = factor + factor_begin[k];
+    const S* s = c + rotations;
+    const S* r = s + rotations;
+    S* x = residual + b;
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = n - 1; i > j; --i, ++m) {
+        if (s[m] == S(0) && c[m] == S(1)) continue;  // the identity (an entry already zero): skipped, as the runtime does
+        const S a = x[i - 1], y = x[i];
+        x[i - 1] = c[m] * a + s[m] * y;
+        x[i] = c[m] * y - s[m] * a;
+      }
+    S* z = step + b;
+    for (int i = n - 1; i >= 0; --i) {
+      const S* row = r + i * n - i * (i - 1) / 2;  // R(i, i), then R(i, i + 1) ..
+      S v = x[i];
+      for (int j = i + 1; j < n; ++j) v -= row[j - i] * z[j];
+      z[i] = v / row[0];
+    }
+  }
+}
+
+// Subtracts each sub-system's step from its dependent coordinates, scaled to max_step in its
+// largest entry.
+template <typename S> void take_step(S* q, const S* step, const ClosureOptions<S>& options) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    S largest = S(0);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
+      if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
+    const S scale = largest > options.max_step ? options.max_step / largest : S(1);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
+  }
+}
 
 template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
@@ -1466,7 +1561,7 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
   for (int i = 0; i < num_off_loop_q; ++i)
     if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
-  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
+  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], factor[kVelocities ? 1 : factor_size];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
   if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
@@ -1474,19 +1569,30 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
+  bool factor_is_last_steps = false;  // factor holds the Newton step's just taken
   for (;; ++result.iterations) {
-    if (residual_check) {  // the final iterate by its residual alone; the pivot ratios stay the last factor's
+    if (residual_check) {  // the iterate by its residual alone; the pivot ratios stay the last factor's
       closure_residual<S>(q, residual);
-      bool closed = true;
+      bool closed = true, finite = true;
       S largest = S(0);
       for (int i = 0; i < R; ++i) {
         if (!(std::fabs(residual[i]) < options.tolerance)) closed = false;
+        if (!std::isfinite(residual[i])) finite = false;
         if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
       }
       if (closed) return result.residual = largest, result;
+      // Not closed yet: one simplified step with the last factor, then the residual again (the
+      // runtime's detail::residual_check_predicted); a second failure pays for a full step.
+      if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
+        step_from_factor<S>(factor, residual, step);
+        take_step<S>(q, step, options);
+        factor_is_last_steps = false;
+        previous_residual = largest;
+        continue;
+      }
     }
     if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, invariants, residual, pivots, step, vz);
-    else closure_newton_step<S>(q, invariants, residual, pivots, step);
+    else closure_newton_step<S>(q, invariants, residual, pivots, step, factor);
     bool finite = true;
     int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);
@@ -1534,15 +1640,9 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
     residual_check = !kVelocities && previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual &&
                      result.pivot_ratio >= S(100) * options.singular_tolerance &&
                      result.relative_pivot_ratio >= S(100) * options.dead_point_tolerance;
+    factor_is_last_steps = true;
     previous_residual = result.residual;
-    // Steps limited to max_step in their largest entry, per sub-system.
-    for (int k = 0; k < num_subsystems; ++k) {
-      S largest = S(0);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
-        if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
-      const S scale = largest > options.max_step ? options.max_step / largest : S(1);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
-    }
+    take_step<S>(q, step, options);
   }
 }
 

@@ -173,9 +173,9 @@ enum class ClosureStatus : int {
 };
 template <typename S> struct ClosureResult {
   ClosureStatus status;
-  int iterations;   ///< Newton steps taken
+  int iterations;   ///< steps taken: Newton's, and (closure_positions) simplified ones with the last factor
   S residual;       ///< max |Phi| over the kept closure rows at the returned q (m, rad)
-  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops); of the last factorisation, one Newton step before q when the final iterate was checked by its residual alone
+  S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops); of the last factorisation, one or two steps before q when the final iterate was checked by its residual alone
   S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
   int subsystem;    ///< a failure's sub-system (0-based; Backend::subsystem_name names it): the worst relative pivot ratio when singular, the largest residual when not converged; -1 when converged
 };

@@ -63,10 +63,10 @@ void closure_newton_step_setup(const S* q, S* invariants) {
   invariants[3] = _t3;
 }
 
-// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step).
+// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
 // 65 operations: 23 additions/subtractions, 32 multiplications, 3 divisions, 3 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
-void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step) {
+void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
   (void)invariants;
   const S _t0 = std::cos(q[1]);
@@ -114,16 +114,21 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t42 = S(1) - _t41;
   const S _t43 = _t23 * _t40;
   const S _t44 = _t42 + _t43;
+  factor[0] = _t44;
   const S _t45 = _t27 * _t40;
+  factor[1] = _t45;
   const S _t46 = _t27 * _t45;
   const S _t47 = _t23 * _t44;
   const S _t48 = _t46 + _t47;
+  factor[2] = _t48;
   const S _t49 = _t9 * _t45;
   const S _t50 = _t4 * _t44;
   const S _t51 = _t49 + _t50;
+  factor[3] = _t51;
   const S _t52 = _t4 * _t45;
   const S _t53 = _t9 * _t44;
   const S _t54 = _t53 - _t52;
+  factor[4] = _t54;
   const S _t55 = _t34 * _t45;
   const S _t56 = _t31 * _t44;
   const S _t57 = _t55 + _t56;
@@ -267,11 +272,55 @@ constexpr int subsystem_begin[2] = {0, 2};
 constexpr int dependent_q[2] = {1, 2};
 constexpr int dependent_v[2] = {1, 2};
 constexpr int off_loop_q[1] = {0};
+// Sub-system k's factor (the step's last output): entries [factor_begin[k], factor_begin[k + 1]).
+constexpr int factor_size = 5;
+constexpr int factor_begin[2] = {0, 5};
 // The sizes of the setups' invariants (at least 1).
 constexpr int closure_newton_step_setup_size = 4;
 constexpr int closure_newton_step_velocities_setup_size = 4;
 // Each sub-system's pivot ratio at the assembled pose (SubSystem::nominal_pivot_ratio).
 template <typename S> constexpr S nominal_pivot_ratio[1] = {S(1.4e-01)};
+
+// The step Phi_z^-1 Phi from the kept rows `residual` and the factor of the last Newton step (the
+// runtime's detail::step_from_factor, the same operations in the same order): per sub-system its
+// Givens rotations on the residual (in place: no copy, which g++ would make a memcpy call), then
+// back substitution with R (its upper triangle, row by row) into step.
+template <typename S> void step_from_factor(const S* factor, S* residual, S* step) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    const int b = subsystem_begin[k], n = subsystem_begin[k + 1] - b, rotations = n * (n - 1) / 2;
+    const S* c = factor + factor_begin[k];
+    const S* s = c + rotations;
+    const S* r = s + rotations;
+    S* x = residual + b;
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = n - 1; i > j; --i, ++m) {
+        if (s[m] == S(0) && c[m] == S(1)) continue;  // the identity (an entry already zero): skipped, as the runtime does
+        const S a = x[i - 1], y = x[i];
+        x[i - 1] = c[m] * a + s[m] * y;
+        x[i] = c[m] * y - s[m] * a;
+      }
+    S* z = step + b;
+    for (int i = n - 1; i >= 0; --i) {
+      const S* row = r + i * n - i * (i - 1) / 2;  // R(i, i), then R(i, i + 1) ..
+      S v = x[i];
+      for (int j = i + 1; j < n; ++j) v -= row[j - i] * z[j];
+      z[i] = v / row[0];
+    }
+  }
+}
+
+// Subtracts each sub-system's step from its dependent coordinates, scaled to max_step in its
+// largest entry.
+template <typename S> void take_step(S* q, const S* step, const ClosureOptions<S>& options) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    S largest = S(0);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
+      if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
+    const S scale = largest > options.max_step ? options.max_step / largest : S(1);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
+  }
+}
 
 template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
@@ -279,7 +328,7 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
   for (int i = 0; i < num_off_loop_q; ++i)
     if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
-  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
+  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], factor[kVelocities ? 1 : factor_size];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
   if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
@@ -287,19 +336,30 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
+  bool factor_is_last_steps = false;  // factor holds the Newton step's just taken
   for (;; ++result.iterations) {
-    if (residual_check) {  // the final iterate by its residual alone; the pivot ratios stay the last factor's
+    if (residual_check) {  // the iterate by its residual alone; the pivot ratios stay the last factor's
       closure_residual<S>(q, residual);
-      bool closed = true;
+      bool closed = true, finite = true;
       S largest = S(0);
       for (int i = 0; i < R; ++i) {
         if (!(std::fabs(residual[i]) < options.tolerance)) closed = false;
+        if (!std::isfinite(residual[i])) finite = false;
         if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
       }
       if (closed) return result.residual = largest, result;
+      // Not closed yet: one simplified step with the last factor, then the residual again (the
+      // runtime's detail::residual_check_predicted); a second failure pays for a full step.
+      if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
+        step_from_factor<S>(factor, residual, step);
+        take_step<S>(q, step, options);
+        factor_is_last_steps = false;
+        previous_residual = largest;
+        continue;
+      }
     }
     if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, invariants, residual, pivots, step, vz);
-    else closure_newton_step<S>(q, invariants, residual, pivots, step);
+    else closure_newton_step<S>(q, invariants, residual, pivots, step, factor);
     bool finite = true;
     int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);
@@ -347,15 +407,9 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
     residual_check = !kVelocities && previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual &&
                      result.pivot_ratio >= S(100) * options.singular_tolerance &&
                      result.relative_pivot_ratio >= S(100) * options.dead_point_tolerance;
+    factor_is_last_steps = true;
     previous_residual = result.residual;
-    // Steps limited to max_step in their largest entry, per sub-system.
-    for (int k = 0; k < num_subsystems; ++k) {
-      S largest = S(0);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
-        if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
-      const S scale = largest > options.max_step ? options.max_step / largest : S(1);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
-    }
+    take_step<S>(q, step, options);
   }
 }
 

@@ -22,13 +22,54 @@ std::string int_array(const std::string& name, const std::vector<int>& items) {
 // close_loops': the step also gives the dependent velocities at its q, kept when that q is closed.
 // R: the number of dependent coordinates; num_subsystems, subsystem_begin, dependent_q,
 // dependent_v, the setup sizes: see the tables above it.
-const char* kNewtonLoop = R"(template <typename S, bool kVelocities>
+const char* kNewtonLoop = R"(// The step Phi_z^-1 Phi from the kept rows `residual` and the factor of the last Newton step (the
+// runtime's detail::step_from_factor, the same operations in the same order): per sub-system its
+// Givens rotations on the residual (in place: no copy, which g++ would make a memcpy call), then
+// back substitution with R (its upper triangle, row by row) into step.
+template <typename S> void step_from_factor(const S* factor, S* residual, S* step) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    const int b = subsystem_begin[k], n = subsystem_begin[k + 1] - b, rotations = n * (n - 1) / 2;
+    const S* c = factor + factor_begin[k];
+    const S* s = c + rotations;
+    const S* r = s + rotations;
+    S* x = residual + b;
+    int m = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = n - 1; i > j; --i, ++m) {
+        if (s[m] == S(0) && c[m] == S(1)) continue;  // the identity (an entry already zero): skipped, as the runtime does
+        const S a = x[i - 1], y = x[i];
+        x[i - 1] = c[m] * a + s[m] * y;
+        x[i] = c[m] * y - s[m] * a;
+      }
+    S* z = step + b;
+    for (int i = n - 1; i >= 0; --i) {
+      const S* row = r + i * n - i * (i - 1) / 2;  // R(i, i), then R(i, i + 1) ..
+      S v = x[i];
+      for (int j = i + 1; j < n; ++j) v -= row[j - i] * z[j];
+      z[i] = v / row[0];
+    }
+  }
+}
+
+// Subtracts each sub-system's step from its dependent coordinates, scaled to max_step in its
+// largest entry.
+template <typename S> void take_step(S* q, const S* step, const ClosureOptions<S>& options) {
+  for (int k = 0; k < num_subsystems; ++k) {
+    S largest = S(0);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
+      if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
+    const S scale = largest > options.max_step ? options.max_step / largest : S(1);
+    for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
+  }
+}
+
+template <typename S, bool kVelocities>
 ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
   // A non-finite coordinate is no pose, closed or not. The step reads only the loops' own
   // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
   for (int i = 0; i < num_off_loop_q; ++i)
     if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
-  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1];
+  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], factor[kVelocities ? 1 : factor_size];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
   if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
@@ -36,19 +77,30 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
+  bool factor_is_last_steps = false;  // factor holds the Newton step's just taken
   for (;; ++result.iterations) {
-    if (residual_check) {  // the final iterate by its residual alone; the pivot ratios stay the last factor's
+    if (residual_check) {  // the iterate by its residual alone; the pivot ratios stay the last factor's
       closure_residual<S>(q, residual);
-      bool closed = true;
+      bool closed = true, finite = true;
       S largest = S(0);
       for (int i = 0; i < R; ++i) {
         if (!(std::fabs(residual[i]) < options.tolerance)) closed = false;
+        if (!std::isfinite(residual[i])) finite = false;
         if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
       }
       if (closed) return result.residual = largest, result;
+      // Not closed yet: one simplified step with the last factor, then the residual again (the
+      // runtime's detail::residual_check_predicted); a second failure pays for a full step.
+      if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
+        step_from_factor<S>(factor, residual, step);
+        take_step<S>(q, step, options);
+        factor_is_last_steps = false;
+        previous_residual = largest;
+        continue;
+      }
     }
     if constexpr (kVelocities) closure_newton_step_velocities<S>(q, v, invariants, residual, pivots, step, vz);
-    else closure_newton_step<S>(q, invariants, residual, pivots, step);
+    else closure_newton_step<S>(q, invariants, residual, pivots, step, factor);
     bool finite = true;
     int worst_residual = 0, worst_relative = 0;  // the sub-systems a failure is reported in
     result.residual = S(0);
@@ -96,15 +148,9 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
     residual_check = !kVelocities && previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual &&
                      result.pivot_ratio >= S(100) * options.singular_tolerance &&
                      result.relative_pivot_ratio >= S(100) * options.dead_point_tolerance;
+    factor_is_last_steps = true;
     previous_residual = result.residual;
-    // Steps limited to max_step in their largest entry, per sub-system.
-    for (int k = 0; k < num_subsystems; ++k) {
-      S largest = S(0);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
-        if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
-      const S scale = largest > options.max_step ? options.max_step / largest : S(1);
-      for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
-    }
+    take_step<S>(q, step, options);
   }
 }
 )";
@@ -114,7 +160,10 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
 /// g++'s SLP vectorizer packs them into vectors through shuffles (cassie_like's
 /// closure_positions: 8,101 instructions against 6,802 written last, 8 % slower; 6,719 early
 /// without SLP).
-StatementStyle closure_style(const EmitContext& ctx) { return {0, ctx.inline_sincos, /*early_outputs=*/false}; }
+/// The Newton step's factor (only the simplified step reads it) is written as it is computed: kept
+/// for the end, its ~100 values (cassie_like) were spilled and reloaded, and the step was 11 %
+/// slower than without it.
+StatementStyle closure_style(const EmitContext& ctx) { return {0, ctx.inline_sincos, /*early_outputs=*/false, {"factor"}}; }
 
 }  // namespace
 
@@ -175,6 +224,11 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
     if (off_loop_q.empty()) off_loop_q.push_back(0);
     out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v) +
            int_array("off_loop_q", off_loop_q);
+    std::vector<int> factor_begin{0};
+    for (const SubSystem& sub : model.subsystems)
+      factor_begin.push_back(factor_begin.back() + sub.rank() * (sub.rank() - 1) + sub.rank() * (sub.rank() + 1) / 2);
+    out += "// Sub-system k's factor (the step's last output): entries [factor_begin[k], factor_begin[k + 1]).\n";
+    out += fmt::format("constexpr int factor_size = {};\n", closure_factor_size(model)) + int_array("factor_begin", factor_begin);
     out += "// The sizes of the setups' invariants (at least 1).\n" + setup_sizes;
     // SubSystem::nominal_pivot_ratio holds two significant digits: printed back exactly.
     // (A variable template: the float code converts at compile time, no double arithmetic.)

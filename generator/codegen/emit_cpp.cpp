@@ -280,11 +280,13 @@ class StatementPrinter {
   std::vector<int> partner_;  ///< inline sin/cos: the cos of a sin's argument and vice versa, else -1
 };
 
-std::string output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names) {
+/// Every output's assignments, or (with `only`) those of the outputs it marks.
+std::string output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names,
+                               const std::vector<bool>* only = nullptr) {
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::string body;
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
-    for (std::size_t i = 0; i < f.output_ids[o].size(); ++i)
+    for (std::size_t i = 0; i < (only && !(*only)[o] ? 0 : f.output_ids[o].size()); ++i)
       body += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), f.output_ids[o][i], name);
   return body;
 }
@@ -297,7 +299,7 @@ std::string output_assignments(const TracedFunction& f, const StatementPrinter& 
 /// input, so every input is read before any output is written, as when all were written last:
 /// a caller passing an output that overlaps an input gets what it got before.
 std::string place_output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names,
-                                     const std::vector<int>& order, std::vector<std::string>& after) {
+                                     const std::vector<int>& order, std::vector<std::string>& after, const std::vector<bool>& placed) {
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::vector<int> position(static_cast<std::size_t>(f.graph.size()), -1);
   int last_read = -1;
@@ -314,7 +316,7 @@ std::string place_output_assignments(const TracedFunction& f, const StatementPri
   after.assign(order.size(), std::string());
   std::string first;  // outputs written before any statement: no statement reads an input, and their values are leaves
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
-    for (std::size_t i = 0; i < f.output_ids[o].size(); ++i) {
+    for (std::size_t i = 0; i < (placed[o] ? f.output_ids[o].size() : 0); ++i) {
       const int id = f.output_ids[o][i];
       const int k = std::max(position[static_cast<std::size_t>(id)], last_read);
       (k < 0 ? first : after[static_cast<std::size_t>(k)]) += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), id, name);
@@ -346,10 +348,16 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style) {
   const std::vector<std::string> names = printer.leaf_and_temporary_names();
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   const std::vector<int> run = statement_ids(f, seen);
-  if (!style.early_outputs) return printer.statements(run, name) + output_assignments(f, printer, names);
+  // Which outputs are written as soon as they exist; the others are written at the end.
+  std::vector<bool> early(f.outputs.size(), style.early_outputs);
+  for (std::size_t o = 0; o < f.outputs.size(); ++o)
+    if (std::find(style.early_anyway.begin(), style.early_anyway.end(), f.outputs[o].name) != style.early_anyway.end()) early[o] = true;
+  std::vector<bool> late(early.size());
+  for (std::size_t o = 0; o < early.size(); ++o) late[o] = !early[o];
+  if (std::find(early.begin(), early.end(), true) == early.end()) return printer.statements(run, name) + output_assignments(f, printer, names);
   std::vector<std::string> after;
-  const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after);
-  return first + printer.statements(run, name, &after);
+  const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after, early);
+  return first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late);
 }
 
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {

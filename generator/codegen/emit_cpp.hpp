@@ -6,6 +6,7 @@
 // (EmitContext, templates/<flavour>/); this file computes what goes in it.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "codegen/emit_context.hpp"
 #include "codegen/traced_function.hpp"
@@ -43,6 +44,8 @@ struct StatementStyle {
   bool inline_sincos = false;
   /// Outputs written as soon as their values exist (emit_statements); false: all at the end.
   bool early_outputs = true;
+  /// With early_outputs false, these outputs (by name) are still written as soon as they exist.
+  std::vector<std::string> early_anyway = {};
 };
 
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,

@@ -14,6 +14,12 @@ int num_dependent(const Model& model) {
   return n;
 }
 
+int closure_factor_size(const Model& model) {
+  int size = 0;
+  for (const SubSystem& s : model.subsystems) size += s.rank() * (s.rank() - 1) + s.rank() * (s.rank() + 1) / 2;
+  return size;
+}
+
 TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities) {
   if (model.subsystems.empty()) throw std::logic_error("trace_closure_newton_step: the model has no loops");
   const int r = num_dependent(model);
@@ -23,13 +29,18 @@ TracedFunction trace_closure_newton_step(const Model& model, bool with_velocitie
           "sub-system (runtime: detail::closure_newton_step)";
   f.doc += with_velocities ? ", and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor "
                              "(detail::dependent_velocities_from_factor)."
-                           : ".";
+                           : ", and that factor (the loop's simplified steps reuse it).";
   f.inputs = {q_spec(model)};
   if (with_velocities) f.inputs.push_back(v_spec(model, "v", "joint velocities (the independent entries are read)"));
   f.outputs = {{"residual", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)},
                {"pivots", r, fmt::format("[{}] diagonal of each sub-system's R factor of Phi_z", r)},
                {"step", r, fmt::format("[{}] Newton step, to subtract from the dependent coordinates", r)}};
   if (with_velocities) f.outputs.push_back({"vz", r, fmt::format("[{}] dependent velocities, in the step's order", r)});
+  else
+    f.outputs.push_back({"factor", closure_factor_size(model),
+                         fmt::format("[{}] per sub-system of rank n: the n (n - 1) / 2 Givens cosines, the sines, then R's upper "
+                                     "triangle row by row (the simplified step's factor)",
+                                     closure_factor_size(model))});
   Recording rec(f.graph);
   Data<Sym> data(model);
   mbgen::detail::closure_newton_step<Sym>(model, data, inputs(0, model.nq()));
@@ -45,6 +56,18 @@ TracedFunction trace_closure_newton_step(const Model& model, bool with_velocitie
     }
   }
   f.output_ids = {residual, pivots, step};
+  if (!with_velocities) {
+    std::vector<int> factor;
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+      const SubSystemWork<Sym>& w = data.subsystem[k];
+      const int n = model.subsystems[k].rank(), rotations = n * (n - 1) / 2;
+      for (int m = 0; m < rotations; ++m) factor.push_back(w.rotation_c[m].id());
+      for (int m = 0; m < rotations; ++m) factor.push_back(w.rotation_s[m].id());
+      for (int i = 0; i < n; ++i)
+        for (int j = i; j < n; ++j) factor.push_back(w.R(i, j).id());
+    }
+    f.output_ids.push_back(factor);
+  }
   if (with_velocities) {
     SymVec v = inputs(1, model.nv());
     mbgen::detail::dependent_velocities_from_factor<Sym>(model, data, v);

@@ -88,7 +88,7 @@ template <typename S> ClosureOptions default_closure_options() {
 
 template <typename S> struct ClosureResult {
   ClosureStatus status = ClosureStatus::Converged;
-  int iterations = 0;      ///< Newton steps taken
+  int iterations = 0;      ///< steps taken: Newton's, and simplified ones (closure_positions)
   S residual = S(0);       ///< max |Phi| over the kept rows at the returned q; NaN if q is not finite off the loops
   /// subsystem_pivot_ratio at the returned q (1 without loops); when the final iterate was
   /// checked by its residual alone (closure_positions), at the iterate one Newton step before.
@@ -107,6 +107,21 @@ inline int q_index_of_coordinate(const Model& model, const SubSystem& sub, std::
   return model.joint(model.body(sub.bodies[j]).joint).idx_q;
 }
 
+/// Per sub-system, the step Phi_z^-1 Phi_kept (to subtract from z, in SubSystem::dependent order)
+/// in the last column of data.subsystem[k].rhs, from the kept rows of data.Phi and the factor of
+/// Phi_z in the sub-system's rotations and R.
+template <typename S> void step_from_factor(const Model& model, Data<S>& data) {
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    SubSystemWork<S>& w = data.subsystem[k];
+    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
+    for (int i = 0; i < r; ++i) w.rhs(i, p) = data.Phi[sub.rows[static_cast<std::size_t>(i)]];
+    auto column = w.rhs.middleCols(p, 1);
+    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
+    upper_triangular_solve<S>(w.R, r, column, 1);
+  }
+}
+
 /// The ingredients of one Newton step at q: data.Phi (all closure rows), and per sub-system the
 /// R factor of Phi_z in data.subsystem[k].R and the full step Phi_z^-1 Phi_kept (to subtract
 /// from z, in SubSystem::dependent order) in the last column of data.subsystem[k].rhs.
@@ -118,16 +133,11 @@ template <typename S> void closure_newton_step(const Model& model, Data<S>& data
     closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
   }
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystem& sub = model.subsystems[k];
-    SubSystemWork<S>& w = data.subsystem[k];
-    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
     load_dependent_block<S>(model, data, k);
-    for (int i = 0; i < r; ++i) w.rhs(i, p) = data.Phi[sub.rows[static_cast<std::size_t>(i)]];
-    givens_qr_factor<S>(w.R, r, w.rotation_c, w.rotation_s);
-    auto column = w.rhs.middleCols(p, 1);
-    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
-    upper_triangular_solve<S>(w.R, r, column, 1);
+    SubSystemWork<S>& w = data.subsystem[k];
+    givens_qr_factor<S>(w.R, model.subsystems[k].rank(), w.rotation_c, w.rotation_s);
   }
+  step_from_factor<S>(model, data);
 }
 
 /// The dependent velocities of v (nv) from its independent ones, v_z = -Phi_z^-1 Phi_y v_y per
@@ -200,7 +210,16 @@ template <typename S> int worst_pivot_subsystem(const Model& model, const Data<S
 /// factor was far from singular (pivot ratios 100 times their tolerances), since the result then
 /// reports that factor's ratios, one step away from the returned q: near a dead point the
 /// ratios move with the residual (sigma^2 ~ 2 h r, ClosureOptions::dead_point_tolerance), and
-/// there every check keeps its full factorisation. A failed try costs one residual evaluation.
+/// there every check keeps its full factorisation.
+///
+/// A failed try is not wasted: its residual and the factor of the Newton step just taken give a
+/// simplified Newton step (step_from_factor: the same rotations and R, no Jacobian, no
+/// factorisation), then the residual is checked again; a second failure in a row pays for a full
+/// step. The factor is one step old, so the simplified step contracts the residual by about
+/// kappa(Phi_z) |Phi_zz| |last step| (linear, not quadratic), and the check is tried only where the
+/// last step was small enough to predict a closed iterate: from warm starts 1e-3 off, Newton's
+/// third step meets a residual of ~1e-11 (the tolerance 1e-12 is just missed) that the simplified
+/// step brings to ~1e-15 (cassie_like, digit_like_2legs: docs/loops.md).
 template <typename S>
 bool residual_check_predicted(const ClosureResult<S>& last, S previous_residual, const ClosureOptions& options) {
   const S r = last.residual;
@@ -229,13 +248,37 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   }
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
+  bool factor_is_last_steps = false;  // data holds the factor of the Newton step just taken
+  // Each sub-system's step from the rhs' last column, scaled to max_step in its largest entry.
+  const auto take_step = [&] {
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+      const SubSystem& sub = model.subsystems[k];
+      const SubSystemWork<S>& w = data.subsystem[k];
+      const int p = static_cast<int>(sub.independent.size());
+      S largest = S(0);
+      for (int d = 0; d < sub.rank(); ++d)
+        if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
+      const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
+      for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
+        if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
+    }
+  };
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
       closure_residual<S>(model, data, q);
       S residual;
-      if (kept_residual<S>(model, data, residual) && residual < S(options.tolerance)) {
+      const bool finite = kept_residual<S>(model, data, residual);
+      if (finite && residual < S(options.tolerance)) {
         result.residual = residual;
         return result;
+      }
+      // Not closed yet: one simplified step with the last factor (residual_check_predicted).
+      if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
+        step_from_factor<S>(model, data);
+        take_step();
+        factor_is_last_steps = false;
+        previous_residual = residual;
+        continue;
       }
     }
     detail::closure_newton_step<S>(model, data, q);
@@ -255,18 +298,9 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
                                                                              : fail(ClosureStatus::Singular);
     if (result.iterations == options.max_iterations) return fail(ClosureStatus::NotConverged);
     residual_check = !factor_at_solution && residual_check_predicted<S>(result, previous_residual, options);
+    factor_is_last_steps = true;
     previous_residual = result.residual;
-    for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-      const SubSystem& sub = model.subsystems[k];
-      const SubSystemWork<S>& w = data.subsystem[k];
-      const int p = static_cast<int>(sub.independent.size());
-      S largest = S(0);
-      for (int d = 0; d < sub.rank(); ++d)
-        if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
-      const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
-      for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
-        if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
-    }
+    take_step();
   }
 }
 
@@ -276,9 +310,11 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
 /// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
 /// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
 /// aba() and forward_dynamics_loops do themselves). When Newton converges quadratically and
-/// far from a dead point, the final iterate is checked by its residual alone
+/// far from a dead point, the final iterate is checked by its residual alone, and when that is not
+/// yet below the tolerance, one simplified step with the last factor precedes the next check
 /// (detail::residual_check_predicted): the result's pivot ratios are then those of the last
-/// factorisation, one Newton step before the returned q.
+/// factorisation, one or two steps before the returned q, and the returned q is closed to the
+/// tolerance as Newton's (close_loops') is, not the same bits.
 template <typename S>
 ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
   return detail::close_positions<S>(model, data, q, options, false);
