@@ -224,11 +224,9 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
     if (off_loop_q.empty()) off_loop_q.push_back(0);
     out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v) +
            int_array("off_loop_q", off_loop_q);
-    std::vector<int> factor_begin{0};
-    for (const SubSystem& sub : model.subsystems)
-      factor_begin.push_back(factor_begin.back() + sub.rank() * (sub.rank() - 1) + sub.rank() * (sub.rank() + 1) / 2);
+    const std::vector<int> factor_begin = closure_factor_begin(model);
     out += "// Sub-system k's factor (the step's last output): entries [factor_begin[k], factor_begin[k + 1]).\n";
-    out += fmt::format("constexpr int factor_size = {};\n", closure_factor_size(model)) + int_array("factor_begin", factor_begin);
+    out += fmt::format("constexpr int factor_size = {};\n", factor_begin.back()) + int_array("factor_begin", factor_begin);
     out += "// The sizes of the setups' invariants (at least 1).\n" + setup_sizes;
     // SubSystem::nominal_pivot_ratio holds two significant digits: printed back exactly.
     // (A variable template: the float code converts at compile time, no double arithmetic.)

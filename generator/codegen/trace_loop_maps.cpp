@@ -14,10 +14,10 @@ int num_dependent(const Model& model) {
   return n;
 }
 
-int closure_factor_size(const Model& model) {
-  int size = 0;
-  for (const SubSystem& s : model.subsystems) size += s.rank() * (s.rank() - 1) + s.rank() * (s.rank() + 1) / 2;
-  return size;
+std::vector<int> closure_factor_begin(const Model& model) {
+  std::vector<int> begin{0};
+  for (const SubSystem& s : model.subsystems) begin.push_back(begin.back() + s.rank() * (s.rank() - 1) + s.rank() * (s.rank() + 1) / 2);
+  return begin;
 }
 
 TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities) {
@@ -37,10 +37,10 @@ TracedFunction trace_closure_newton_step(const Model& model, bool with_velocitie
                {"step", r, fmt::format("[{}] Newton step, to subtract from the dependent coordinates", r)}};
   if (with_velocities) f.outputs.push_back({"vz", r, fmt::format("[{}] dependent velocities, in the step's order", r)});
   else
-    f.outputs.push_back({"factor", closure_factor_size(model),
+    f.outputs.push_back({"factor", closure_factor_begin(model).back(),
                          fmt::format("[{}] per sub-system of rank n: the n (n - 1) / 2 Givens cosines, the sines, then R's upper "
                                      "triangle row by row (the simplified step's factor)",
-                                     closure_factor_size(model))});
+                                     closure_factor_begin(model).back())});
   Recording rec(f.graph);
   Data<Sym> data(model);
   mbgen::detail::closure_newton_step<Sym>(model, data, inputs(0, model.nq()));

@@ -91,7 +91,8 @@ template <typename S> struct ClosureResult {
   int iterations = 0;      ///< steps taken: Newton's, and simplified ones (closure_positions)
   S residual = S(0);       ///< max |Phi| over the kept rows at the returned q; NaN if q is not finite off the loops
   /// subsystem_pivot_ratio at the returned q (1 without loops); when the final iterate was
-  /// checked by its residual alone (closure_positions), at the iterate one Newton step before.
+  /// checked by its residual alone (closure_positions), at the last Newton iterate, one or two
+  /// steps before.
   S pivot_ratio = S(1);
   S relative_pivot_ratio = S(1);  ///< subsystem_relative_pivot_ratio, at the same q as pivot_ratio
   /// A failure's sub-system (index into Model::subsystems): the one with the worst relative pivot
@@ -111,15 +112,7 @@ inline int q_index_of_coordinate(const Model& model, const SubSystem& sub, std::
 /// in the last column of data.subsystem[k].rhs, from the kept rows of data.Phi and the factor of
 /// Phi_z in the sub-system's rotations and R.
 template <typename S> void step_from_factor(const Model& model, Data<S>& data) {
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystem& sub = model.subsystems[k];
-    SubSystemWork<S>& w = data.subsystem[k];
-    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
-    for (int i = 0; i < r; ++i) w.rhs(i, p) = data.Phi[sub.rows[static_cast<std::size_t>(i)]];
-    auto column = w.rhs.middleCols(p, 1);
-    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
-    upper_triangular_solve<S>(w.R, r, column, 1);
-  }
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) solve_kept_rows<S>(model, data, k, data.Phi);
 }
 
 /// The ingredients of one Newton step at q: data.Phi (all closure rows), and per sub-system the

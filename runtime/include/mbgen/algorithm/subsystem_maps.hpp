@@ -67,6 +67,18 @@ template <typename S> void load_dependent_block(const Model& model, Data<S>& dat
     for (int c = 0; c < sub.rank(); ++c)
       R(i, c) = data.Phi_q(sub.rows[static_cast<std::size_t>(i)], sub.dependent[static_cast<std::size_t>(c)]);
 }
+
+/// Phi_z^-1 times sub-system k's kept entries of `rows` (all closure rows: data.Phi, data.gamma)
+/// into the last column of data.subsystem[k].rhs, by the factor of Phi_z the sub-system holds.
+template <typename S> void solve_kept_rows(const Model& model, Data<S>& data, std::size_t k, const VecX<S>& rows) {
+  const SubSystem& sub = model.subsystems[k];
+  SubSystemWork<S>& w = data.subsystem[k];
+  const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
+  for (int i = 0; i < r; ++i) w.rhs(i, p) = rows[sub.rows[static_cast<std::size_t>(i)]];
+  auto column = w.rhs.middleCols(p, 1);
+  givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
+  upper_triangular_solve<S>(w.R, r, column, 1);
+}
 }  // namespace detail
 
 /// G of every sub-system at configuration q (nq), in data.subsystem[s].G; keeps Phi_z's factor
@@ -98,11 +110,8 @@ void subsystem_acceleration_biases(const Model& model, Data<S>& data, const Cons
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
-    const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
-    for (int i = 0; i < r; ++i) w.rhs(i, p) = data.gamma[sub.rows[static_cast<std::size_t>(i)]];
-    auto column = w.rhs.middleCols(p, 1);
-    givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, column, 1);
-    upper_triangular_solve<S>(w.R, r, column, 1);
+    const int p = static_cast<int>(sub.independent.size());
+    detail::solve_kept_rows<S>(model, data, k, data.gamma);
     for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
       const int role = w.coordinate_role[j];
       w.g[static_cast<int>(j)] = role >= 0 ? S(0) : w.rhs(-1 - role, p);
