@@ -185,6 +185,30 @@ TEST(SubsystemAbaMemory, DoesNotAllocate) {
   EXPECT_TRUE(std::isfinite(sink));
 }
 
+// Which bodies' gathered inertia moves to the parent as mass moments (subsystem_backward): on
+// Lola, the knee's nut and rod and the ankle actuators' crosses, housings and rods; not the
+// shank (the ankle's sub-system hangs from it), the ankle cross or the foot (the toe hangs from it).
+TEST(SubsystemWork, RigidBodiesHaveOnlyRigidSubsystemBodiesBelow) {
+  const gen::Description d = load_lola();
+  const Model& model = d.model;
+  const Data<double> data(model);
+  std::vector<std::string> rigid, not_rigid;
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+    const SubSystem& sub = model.subsystems[k];
+    for (std::size_t j = 0; j < sub.bodies.size(); ++j) {
+      const std::string& name = model.body(sub.bodies[j]).name;
+      if (name.back() != 'l') continue;  // the left leg; the right one mirrors it
+      (data.subsystem[k].rigid[j] ? rigid : not_rigid).push_back(name);
+    }
+  }
+  std::sort(rigid.begin(), rigid.end());
+  std::sort(not_rigid.begin(), not_rigid.end());
+  EXPECT_EQ(rigid, (std::vector<std::string>{"ankle_act_lat_cross_l", "ankle_act_lat_housing_l", "ankle_act_lat_rod_l",
+                                             "ankle_act_med_cross_l", "ankle_act_med_housing_l", "ankle_act_med_rod_l",
+                                             "knee_nut_l", "knee_rod_l"}));
+  EXPECT_EQ(not_rigid, (std::vector<std::string>{"ankle_cross_l", "foot_body_l", "shank_l"}));
+}
+
 TEST(SubsystemWork, RefusesABodyHangingOutsideTheSubsystem) {
   Model model = load_tree(shared_robot("hyq/hyq_no_sensors.urdf"), gen::BaseType::Floating);
   model.subsystems.push_back(make_subsystem(model, {"lf_upperleg", "lf_lowerleg"}, "base_link", 1));

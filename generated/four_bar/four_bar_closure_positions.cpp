@@ -73,7 +73,7 @@ void closure_newton_step_setup(const S* q, S* invariants) {
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
-// 82 operations: 30 additions/subtractions, 40 multiplications, 3 divisions, 3 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 84 operations: 30 additions/subtractions, 42 multiplications, 3 divisions, 3 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
@@ -161,16 +161,18 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t75 = _t48 * _t62;
   const S _t76 = _t51 * _t61;
   const S _t77 = _t76 - _t75;
-  const S _t78 = _t77 / _t71;
-  const S _t79 = _t68 * _t78;
-  const S _t80 = _t74 - _t79;
-  const S _t81 = _t80 / _t65;
+  const S _t78 = S(1) / _t71;
+  const S _t79 = _t77 * _t78;
+  const S _t80 = S(1) / _t65;
+  const S _t81 = _t68 * _t79;
+  const S _t82 = _t74 - _t81;
+  const S _t83 = _t80 * _t82;
   residual[0] = _t48;
   residual[1] = _t51;
   pivots[0] = _t65;
   pivots[1] = _t71;
-  step[0] = _t81;
-  step[1] = _t78;
+  step[0] = _t83;
+  step[1] = _t79;
 }
 
 // The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
@@ -190,7 +192,7 @@ void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants)
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
-// 100 operations: 35 additions/subtractions, 49 multiplications, 5 divisions, 5 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 102 operations: 35 additions/subtractions, 53 multiplications, 3 divisions, 5 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
   (void)q;
@@ -278,32 +280,34 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t79 = _t52 * _t66;
   const S _t80 = _t55 * _t65;
   const S _t81 = _t80 - _t79;
-  const S _t82 = _t81 / _t75;
-  const S _t83 = _t72 * _t82;
-  const S _t84 = _t78 - _t83;
-  const S _t85 = _t84 / _t69;
-  const S _t86 = _t45 * v[0];
-  const S _t87 = _t47 * v[0];
-  const S _t88 = _t66 * _t87;
-  const S _t89 = _t65 * _t86;
-  const S _t90 = _t88 + _t89;
-  const S _t91 = _t66 * _t86;
-  const S _t92 = _t65 * _t87;
-  const S _t93 = _t92 - _t91;
-  const S _t94 = _t93 / _t75;
-  const S _t95 = _t72 * _t94;
-  const S _t96 = _t90 - _t95;
-  const S _t97 = _t96 / _t69;
-  const S _t98 = -_t97;
-  const S _t99 = -_t94;
+  const S _t82 = S(1) / _t75;
+  const S _t83 = _t81 * _t82;
+  const S _t84 = S(1) / _t69;
+  const S _t85 = _t72 * _t83;
+  const S _t86 = _t78 - _t85;
+  const S _t87 = _t84 * _t86;
+  const S _t88 = _t45 * v[0];
+  const S _t89 = _t47 * v[0];
+  const S _t90 = _t66 * _t89;
+  const S _t91 = _t65 * _t88;
+  const S _t92 = _t90 + _t91;
+  const S _t93 = _t66 * _t88;
+  const S _t94 = _t65 * _t89;
+  const S _t95 = _t94 - _t93;
+  const S _t96 = _t82 * _t95;
+  const S _t97 = _t72 * _t96;
+  const S _t98 = _t92 - _t97;
+  const S _t99 = _t84 * _t98;
+  const S _t100 = -_t99;
+  const S _t101 = -_t96;
   residual[0] = _t52;
   residual[1] = _t55;
   pivots[0] = _t69;
   pivots[1] = _t75;
-  step[0] = _t85;
-  step[1] = _t82;
-  vz[0] = _t98;
-  vz[1] = _t99;
+  step[0] = _t87;
+  step[1] = _t83;
+  vz[0] = _t100;
+  vz[1] = _t101;
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;

@@ -12,7 +12,7 @@ namespace four_bar {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 76 operations: 24 additions/subtractions, 36 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
+// 78 operations: 24 additions/subtractions, 38 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -87,14 +87,16 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t67 = _t41 * _t54;
   const S _t68 = _t43 * _t53;
   const S _t69 = _t68 - _t67;
-  const S _t70 = _t69 / _t63;
-  const S _t71 = _t60 * _t70;
-  const S _t72 = _t66 - _t71;
-  const S _t73 = _t72 / _t57;
-  const S _t74 = -_t73;
-  T[1] = _t74;
-  const S _t75 = -_t70;
-  T[2] = _t75;
+  const S _t70 = S(1) / _t63;
+  const S _t71 = _t69 * _t70;
+  const S _t72 = S(1) / _t57;
+  const S _t73 = _t60 * _t71;
+  const S _t74 = _t66 - _t73;
+  const S _t75 = _t72 * _t74;
+  const S _t76 = -_t75;
+  T[1] = _t76;
+  const S _t77 = -_t71;
+  T[2] = _t77;
 }
 
 }  // namespace

@@ -64,7 +64,7 @@ void closure_newton_step_setup(const S* q, S* invariants) {
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
-// 65 operations: 23 additions/subtractions, 32 multiplications, 3 divisions, 3 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 67 operations: 23 additions/subtractions, 34 multiplications, 3 divisions, 3 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
@@ -135,16 +135,18 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t58 = _t31 * _t45;
   const S _t59 = _t34 * _t44;
   const S _t60 = _t59 - _t58;
-  const S _t61 = _t60 / _t54;
-  const S _t62 = _t51 * _t61;
-  const S _t63 = _t57 - _t62;
-  const S _t64 = _t63 / _t48;
+  const S _t61 = S(1) / _t54;
+  const S _t62 = _t60 * _t61;
+  const S _t63 = S(1) / _t48;
+  const S _t64 = _t51 * _t62;
+  const S _t65 = _t57 - _t64;
+  const S _t66 = _t63 * _t65;
   residual[0] = _t31;
   residual[1] = _t34;
   pivots[0] = _t48;
   pivots[1] = _t54;
-  step[0] = _t64;
-  step[1] = _t61;
+  step[0] = _t66;
+  step[1] = _t62;
 }
 
 // The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
@@ -164,7 +166,7 @@ void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants)
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
-// 82 operations: 26 additions/subtractions, 41 multiplications, 5 divisions, 6 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 84 operations: 26 additions/subtractions, 45 multiplications, 3 divisions, 6 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
   (void)q;
@@ -233,33 +235,35 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t60 = _t33 * _t47;
   const S _t61 = _t36 * _t46;
   const S _t62 = _t61 - _t60;
-  const S _t63 = _t62 / _t56;
-  const S _t64 = _t53 * _t63;
-  const S _t65 = _t59 - _t64;
-  const S _t66 = _t65 / _t50;
-  const S _t67 = _t28 * v[0];
-  const S _t68 = _t29 * v[0];
-  const S _t69 = _t47 * _t68;
-  const S _t70 = _t46 * _t67;
-  const S _t71 = -_t70;
-  const S _t72 = _t71 - _t69;
-  const S _t73 = _t47 * _t67;
-  const S _t74 = _t46 * _t68;
-  const S _t75 = _t73 - _t74;
-  const S _t76 = _t75 / _t56;
-  const S _t77 = _t53 * _t76;
-  const S _t78 = _t72 - _t77;
-  const S _t79 = _t78 / _t50;
-  const S _t80 = -_t79;
-  const S _t81 = -_t76;
+  const S _t63 = S(1) / _t56;
+  const S _t64 = _t62 * _t63;
+  const S _t65 = S(1) / _t50;
+  const S _t66 = _t53 * _t64;
+  const S _t67 = _t59 - _t66;
+  const S _t68 = _t65 * _t67;
+  const S _t69 = _t28 * v[0];
+  const S _t70 = _t29 * v[0];
+  const S _t71 = _t47 * _t70;
+  const S _t72 = _t46 * _t69;
+  const S _t73 = -_t72;
+  const S _t74 = _t73 - _t71;
+  const S _t75 = _t47 * _t69;
+  const S _t76 = _t46 * _t70;
+  const S _t77 = _t75 - _t76;
+  const S _t78 = _t63 * _t77;
+  const S _t79 = _t53 * _t78;
+  const S _t80 = _t74 - _t79;
+  const S _t81 = _t65 * _t80;
+  const S _t82 = -_t81;
+  const S _t83 = -_t78;
   residual[0] = _t33;
   residual[1] = _t36;
   pivots[0] = _t50;
   pivots[1] = _t56;
-  step[0] = _t66;
-  step[1] = _t63;
-  vz[0] = _t80;
-  vz[1] = _t81;
+  step[0] = _t68;
+  step[1] = _t64;
+  vz[0] = _t82;
+  vz[1] = _t83;
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;

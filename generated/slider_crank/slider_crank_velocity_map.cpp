@@ -12,7 +12,7 @@ namespace slider_crank {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 59 operations: 16 additions/subtractions, 28 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+// 61 operations: 16 additions/subtractions, 30 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -70,14 +70,16 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t50 = _t24 * _t36;
   const S _t51 = _t25 * _t35;
   const S _t52 = _t50 - _t51;
-  const S _t53 = _t52 / _t45;
-  const S _t54 = _t42 * _t53;
-  const S _t55 = _t49 - _t54;
-  const S _t56 = _t55 / _t39;
-  const S _t57 = -_t56;
-  T[1] = _t57;
-  const S _t58 = -_t53;
-  T[2] = _t58;
+  const S _t53 = S(1) / _t45;
+  const S _t54 = _t52 * _t53;
+  const S _t55 = S(1) / _t39;
+  const S _t56 = _t42 * _t54;
+  const S _t57 = _t49 - _t56;
+  const S _t58 = _t55 * _t57;
+  const S _t59 = -_t58;
+  T[1] = _t59;
+  const S _t60 = -_t54;
+  T[2] = _t60;
 }
 
 }  // namespace

@@ -94,6 +94,20 @@ template <typename S> void joint_project(const Joint& joint, const Force<S>& f, 
   }
 }
 
+/// The index (0-5, [linear; angular]) of the one entry of a 1-DoF joint's motion subspace S when
+/// its axis is a coordinate axis (either sign), -1 otherwise (and for a floating joint).
+inline int joint_subspace_coordinate(const Joint& joint) {
+  if (joint.type == JointType::Floating) return -1;
+  int found = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (joint.axis[k] == 0) continue;
+    if (found >= 0 || (joint.axis[k] != 1 && joint.axis[k] != -1)) return -1;
+    found = k;
+  }
+  if (found < 0) return -1;
+  return joint.type == JointType::Revolute ? 3 + found : found;
+}
+
 /// Column k of the motion subspace S (in the child frame).
 template <typename S> Motion<S> joint_subspace_column(const Joint& joint, int k) {
   Vec6<S> e = Vec6<S>::Zero();

@@ -61,6 +61,16 @@ template <typename S> struct SubSystemWork {
       if (!found) fail("coordinate " + std::to_string(s.coordinates[j]) + " is neither independent nor dependent");
       coordinate_role.push_back(role);
     }
+    // Leaves first: a body is rigid when every child is a rigid body of the sub-system whose
+    // joint carries no rotor body (a rotor's inertia would join this body's).
+    rigid.assign(s.bodies.size(), 1);
+    for (std::size_t j = s.bodies.size(); j-- > 0;)
+      for (const BodyIndex child : model.body(s.bodies[j]).children) {
+        std::size_t c = 0;
+        while (c < s.bodies.size() && s.bodies[c] != child) ++c;
+        if (c == s.bodies.size() || model.joint(model.body(child).joint).has_rotor_body() || !rigid[c]) rigid[j] = 0;
+      }
+    moments.resize(s.bodies.size());
     if (!s.closures.empty() && static_cast<int>(s.dependent.size()) != s.rank())
       fail("has " + std::to_string(s.dependent.size()) + " dependent coordinates for " + std::to_string(s.rank()) +
            " independent constraint rows: Phi_z must be square");
@@ -96,6 +106,11 @@ template <typename S> struct SubSystemWork {
   VecX<S> actuator_c, actuator_s;
 
   std::vector<int> parent_local;    ///< per body: its parent's position in bodies, or -1 (the root)
+  /// Per body: 1 when nothing but rigid bodies of this sub-system hangs below it (no tree
+  /// subtree, no other sub-system, no rotor body), so that its gathered inertia is a rigid body's
+  /// and moves to the parent as mass moments (subsystem_backward).
+  std::vector<char> rigid;
+  std::vector<InertiaMoments<S>> moments;  ///< per rigid body: it and the rigid bodies below it, in its frame
   /// Per coordinate: its column among the independent coordinates (>= 0), or -1 - its row among
   /// the dependent ones.
   std::vector<int> coordinate_role;

@@ -110,6 +110,14 @@ template <typename S> const VecX<S>& aba_force_passes(const Model& model, Data<S
         Ia(r, c) = data.IA[i](r, c) - UDinv.row(r).head(n).dot(U.row(c).head(n));
         Ia(c, r) = Ia(r, c);
       }
+    // Ia S = U - U D^-1 S^T U = 0 when D = S^T U (no drive inertia on the diagonal). For an axis
+    // along a coordinate axis that is a row and a column of Ia, exact zeros that the rounding of
+    // the lines above only approximates: set them, and the move to the parent and Ia c skip them
+    // (a symbolic scalar folds the zeros; 15 of Ia's 21 entries remain).
+    if (const int e = joint_subspace_coordinate(joint); n == 1 && e >= 0 && joint.armature == 0 && !joint.has_rotor_body()) {
+      Ia.row(e).setZero();
+      Ia.col(e).setZero();
+    }
     Vec6<S> pa = data.pA[i].vector() + Ia * data.c[i].vector() + U.leftCols(n) * Dinv_u.head(n);
     data.IA[body.parent] += inertia_child_to_parent<S>(joint, data.X_J[i], Ia);
     data.pA[body.parent] += force_child_to_parent<S>(joint, data.X_J[i], Force<S>::from_vector(pa));

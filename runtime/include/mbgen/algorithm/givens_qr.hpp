@@ -64,14 +64,18 @@ template <typename S, typename Block> void givens_qr_apply(const VecX<S>& c, con
     }
 }
 
-/// Solves R X = B in place for the first m columns of B (R upper triangular, n x n).
+/// Solves R X = B in place for the first m columns of B (R upper triangular, n x n). Each row
+/// divides once, for 1 / R(i, i), which depends on R alone: the substitution's chain from row to
+/// row is then multiplications and subtractions, not a division per row and column.
 template <typename S, typename Block> void upper_triangular_solve(const MatX<S>& R, int n, Block&& B, int m) {
-  for (int col = 0; col < m; ++col)
-    for (int i = n - 1; i >= 0; --i) {
+  for (int i = n - 1; i >= 0; --i) {
+    const S inverse_pivot = S(1) / R(i, i);
+    for (int col = 0; col < m; ++col) {
       S x = B(i, col);
       for (int k = i + 1; k < n; ++k) x -= R(i, k) * B(k, col);
-      B(i, col) = x / R(i, i);
+      B(i, col) = x * inverse_pivot;
     }
+  }
 }
 
 }  // namespace mbgen

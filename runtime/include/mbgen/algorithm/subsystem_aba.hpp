@@ -142,18 +142,31 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
     for (int col = 0; col < r; ++col) w.D(r, col) = w.D(col, r);
 
   // Leaves to root inside the sub-system: I_S, U = sum X^T F_b, p_S, gathered in the root frame.
+  // A rigid body's gathered inertia (SubSystemWork::rigid: the drive linkage's rods, nuts and
+  // housings) is a rigid body's, so it moves as 10 mass moments (a rotation and a parallel-axis
+  // shift) and becomes a 6x6 only where it joins a body that is not rigid; the 6x6 congruence
+  // costs about three times as much, and traced it does not see that the mass block stays m 1.
+  // data.IA of a rigid body keeps its own inertia only.
+  for (int j = 0; j < m; ++j)
+    if (w.rigid[static_cast<std::size_t>(j)])
+      w.moments[static_cast<std::size_t>(j)] = InertiaMoments<S>::of_body(model.body(sub.bodies[static_cast<std::size_t>(j)]).inertia);
   for (int j = m - 1; j >= 0; --j) {
     const BodyIndex b = sub.bodies[static_cast<std::size_t>(j)];
     const Joint& joint = model.joint(model.body(b).joint);
     const int parent = w.parent_local[static_cast<std::size_t>(j)];
-    const Mat6<S> I_up = inertia_child_to_parent<S>(joint, data.X_J[b], data.IA[b]);
     const Force<S> p_up = force_child_to_parent<S>(joint, data.X_J[b], data.pA[b]);
+    Mat6<S>& I_target = parent >= 0 ? data.IA[sub.bodies[static_cast<std::size_t>(parent)]] : I_S;
+    if (!w.rigid[static_cast<std::size_t>(j)]) {
+      I_target += inertia_child_to_parent<S>(joint, data.X_J[b], data.IA[b]);
+    } else {
+      const InertiaMoments<S> up = moments_child_to_parent<S>(joint, data.X_J[b], w.moments[static_cast<std::size_t>(j)]);
+      if (parent >= 0 && w.rigid[static_cast<std::size_t>(parent)]) w.moments[static_cast<std::size_t>(parent)] += up;
+      else I_target += up.matrix();
+    }
     if (parent >= 0) {
       const BodyIndex pb = sub.bodies[static_cast<std::size_t>(parent)];
-      data.IA[pb] += I_up;
       data.pA[pb] = data.pA[pb] + p_up;
     } else {
-      I_S += I_up;
       p_S = p_S + p_up;
     }
     for (int col = 0; col < p; ++col) {

@@ -150,6 +150,18 @@ template <typename S> struct InertiaMoments {
     return *this;
   }
 
+  /// The 6x6 spatial inertia acting on [linear; angular] motions at the origin:
+  /// [m 1, -[h]x; [h]x, I_O], the matrix of operator* below.
+  Mat6<S> matrix() const {
+    Mat6<S> out;
+    const Mat3<S> hx = skew<S>(first_moment);
+    out.template topLeftCorner<3, 3>() = mass * Mat3<S>::Identity();
+    out.template topRightCorner<3, 3>() = -hx;
+    out.template bottomLeftCorner<3, 3>() = hx;
+    out.template bottomRightCorner<3, 3>() = rotational;
+    return out;
+  }
+
   /// Momentum (about the origin) of the bodies moving with spatial velocity m = [v; w].
   Force<S> operator*(const Motion<S>& m) const {
     Vec3<S> angular;
