@@ -11,6 +11,7 @@
 
 #include "model/load_description.hpp"
 #include "mbgen/mbgen.hpp"
+#include "runtime_instances.hpp"
 
 namespace mbgen::test {
 
