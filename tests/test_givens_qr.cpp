@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <cmath>
+#include <initializer_list>
 #include <random>
 
 #include "mbgen/algorithm/givens_qr.hpp"
@@ -29,8 +31,6 @@ TEST(GivensQr, SolvesLikeLu) {
         MatX<double> R = A, X = B;
         VecX<double> c(n * (n - 1) / 2), s(n * (n - 1) / 2);
         givens_qr_factor<double>(R, n, c, s);
-        for (int i = 0; i < n; ++i)
-          for (int j = 0; j < i; ++j) R(i, j) = 0;  // what the rotations leave there is rounding
         givens_qr_apply<double>(c, s, n, X, m);
         upper_triangular_solve<double>(R, n, X, m);
         worst = std::max(worst, (X - expected).norm() / expected.norm());
@@ -40,6 +40,43 @@ TEST(GivensQr, SolvesLikeLu) {
         ASSERT_LT((QtA - R).norm(), 1e-13 * A.norm()) << "n " << n;
       }
   EXPECT_LT(worst, 1e-12);
+}
+
+// Each rotation sets the entry it keeps to the norm r of the column part below it, and the one it
+// zeroes to exactly 0: R's diagonal is non-negative (but for the last entry, which no rotation reaches), its strictly lower part is 0 bit for bit (the
+// rotations' c a + s b and c b - s a left rounding there), and R(0, 0) is the first column's
+// norm. Columns with zeros at the bottom and in the middle: a zero entry is skipped (the identity)
+// and the next rotation squares its b itself; below a rotated entry it takes the sum of squares.
+TEST(GivensQr, DiagonalIsTheColumnNormAndBelowItExactZeros) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 1; n <= 8; ++n)
+    for (int trial = 0; trial < 20; ++trial) {
+      MatX<double> A(n, n);
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) A(i, j) = u(rng);
+      MatX<double> R = A;
+      VecX<double> c(n * (n - 1) / 2), s(n * (n - 1) / 2);
+      givens_qr_factor<double>(R, n, c, s);
+      for (int i = 0; i < n; ++i) {
+        if (i < n - 1) EXPECT_GE(R(i, i), 0.0);  // the last column has no rotation: its entry keeps its sign
+        for (int j = 0; j < i; ++j) EXPECT_EQ(R(i, j), 0.0) << i << "," << j;
+      }
+      if (n > 1) EXPECT_NEAR(R(0, 0), A.col(0).norm(), 2e-15 * A.col(0).norm());
+      for (int k = 0; k < c.size(); ++k) EXPECT_NEAR(c[k] * c[k] + s[k] * s[k], 1.0, 2e-15);
+    }
+  const auto first_pivot = [](std::initializer_list<double> column) {
+    const int n = static_cast<int>(column.size());
+    MatX<double> A = MatX<double>::Identity(n, n);
+    int i = 0;
+    for (double x : column) A(i++, 0) = x;
+    VecX<double> c(n * (n - 1) / 2), s(n * (n - 1) / 2);
+    givens_qr_factor<double>(A, n, c, s);
+    return A(0, 0);
+  };
+  EXPECT_EQ(first_pivot({1, 2, 3, 0}), std::sqrt(14.0));  // 0 + 9 + 4 + 1, the bottom rotation skipped
+  EXPECT_EQ(first_pivot({1, 2, 0, 4}), std::sqrt(21.0));  // 16, + 4, + 1
+  EXPECT_EQ(first_pivot({0, 0, 0, 5}), 5.0);
 }
 
 // A zero pivot: the solve's 1 / R(i, i) is infinite, and the result is not finite.

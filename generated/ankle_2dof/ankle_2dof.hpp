@@ -54,7 +54,7 @@ constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene 
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [2] independent accelerations, independent_joint_names order
-/// Cost: 1796 operations: 669 additions/subtractions, 1041 multiplications, 17 divisions, 39 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1761 operations: 660 additions/subtractions, 1018 multiplications, 16 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -62,27 +62,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [2] independent velocities, independent_joint_names order
 /// in  tau: [8] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [8] accelerations of every tree joint, joint_names order
-/// Cost: 1820 operations: 681 additions/subtractions, 1053 multiplications, 17 divisions, 39 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1785 operations: 672 additions/subtractions, 1030 multiplications, 16 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [8 x 2, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 581 operations: 179 additions/subtractions, 333 multiplications, 15 divisions, 24 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 546 operations: 170 additions/subtractions, 310 multiplications, 14 divisions, 24 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [2] independent velocities, independent_joint_names order
 /// out v: [8] velocities of every tree joint, joint_names_full order
-/// Cost: 593 operations: 185 additions/subtractions, 345 multiplications, 15 divisions, 18 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 558 operations: 176 additions/subtractions, 322 multiplications, 14 divisions, 18 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [8] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [2] independent velocities, independent_joint_names order
 /// out g: [8] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 1090 operations: 392 additions/subtractions, 621 multiplications, 15 divisions, 32 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1055 operations: 383 additions/subtractions, 598 multiplications, 14 divisions, 32 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -99,7 +99,7 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [2] independent accelerations, independent_joint_names order
 /// out tau_a: [2] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [2] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 1493 operations: 555 additions/subtractions, 854 multiplications, 15 divisions, 39 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1458 operations: 546 additions/subtractions, 831 multiplications, 14 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
@@ -160,7 +160,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [8] accelerations of every tree joint, joint_names order
 /// out contacts: [0 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 1820 operations: 681 additions/subtractions, 1053 multiplications, 17 divisions, 39 negations, 12 sin/cos, 9 square roots, 9 max (selects).
+/// Cost: 1785 operations: 672 additions/subtractions, 1030 multiplications, 16 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // centroidal_momentum_matrix: left out (not among the outputs of ankle_2dof.yaml's scene, nor needed by them).
 

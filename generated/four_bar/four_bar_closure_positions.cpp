@@ -73,7 +73,7 @@ void closure_newton_step_setup(const S* q, S* invariants) {
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
-// 84 operations: 30 additions/subtractions, 42 multiplications, 3 divisions, 3 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 81 operations: 29 additions/subtractions, 40 multiplications, 3 divisions, 3 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
@@ -134,6 +134,7 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t53 = _t39 * _t39;
   const S _t54 = _t52 + _t53;
   const S _t55 = std::sqrt(_t54);
+  factor[2] = _t55;
   const S _t56 = S(1.1754943508222875e-38) > _t55 ? S(1.1754943508222875e-38) : _t55;
   const S _t57 = S(1) / _t56;
   const S _t58 = _t55 * _t57;
@@ -143,36 +144,32 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   factor[0] = _t61;
   const S _t62 = _t43 * _t57;
   factor[1] = _t62;
-  const S _t63 = _t43 * _t62;
-  const S _t64 = _t39 * _t61;
+  const S _t63 = _t33 * _t62;
+  const S _t64 = _t30 * _t61;
   const S _t65 = _t63 + _t64;
-  factor[2] = _t65;
-  const S _t66 = _t33 * _t62;
-  const S _t67 = _t30 * _t61;
-  const S _t68 = _t66 + _t67;
-  factor[3] = _t68;
-  const S _t69 = _t30 * _t62;
-  const S _t70 = _t33 * _t61;
-  const S _t71 = _t70 - _t69;
-  factor[4] = _t71;
-  const S _t72 = _t51 * _t62;
-  const S _t73 = _t48 * _t61;
-  const S _t74 = _t72 + _t73;
-  const S _t75 = _t48 * _t62;
-  const S _t76 = _t51 * _t61;
-  const S _t77 = _t76 - _t75;
-  const S _t78 = S(1) / _t71;
-  const S _t79 = _t77 * _t78;
-  const S _t80 = S(1) / _t65;
-  const S _t81 = _t68 * _t79;
-  const S _t82 = _t74 - _t81;
-  const S _t83 = _t80 * _t82;
+  factor[3] = _t65;
+  const S _t66 = _t30 * _t62;
+  const S _t67 = _t33 * _t61;
+  const S _t68 = _t67 - _t66;
+  factor[4] = _t68;
+  const S _t69 = _t51 * _t62;
+  const S _t70 = _t48 * _t61;
+  const S _t71 = _t69 + _t70;
+  const S _t72 = _t48 * _t62;
+  const S _t73 = _t51 * _t61;
+  const S _t74 = _t73 - _t72;
+  const S _t75 = S(1) / _t68;
+  const S _t76 = _t74 * _t75;
+  const S _t77 = S(1) / _t55;
+  const S _t78 = _t65 * _t76;
+  const S _t79 = _t71 - _t78;
+  const S _t80 = _t77 * _t79;
   residual[0] = _t48;
   residual[1] = _t51;
-  pivots[0] = _t65;
-  pivots[1] = _t71;
-  step[0] = _t83;
-  step[1] = _t79;
+  pivots[0] = _t55;
+  pivots[1] = _t68;
+  step[0] = _t80;
+  step[1] = _t76;
 }
 
 // The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
@@ -192,7 +189,7 @@ void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants)
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
-// 102 operations: 35 additions/subtractions, 53 multiplications, 3 divisions, 5 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
+// 99 operations: 34 additions/subtractions, 51 multiplications, 3 divisions, 5 negations, 4 sin/cos, 1 square roots, 1 max (selects) per iteration.
 template <typename S>
 void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
   (void)q;
@@ -265,49 +262,46 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t64 = _t39 * _t61;
   const S _t65 = _t63 + _t64;
   const S _t66 = _t43 * _t61;
-  const S _t67 = _t43 * _t66;
-  const S _t68 = _t39 * _t65;
+  const S _t67 = _t33 * _t66;
+  const S _t68 = _t30 * _t65;
   const S _t69 = _t67 + _t68;
-  const S _t70 = _t33 * _t66;
-  const S _t71 = _t30 * _t65;
-  const S _t72 = _t70 + _t71;
-  const S _t73 = _t30 * _t66;
-  const S _t74 = _t33 * _t65;
-  const S _t75 = _t74 - _t73;
-  const S _t76 = _t55 * _t66;
-  const S _t77 = _t52 * _t65;
-  const S _t78 = _t76 + _t77;
-  const S _t79 = _t52 * _t66;
-  const S _t80 = _t55 * _t65;
-  const S _t81 = _t80 - _t79;
-  const S _t82 = S(1) / _t75;
-  const S _t83 = _t81 * _t82;
-  const S _t84 = S(1) / _t69;
-  const S _t85 = _t72 * _t83;
-  const S _t86 = _t78 - _t85;
-  const S _t87 = _t84 * _t86;
-  const S _t88 = _t45 * v[0];
-  const S _t89 = _t47 * v[0];
-  const S _t90 = _t66 * _t89;
-  const S _t91 = _t65 * _t88;
-  const S _t92 = _t90 + _t91;
-  const S _t93 = _t66 * _t88;
-  const S _t94 = _t65 * _t89;
-  const S _t95 = _t94 - _t93;
-  const S _t96 = _t82 * _t95;
-  const S _t97 = _t72 * _t96;
-  const S _t98 = _t92 - _t97;
-  const S _t99 = _t84 * _t98;
-  const S _t100 = -_t99;
-  const S _t101 = -_t96;
+  const S _t70 = _t30 * _t66;
+  const S _t71 = _t33 * _t65;
+  const S _t72 = _t71 - _t70;
+  const S _t73 = _t55 * _t66;
+  const S _t74 = _t52 * _t65;
+  const S _t75 = _t73 + _t74;
+  const S _t76 = _t52 * _t66;
+  const S _t77 = _t55 * _t65;
+  const S _t78 = _t77 - _t76;
+  const S _t79 = S(1) / _t72;
+  const S _t80 = _t78 * _t79;
+  const S _t81 = S(1) / _t59;
+  const S _t82 = _t69 * _t80;
+  const S _t83 = _t75 - _t82;
+  const S _t84 = _t81 * _t83;
+  const S _t85 = _t45 * v[0];
+  const S _t86 = _t47 * v[0];
+  const S _t87 = _t66 * _t86;
+  const S _t88 = _t65 * _t85;
+  const S _t89 = _t87 + _t88;
+  const S _t90 = _t66 * _t85;
+  const S _t91 = _t65 * _t86;
+  const S _t92 = _t91 - _t90;
+  const S _t93 = _t79 * _t92;
+  const S _t94 = _t69 * _t93;
+  const S _t95 = _t89 - _t94;
+  const S _t96 = _t81 * _t95;
+  const S _t97 = -_t96;
+  const S _t98 = -_t93;
   residual[0] = _t52;
   residual[1] = _t55;
-  pivots[0] = _t69;
-  pivots[1] = _t75;
-  step[0] = _t87;
-  step[1] = _t83;
-  vz[0] = _t100;
-  vz[1] = _t101;
+  pivots[0] = _t59;
+  pivots[1] = _t72;
+  step[0] = _t84;
+  step[1] = _t80;
+  vz[0] = _t97;
+  vz[1] = _t98;
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;
@@ -332,7 +326,11 @@ template <typename S> constexpr S nominal_pivot_ratio[1] = {S(6.6e-01)};
 // The step Phi_z^-1 Phi from the kept rows `residual` and the factor of the last Newton step (the
 // runtime's detail::step_from_factor, the same operations in the same order): per sub-system its
 // Givens rotations on the residual (in place: no copy, which g++ would make a memcpy call), then
-// back substitution with R (its upper triangle, row by row) into step.
+// back substitution with R (its upper triangle, row by row; one 1 / R(i, i) per row) into step.
+// A column's rotations run up the rows, each on the entry the one before it wrote: that entry
+// stays in a register (y) and only the finished lower one is stored. Loading both entries from
+// memory made each rotation wait for the store of the one before (a 16-byte load across two
+// stores is not forwarded): cassie_like's simplified step took 163 ns, 128 without.
 template <typename S> void step_from_factor(const S* factor, S* residual, S* step) {
   for (int k = 0; k < num_subsystems; ++k) {
     const int b = subsystem_begin[k], n = subsystem_begin[k + 1] - b, rotations = n * (n - 1) / 2;
@@ -341,19 +339,27 @@ template <typename S> void step_from_factor(const S* factor, S* residual, S* ste
     const S* r = s + rotations;
     S* x = residual + b;
     int m = 0;
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < n; ++j) {
+      S y = x[n - 1];
       for (int i = n - 1; i > j; --i, ++m) {
-        if (s[m] == S(0) && c[m] == S(1)) continue;  // the identity (an entry already zero): skipped, as the runtime does
-        const S a = x[i - 1], y = x[i];
-        x[i - 1] = c[m] * a + s[m] * y;
+        const S a = x[i - 1];
+        if (s[m] == S(0) && c[m] == S(1)) {  // the identity (an entry already zero): skipped, as the runtime does
+          x[i] = y;
+          y = a;
+          continue;
+        }
         x[i] = c[m] * y - s[m] * a;
+        y = c[m] * a + s[m] * y;
       }
+      x[j] = y;
+    }
     S* z = step + b;
     for (int i = n - 1; i >= 0; --i) {
       const S* row = r + i * n - i * (i - 1) / 2;  // R(i, i), then R(i, i + 1) ..
+      const S inverse_pivot = S(1) / row[0];
       S v = x[i];
       for (int j = i + 1; j < n; ++j) v -= row[j - i] * z[j];
-      z[i] = v / row[0];
+      z[i] = v * inverse_pivot;
     }
   }
 }

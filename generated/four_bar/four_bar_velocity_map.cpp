@@ -12,7 +12,7 @@ namespace four_bar {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 78 operations: 24 additions/subtractions, 38 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
+// 75 operations: 23 additions/subtractions, 36 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -72,31 +72,28 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t52 = _t35 * _t49;
   const S _t53 = _t51 + _t52;
   const S _t54 = _t39 * _t49;
-  const S _t55 = _t39 * _t54;
-  const S _t56 = _t35 * _t53;
+  const S _t55 = _t29 * _t54;
+  const S _t56 = _t26 * _t53;
   const S _t57 = _t55 + _t56;
-  const S _t58 = _t29 * _t54;
-  const S _t59 = _t26 * _t53;
-  const S _t60 = _t58 + _t59;
-  const S _t61 = _t26 * _t54;
-  const S _t62 = _t29 * _t53;
-  const S _t63 = _t62 - _t61;
-  const S _t64 = _t43 * _t54;
-  const S _t65 = _t41 * _t53;
-  const S _t66 = _t64 + _t65;
-  const S _t67 = _t41 * _t54;
-  const S _t68 = _t43 * _t53;
-  const S _t69 = _t68 - _t67;
-  const S _t70 = S(1) / _t63;
-  const S _t71 = _t69 * _t70;
-  const S _t72 = S(1) / _t57;
-  const S _t73 = _t60 * _t71;
-  const S _t74 = _t66 - _t73;
-  const S _t75 = _t72 * _t74;
-  const S _t76 = -_t75;
-  T[1] = _t76;
-  const S _t77 = -_t71;
-  T[2] = _t77;
+  const S _t58 = _t26 * _t54;
+  const S _t59 = _t29 * _t53;
+  const S _t60 = _t59 - _t58;
+  const S _t61 = _t43 * _t54;
+  const S _t62 = _t41 * _t53;
+  const S _t63 = _t61 + _t62;
+  const S _t64 = _t41 * _t54;
+  const S _t65 = _t43 * _t53;
+  const S _t66 = _t65 - _t64;
+  const S _t67 = S(1) / _t60;
+  const S _t68 = _t66 * _t67;
+  const S _t69 = S(1) / _t47;
+  const S _t70 = _t57 * _t68;
+  const S _t71 = _t63 - _t70;
+  const S _t72 = _t69 * _t71;
+  const S _t73 = -_t72;
+  T[1] = _t73;
+  const S _t74 = -_t68;
+  T[2] = _t74;
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ inline constexpr double ground_offset = 0;  ///< m
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [30] independent accelerations, independent_joint_names order
-/// Cost: 13752 operations: 5914 additions/subtractions, 7570 multiplications, 61 divisions, 99 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 13676 operations: 5894 additions/subtractions, 7520 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -73,27 +73,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
-/// Cost: 13796 operations: 5936 additions/subtractions, 7592 multiplications, 61 divisions, 99 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 13720 operations: 5916 additions/subtractions, 7542 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [46 x 30, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 1288 operations: 398 additions/subtractions, 726 multiplications, 36 divisions, 56 negations, 32 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 1212 operations: 378 additions/subtractions, 676 multiplications, 34 divisions, 56 negations, 32 sin/cos, 18 square roots, 18 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [30] independent velocities, independent_joint_names order
 /// out v: [46] velocities of every tree joint, joint_names_full order
-/// Cost: 1316 operations: 410 additions/subtractions, 754 multiplications, 36 divisions, 44 negations, 32 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 1240 operations: 390 additions/subtractions, 704 multiplications, 34 divisions, 44 negations, 32 sin/cos, 18 square roots, 18 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [47] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [30] independent velocities, independent_joint_names order
 /// out g: [46] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 2450 operations: 878 additions/subtractions, 1390 multiplications, 36 divisions, 74 negations, 32 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 2374 operations: 858 additions/subtractions, 1340 multiplications, 34 divisions, 74 negations, 32 sin/cos, 18 square roots, 18 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -110,7 +110,7 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [30] independent accelerations, independent_joint_names order
 /// out tau_a: [24] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [30] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 7719 operations: 3211 additions/subtractions, 4286 multiplications, 36 divisions, 78 negations, 68 sin/cos, 20 square roots, 20 max (selects).
+/// Cost: 7643 operations: 3191 additions/subtractions, 4236 multiplications, 34 divisions, 78 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
@@ -177,7 +177,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
 /// out contacts: [12 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 15377 operations: 6628 additions/subtractions, 8409 multiplications, 73 divisions, 99 negations, 68 sin/cos, 44 square roots, 56 max (selects).
+/// Cost: 15301 operations: 6608 additions/subtractions, 8359 multiplications, 71 divisions, 99 negations, 68 sin/cos, 42 square roots, 54 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on

@@ -54,7 +54,7 @@ constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene 
 /// in  v: [1] independent velocities, independent_joint_names order
 /// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [1] independent accelerations, independent_joint_names order
-/// Cost: 206 operations: 72 additions/subtractions, 114 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 203 operations: 71 additions/subtractions, 112 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -62,27 +62,27 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [1] independent velocities, independent_joint_names order
 /// in  tau: [3] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [3] accelerations of every tree joint, joint_names order
-/// Cost: 210 operations: 74 additions/subtractions, 116 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 207 operations: 73 additions/subtractions, 114 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// out T: [3 x 1, row-major] velocity map, joint_names_full rows, independent_joint_names columns
-/// Cost: 61 operations: 16 additions/subtractions, 30 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 58 operations: 15 additions/subtractions, 28 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void velocity_map(const double* q, double* T);
 
 /// Velocities of every tree joint, v = T vy, from the independent ones: the velocity that keeps the loops closed.
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [1] independent velocities, independent_joint_names order
 /// out v: [3] velocities of every tree joint, joint_names_full order
-/// Cost: 63 operations: 16 additions/subtractions, 32 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 60 operations: 15 additions/subtractions, 30 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void full_velocities(const double* q, const double* vy, double* v);
 
 /// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 /// in  q: [3] joint positions of every tree joint, loops closed (closure_positions)
 /// in  vy: [1] independent velocities, independent_joint_names order
 /// out g: [3] acceleration bias of every tree joint, joint_names_full order
-/// Cost: 128 operations: 42 additions/subtractions, 70 multiplications, 3 divisions, 7 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 125 operations: 41 additions/subtractions, 68 multiplications, 3 divisions, 7 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void acceleration_bias(const double* q, const double* vy, double* g);
 
 /// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
@@ -99,7 +99,7 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [1] independent accelerations, independent_joint_names order
 /// out tau_a: [1] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [1] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 188 operations: 67 additions/subtractions, 104 multiplications, 3 divisions, 8 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 185 operations: 66 additions/subtractions, 102 multiplications, 3 divisions, 8 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
@@ -154,7 +154,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [3] accelerations of every tree joint, joint_names order
 /// out contacts: [0 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 210 operations: 74 additions/subtractions, 116 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+/// Cost: 207 operations: 73 additions/subtractions, 114 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // frame_jacobians: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).
 // centroidal_momentum_matrix: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).

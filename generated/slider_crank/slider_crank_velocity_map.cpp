@@ -12,7 +12,7 @@ namespace slider_crank {
 namespace {
 
 // Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
-// 61 operations: 16 additions/subtractions, 30 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
+// 58 operations: 15 additions/subtractions, 28 multiplications, 3 divisions, 6 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {
   (void)q;
@@ -54,32 +54,29 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t34 = _t19 * _t31;
   const S _t35 = _t33 + _t34;
   const S _t36 = _t23 * _t31;
-  const S _t37 = _t23 * _t36;
-  const S _t38 = _t19 * _t35;
+  const S _t37 = _t11 * _t36;
+  const S _t38 = _t6 * _t35;
   const S _t39 = _t37 + _t38;
-  const S _t40 = _t11 * _t36;
-  const S _t41 = _t6 * _t35;
-  const S _t42 = _t40 + _t41;
-  const S _t43 = _t6 * _t36;
-  const S _t44 = _t11 * _t35;
-  const S _t45 = _t44 - _t43;
-  const S _t46 = _t25 * _t36;
-  const S _t47 = _t24 * _t35;
-  const S _t48 = -_t47;
-  const S _t49 = _t48 - _t46;
-  const S _t50 = _t24 * _t36;
-  const S _t51 = _t25 * _t35;
-  const S _t52 = _t50 - _t51;
-  const S _t53 = S(1) / _t45;
-  const S _t54 = _t52 * _t53;
-  const S _t55 = S(1) / _t39;
-  const S _t56 = _t42 * _t54;
-  const S _t57 = _t49 - _t56;
-  const S _t58 = _t55 * _t57;
-  const S _t59 = -_t58;
-  T[1] = _t59;
-  const S _t60 = -_t54;
-  T[2] = _t60;
+  const S _t40 = _t6 * _t36;
+  const S _t41 = _t11 * _t35;
+  const S _t42 = _t41 - _t40;
+  const S _t43 = _t25 * _t36;
+  const S _t44 = _t24 * _t35;
+  const S _t45 = -_t44;
+  const S _t46 = _t45 - _t43;
+  const S _t47 = _t24 * _t36;
+  const S _t48 = _t25 * _t35;
+  const S _t49 = _t47 - _t48;
+  const S _t50 = S(1) / _t42;
+  const S _t51 = _t49 * _t50;
+  const S _t52 = S(1) / _t29;
+  const S _t53 = _t39 * _t51;
+  const S _t54 = _t46 - _t53;
+  const S _t55 = _t52 * _t54;
+  const S _t56 = -_t55;
+  T[1] = _t56;
+  const S _t57 = -_t51;
+  T[2] = _t57;
 }
 
 }  // namespace

@@ -25,7 +25,11 @@ std::string int_array(const std::string& name, const std::vector<int>& items) {
 const char* kNewtonLoop = R"(// The step Phi_z^-1 Phi from the kept rows `residual` and the factor of the last Newton step (the
 // runtime's detail::step_from_factor, the same operations in the same order): per sub-system its
 // Givens rotations on the residual (in place: no copy, which g++ would make a memcpy call), then
-// back substitution with R (its upper triangle, row by row) into step.
+// back substitution with R (its upper triangle, row by row; one 1 / R(i, i) per row) into step.
+// A column's rotations run up the rows, each on the entry the one before it wrote: that entry
+// stays in a register (y) and only the finished lower one is stored. Loading both entries from
+// memory made each rotation wait for the store of the one before (a 16-byte load across two
+// stores is not forwarded): cassie_like's simplified step took 163 ns, 128 without.
 template <typename S> void step_from_factor(const S* factor, S* residual, S* step) {
   for (int k = 0; k < num_subsystems; ++k) {
     const int b = subsystem_begin[k], n = subsystem_begin[k + 1] - b, rotations = n * (n - 1) / 2;
@@ -34,19 +38,27 @@ template <typename S> void step_from_factor(const S* factor, S* residual, S* ste
     const S* r = s + rotations;
     S* x = residual + b;
     int m = 0;
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < n; ++j) {
+      S y = x[n - 1];
       for (int i = n - 1; i > j; --i, ++m) {
-        if (s[m] == S(0) && c[m] == S(1)) continue;  // the identity (an entry already zero): skipped, as the runtime does
-        const S a = x[i - 1], y = x[i];
-        x[i - 1] = c[m] * a + s[m] * y;
+        const S a = x[i - 1];
+        if (s[m] == S(0) && c[m] == S(1)) {  // the identity (an entry already zero): skipped, as the runtime does
+          x[i] = y;
+          y = a;
+          continue;
+        }
         x[i] = c[m] * y - s[m] * a;
+        y = c[m] * a + s[m] * y;
       }
+      x[j] = y;
+    }
     S* z = step + b;
     for (int i = n - 1; i >= 0; --i) {
       const S* row = r + i * n - i * (i - 1) / 2;  // R(i, i), then R(i, i + 1) ..
+      const S inverse_pivot = S(1) / row[0];
       S v = x[i];
       for (int j = i + 1; j < n; ++j) v -= row[j - i] * z[j];
-      z[i] = v / row[0];
+      z[i] = v * inverse_pivot;
     }
   }
 }

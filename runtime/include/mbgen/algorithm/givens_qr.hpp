@@ -30,24 +30,37 @@ template <typename S> void givens_qr_factor(MatX<S>& A, int n, VecX<S>& c, VecX<
   // Float's smallest normal: the generated float code uses the same constant.
   const S tiny = S(std::numeric_limits<float>::min());
   int k = 0;
-  for (int j = 0; j < n; ++j)
+  for (int j = 0; j < n; ++j) {
+    // Column j's rotations run up from its last row; each leaves the norm r of the part below it
+    // in A(i - 1, j) (c a + s b = r exactly) and 0 in A(i, j), set rather than computed, and the
+    // next rotation takes r^2 as the sum it had under its square root. So the column's chain is
+    // one multiplication and one addition per rotation; the square roots and divisions hang off it
+    // and overlap (they were on it: a rotation's b was the previous one's c a + s b).
+    bool b_is_norm = false;  // A(i, j) is the previous rotation's r, and r2 its square
+    S r2 = S(0);
     for (int i = n - 1; i > j; --i, ++k) {
       const S a = A(i - 1, j), b = A(i, j);
       if (b == S(0)) {  // already zero (structurally, for a symbolic scalar): the identity rotation
         c[k] = S(1);
         s[k] = S(0);
+        b_is_norm = false;
         continue;
       }
-      const S r = sqrt(a * a + b * b);
+      r2 = a * a + (b_is_norm ? r2 : b * b);
+      const S r = sqrt(r2);
       const S h = S(1) / max(r, tiny);
       c[k] = a * h + (S(1) - r * h);
       s[k] = b * h;
-      for (int col = j; col < n; ++col) {
+      A(i - 1, j) = r;
+      A(i, j) = S(0);
+      b_is_norm = true;
+      for (int col = j + 1; col < n; ++col) {
         const S x = A(i - 1, col), y = A(i, col);
         A(i - 1, col) = c[k] * x + s[k] * y;
         A(i, col) = c[k] * y - s[k] * x;
       }
     }
+  }
 }
 
 /// Applies the recorded rotations to the first m columns of B (n rows): B <- Q^T B.
