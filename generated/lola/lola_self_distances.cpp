@@ -39,8 +39,8 @@ template <typename S> void store(const SsvDistance<S>& r, int k, int m, S* dista
 // distance[k], a lower bound (the bounding spheres' distance when they are threshold apart, which
 // spares the SSV calls; else the exact distance).
 // Cost: straight-line placement and Jacobian columns: 2063 operations: 924 additions/subtractions, 1059 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
-template <typename S>
-void distances_impl(const S* q, S threshold, bool compact, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian) {
+template <typename S, bool compact>
+void distances_impl(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian) {
   int m = 0;  // rows written: the near pairs so far (every pair when !compact)
   S P[489];  // shapes' points placed in the world
   S J[276];  // world joint-Jacobian columns {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45}, 6 each
@@ -16403,11 +16403,11 @@ void distances_impl(const S* q, S threshold, bool compact, S* distance, int* nea
 }
 
 template <typename S> void self_distances_impl(const S* q, S* distance, S* normal, S* witness, S* jacobian) {
-  distances_impl<S>(q, S(0), false, distance, nullptr, nullptr, normal, witness, jacobian);
+  distances_impl<S, false>(q, S(0), distance, nullptr, nullptr, normal, witness, jacobian);
 }
 
 template <typename S> void self_distances_near_impl(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian) {
-  distances_impl<S>(q, threshold, true, distance, near, num_near, normal, witness, jacobian);
+  distances_impl<S, true>(q, threshold, distance, near, num_near, normal, witness, jacobian);
 }
 
 }  // namespace

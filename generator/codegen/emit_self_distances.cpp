@@ -194,9 +194,11 @@ std::string near_arguments(const std::string& scalar) {
                      scalar);
 }
 
-/// The implementation both entry points share: compact = the near set (self_distances_near).
+/// The implementation both entry points share, a template on compact (the near set,
+/// self_distances_near): each entry point gets its own copy, the full set's without the near
+/// set's branches (Lola's full set: 180k instructions per call with them, 169k without).
 std::string impl_arguments() {
-  return "const S* q, S threshold, bool compact, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian";
+  return "const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian";
 }
 
 }  // namespace

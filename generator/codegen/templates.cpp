@@ -185,10 +185,10 @@ std::vector<TemplateSpec> make_catalog() {
        {kPublicName, kScalar, kRobot, {"close_loops", "close_loops' public name for this scalar"}}},
       {"self_distances_source", "the source of self_distances and self_distances_near",
        {kBanner, kHeader, kRobot, kCost, kSinCos,
-        {"impl_parameters", "the parameter list of distances_impl<S>, the implementation both share"},
+        {"impl_parameters", "the parameter list of distances_impl<S, compact>, the implementation both share (compact: the near set)"},
         {"full_parameters", "self_distances' parameter list with scalar S"},
         {"near_parameters", "self_distances_near's parameter list with scalar S"},
-        {"body", "the statements of distances_impl<S>"},
+        {"body", "the statements of distances_impl<S, compact>"},
         kEntryPoints}},
   };
 }
