@@ -21,9 +21,9 @@
 
 #include <limits>
 #include <memory>
-#include <utility>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "lola.hpp"
 #include "lola_ik_scenario.hpp"

@@ -196,7 +196,8 @@ std::string near_arguments(const std::string& scalar) {
 
 /// The implementation both entry points share, a template on compact (the near set,
 /// self_distances_near): each entry point gets its own copy, the full set's without the near
-/// set's branches (Lola's full set: 180k instructions per call with them, 169k without).
+/// set's branches (Lola's full set on 64 standing poses: 185k instructions per call with them,
+/// 174k without; docs/ssv.md).
 std::string impl_arguments() {
   return "const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian";
 }

@@ -36,24 +36,22 @@ template <typename S> void givens_qr_factor(MatX<S>& A, int n, VecX<S>& c, VecX<
     // next rotation takes r^2 as the sum it had under its square root. So the column's chain is
     // one multiplication and one addition per rotation; the square roots and divisions hang off it
     // and overlap (they were on it: a rotation's b was the previous one's c a + s b).
-    bool b_is_norm = false;  // A(i, j) is the previous rotation's r, and r2 its square
-    S r2 = S(0);
+    S b2 = A(n - 1, j) * A(n - 1, j);  // the square of the next rotation's b
     for (int i = n - 1; i > j; --i, ++k) {
       const S a = A(i - 1, j), b = A(i, j);
       if (b == S(0)) {  // already zero (structurally, for a symbolic scalar): the identity rotation
         c[k] = S(1);
         s[k] = S(0);
-        b_is_norm = false;
+        b2 = a * a;  // the next rotation's b is this a, unrotated
         continue;
       }
-      r2 = a * a + (b_is_norm ? r2 : b * b);
-      const S r = sqrt(r2);
+      b2 = a * a + b2;  // r^2, and the next rotation's b^2
+      const S r = sqrt(b2);
       const S h = S(1) / max(r, tiny);
       c[k] = a * h + (S(1) - r * h);
       s[k] = b * h;
       A(i - 1, j) = r;
       A(i, j) = S(0);
-      b_is_norm = true;
       for (int col = j + 1; col < n; ++col) {
         const S x = A(i - 1, col), y = A(i, col);
         A(i - 1, col) = c[k] * x + s[k] * y;
