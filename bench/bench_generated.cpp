@@ -6,8 +6,7 @@
 //   minv       -> M^-1 tau: NAME::mass_matrix + mass_matrix_factor + mass_matrix_solve (`generated`) against
 //                 NAME::mass_matrix + Eigen's dense LLT and its solve (`eigen`)
 //   aba_batch/<robot>/<W> -> NAME_batch<W>::forward_dynamics_batch, W states per call (x86-64-v3; hyq
-//                 and talos): items_per_second counts states, to compare with aba/<robot>/generated_v3;
-//                 aba/<robot>/generated_v3_inline_sincos is the same build's one-state function
+//                 and talos): items_per_second counts states, to compare with aba/<robot>/generated_v3
 #include "bench_generated.hpp"
 
 #include <Eigen/Cholesky>
@@ -123,16 +122,6 @@ void add_batch(const Robot& robot,
       W);
 }
 
-/// aba/<robot>/generated_v3_inline_sincos: the one-state forward dynamics of the batch build (sin
-/// and cos inline, as the batch computes them), beside generated_v3's libm calls.
-void add_one_state_inline_sincos(const Robot& robot, void (*forward_dynamics)(const double*, const double*, const double*, double*)) {
-  add_benchmark("aba", robot, "generated_v3_inline_sincos",
-                [forward_dynamics, out = std::make_shared<std::vector<double>>(robot.model.nv())](const Sample& s) {
-                  forward_dynamics(s.q.data(), s.v.data(), s.tau.data(), out->data());
-                  return out->data();
-                });
-}
-
 }  // namespace
 
 void add_generated(const Robot& robot) {
@@ -146,14 +135,9 @@ void add_generated(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14_v3), "generated_v3");
   if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq_v3), "generated_v3");
   if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos_v3), "generated_v3");
-  if (robot.name == "hyq") {
-    add_batch<hyq_batch4::batch_width, hyq_batch4::nq, hyq_batch4::nv>(robot, &hyq_batch4::forward_dynamics_batch);
-    add_one_state_inline_sincos(robot, &hyq_batch4::forward_dynamics);
-  }
-  if (robot.name == "talos") {
+  if (robot.name == "hyq") add_batch<hyq_batch4::batch_width, hyq_batch4::nq, hyq_batch4::nv>(robot, &hyq_batch4::forward_dynamics_batch);
+  if (robot.name == "talos")
     add_batch<talos_batch4::batch_width, talos_batch4::nq, talos_batch4::nv>(robot, &talos_batch4::forward_dynamics_batch);
-    add_one_state_inline_sincos(robot, &talos_batch4::forward_dynamics);
-  }
 #endif
 }
 

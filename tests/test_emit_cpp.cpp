@@ -1,6 +1,7 @@
 // Where emit_statements (generator/codegen/emit_cpp.hpp) writes a function's outputs: as soon as
 // their values exist (early_outputs), all at the end, or at the end except the outputs named in
-// early_anyway (the closure's Newton step writes its factor early and its residual rows last).
+// early_anyway (the closure's Newton step writes its factor early and its residual rows last); and
+// how a one-state function takes the sines and cosines of its inputs: all at once, first.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -55,6 +56,60 @@ TEST(EmitStatements, OutputsAreWrittenEarlyLateOrLateButTheNamedOnes) {
   // Each output written once.
   EXPECT_EQ(mixed.find("a[0] = ", position_of(mixed, "a[0] = ") + 1), std::string::npos) << mixed;
   EXPECT_EQ(mixed.find("b[0] = ", position_of(mixed, "b[0] = ") + 1), std::string::npos) << mixed;
+}
+
+/// x (3 entries): a = sin x0 cos x2, b = cos x0 + sin(sqrt x1), c = sin x2 (an output that is a sine).
+TracedFunction trigonometry() {
+  TracedFunction f;
+  f.name = "trig";
+  f.inputs = {{"x", 3, ""}};
+  f.outputs = {{"a", 1, ""}, {"b", 1, ""}, {"c", 1, ""}};
+  ExpressionGraph& g = f.graph;
+  const int x0 = g.input(0, 0), x1 = g.input(0, 1), x2 = g.input(0, 2);
+  const int sin_x0 = g.unary(Op::Sin, x0);  // first: the prologue's order is the order of first use
+  const int a = g.binary(Op::Mul, sin_x0, g.unary(Op::Cos, x2));
+  const int b = g.binary(Op::Add, g.unary(Op::Cos, x0), g.unary(Op::Sin, g.unary(Op::Sqrt, x1)));
+  f.output_ids = {{a}, {b}, {g.unary(Op::Sin, x2)}};
+  return f;
+}
+
+std::size_t count_of(const std::string& body, const std::string& text) {
+  std::size_t n = 0;
+  for (std::size_t at = body.find(text); at != std::string::npos; at = body.find(text, at + 1)) ++n;
+  return n;
+}
+
+TEST(EmitStatements, SinesAndCosinesOfInputsComeFirstAllAtOnce) {
+  const TracedFunction f = trigonometry();
+  const std::string body = emit_statements(f, {});
+  // Each input angle once, in the order of first use, padded with zeros to 4 lanes; then sincos_all.
+  EXPECT_EQ(body.find("  const S _angle[4] = {x[0], x[2], S(0), S(0)};\n  S _sin[4], _cos[4];\n  sincos_all(_angle, _sin, _cos);\n"), 0u)
+      << body;
+  EXPECT_NE(body.find("_sin[0] * _cos[1]"), std::string::npos) << body;
+  EXPECT_NE(body.find("c[0] = _sin[1];"), std::string::npos) << body;
+  // A sine of a computed value stays where it is computed.
+  EXPECT_NE(body.find("std::sin(_t"), std::string::npos) << body;
+  EXPECT_EQ(count_of(body, "std::sin(x["), 0u) << body;
+  EXPECT_EQ(count_of(body, "std::cos("), 0u) << body;
+  // With inline_sincos that one is sincos_of, and the prologue is the same.
+  const std::string inline_body = emit_statements(f, {0, true});
+  EXPECT_EQ(inline_body.find("  const S _angle[4]"), 0u) << inline_body;
+  EXPECT_NE(inline_body.find("sincos_of<S>(_t"), std::string::npos) << inline_body;
+  // A batch has no prologue: every lane's sine comes from sincos_of on vectors.
+  const std::string batch = emit_statements(f, {2, true});
+  EXPECT_EQ(batch.find("_angle"), std::string::npos) << batch;
+  EXPECT_NE(batch.find("sincos_of<S>(lanes_load<V>(x[0]))"), std::string::npos) << batch;
+}
+
+TEST(SplitStatements, PartsReadTheBodysSinesAndCosines) {
+  const TracedFunction f = trigonometry();
+  const SplitStatements split = split_statements(f, "trig", 2, {});
+  ASSERT_FALSE(split.parts.empty());
+  EXPECT_EQ(split.body.find("  const S _angle[4]"), 0u) << split.body;
+  EXPECT_NE(split.body.find("trig_part0<S>(x, _sin, _cos, w);"), std::string::npos) << split.body;
+  EXPECT_NE(split.parts.find("void trig_part0(const S* x, const S* _sin, const S* _cos, S* w)"), std::string::npos) << split.parts;
+  EXPECT_EQ(split.parts.find("_angle"), std::string::npos) << split.parts;
+  EXPECT_EQ(count_of(split.body + split.parts, "sincos_all"), 1u);
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
-// The inline sin and cos of code generated with --batch (sincos.fmt, sincos_of): within one ulp of
-// 1 of the true values (long double reference) over the range they promise, |x| < 2^20 pi/2 in
-// double and 2^16 pi/2 in float; NaN beyond it and for NaN or infinite angles; the batch's lanes
-// equal the one-state values bit for bit, out of range too. Read through tiny_arm's generated
-// forward kinematics: its shoulder turns about y from the base, so body 0's rotation is
+// The inline sin and cos of generated code (sincos.fmt). Every one-state function takes the sines
+// and cosines of its angles at once (sincos_all: sincos_of in a loop): within one ulp of 1 of the
+// true values (long double reference) over sincos_of's range, |x| < 2^20 pi/2 in double and
+// 2^16 pi/2 in float, and libm's own values beyond it. A batch's lanes (sincos_of on vectors)
+// equal the one-state values bit for bit within the range, and are NaN beyond it and for NaN or
+// infinite angles. Compiled with -ffast-math, which would fold sincos_of's rounding away, the
+// one-state functions call libm. Read through tiny_arm's generated forward kinematics: its
+// shoulder turns about y from the base, so body 0's rotation is
 // [cos q 0 sin q; 0 1 0; -sin q 0 cos q] and X_WB[0] and X_WB[2] are cos q0 and sin q0 as computed.
 #include <gtest/gtest.h>
 
@@ -13,6 +16,7 @@
 #include <type_traits>
 
 #include "tiny_arm_batch.hpp"
+#include "tiny_arm_fast_math.hpp"
 
 namespace {
 
@@ -27,6 +31,13 @@ template <typename S> SinCosValue<S> one_state(S angle) {
   arm::forward_kinematics(q, X);
   return {X[2], X[0]};
 }
+template <typename S> SinCosValue<S> fast_math(S angle) {
+  S q[tiny_arm_fast_math::nq] = {angle, S(0), S(0)}, X[tiny_arm_fast_math::num_bodies * 12];
+  tiny_arm_fast_math::forward_kinematics(q, X);
+  return {X[2], X[0]};
+}
+template <typename S> S beyond_the_range() { return std::is_same_v<S, double> ? S(0x1p20 * 1.5708) : S(0x1p16 * 1.5708); }
+template <typename S> bool same_bits(S a, S b) { return std::memcmp(&a, &b, sizeof(S)) == 0; }
 
 template <typename S> class InlineSinCos : public ::testing::Test {};
 using Scalars = ::testing::Types<double, float>;
@@ -54,20 +65,30 @@ TYPED_TEST(InlineSinCos, WithinAnUlpOfOneOverItsRange) {
   this->RecordProperty("worst_ulp_of_one", std::to_string(static_cast<double>(worst / ulp_of_one)));
 }
 
-TYPED_TEST(InlineSinCos, NaNBeyondTheRangeAndForNaNOrInfiniteAngles) {
+TYPED_TEST(InlineSinCos, BeyondTheRangeOneStateIsLibmAndLanesAreNaN) {
   using S = TypeParam;
-  const S beyond = std::is_same_v<S, double> ? S(0x1p20 * 1.5708) : S(0x1p16 * 1.5708);
+  const S beyond = beyond_the_range<S>();
   for (const S x : {beyond, -beyond, S(1e30), std::numeric_limits<S>::infinity(), -std::numeric_limits<S>::infinity(),
                     std::numeric_limits<S>::quiet_NaN()}) {
     const SinCosValue<S> v = one_state(x);
-    EXPECT_TRUE(std::isnan(v.sin) && std::isnan(v.cos)) << x << ": " << v.sin << ", " << v.cos;
+    if (std::isfinite(x)) {
+      EXPECT_TRUE(same_bits(v.sin, std::sin(x)) && same_bits(v.cos, std::cos(x))) << x << ": " << v.sin << ", " << v.cos;
+    } else {
+      EXPECT_TRUE(std::isnan(v.sin) && std::isnan(v.cos)) << x << ": " << v.sin << ", " << v.cos;
+    }
+    S q[arm::nq][W] = {}, X[arm::num_bodies * 12][W];
+    for (int w = 0; w < W; ++w) q[0][w] = x;
+    arm::forward_kinematics_batch(q, X);
+    for (int w = 0; w < W; ++w) EXPECT_TRUE(std::isnan(X[2][w]) && std::isnan(X[0][w])) << x << " lane " << w;
   }
 }
 
 TYPED_TEST(InlineSinCos, LanesEqualOneStateBitForBit) {
   using S = TypeParam;
   std::mt19937_64 rng(12);
-  std::uniform_real_distribution<double> angle(-2e5, 2e5);  // in range for double, partly beyond for float
+  // Up to half the range, and small angles.
+  const double range = static_cast<double>(beyond_the_range<S>()) / 2;
+  std::uniform_real_distribution<double> angle(-range, range);
   int differing = 0;
   for (int trial = 0; trial < 5000; ++trial) {
     S q[arm::nq][W] = {}, X[arm::num_bodies * 12][W];
@@ -79,6 +100,23 @@ TYPED_TEST(InlineSinCos, LanesEqualOneStateBitForBit) {
     }
   }
   EXPECT_EQ(differing, 0);
+}
+
+// Without the -ffast-math branch sincos_of would run with its rounding folded away (k = x 2/pi,
+// not an integer) and give no sine at all; with it, libm's values (within 4 ulp of 1, the
+// vector libm -ffast-math may call included).
+TYPED_TEST(InlineSinCos, FastMathBuildsCallLibm) {
+  using S = TypeParam;
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> angle(-10.0, 10.0);
+  long double worst = 0;
+  for (int trial = 0; trial < 5000; ++trial) {
+    const S x = static_cast<S>(trial % 100 == 0 ? angle(rng) * 1e6 : angle(rng));
+    const SinCosValue<S> v = fast_math(x);
+    worst = std::max({worst, std::fabs(v.sin - std::sin(static_cast<long double>(x))),
+                      std::fabs(v.cos - std::cos(static_cast<long double>(x)))});
+  }
+  EXPECT_LE(worst, 4 * std::numeric_limits<S>::epsilon()) << "worst error " << static_cast<double>(worst) << " (fast-math build)";
 }
 
 }  // namespace

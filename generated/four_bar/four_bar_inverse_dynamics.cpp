@@ -11,96 +11,169 @@ namespace four_bar {
 
 namespace {
 
-// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
+// sin and cos in arithmetic alone: sincos_of, the same operations for one state (T = S) and for a
+// vector of states (T = V, --batch), so that both round alike, and no branch, which would split
+// the function where g++ contracts multiply-adds.
+//   x = r + k pi/2, k the nearest integer to x 2/pi (adding and subtracting 1.5 2^52 rounds),
+//   r by Cody and Waite's three-part pi/2 (k p1 and k p2 exact for |k| < 2^20; float 2^16);
+//   sin r and cos r by their Taylor series, |r| <= pi/4 (truncation below 1e-17; float 1e-9);
+//   the quadrant selects and signs them by exact multiplications by 0 and +-1.
+// Error within 1 ulp of 1 (measured 0.9 ulp) for |x| < 2^20 pi/2 = 1.6e6 rad (float: 2^16 pi/2 =
+// 1.0e5 rad); NaN beyond, and for NaN or infinite x.
+template <typename E> struct SinCosConstants;
+template <> struct SinCosConstants<double> {
+  static constexpr double two_over_pi = 0.6366197723675814, round = 6755399441055744.0;
+  static constexpr double p1 = 1.5707963267341256, p2 = 6.077100506303966e-11, p3 = 2.0222662487959506e-21;
+  // (x 2/pi)^2 times this overflows to infinity exactly beyond |x 2/pi| = 2^20.
+  static constexpr double overflow_beyond_limit = 0x1p984;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984 + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10 + z * (-7.647163731819816e-13 + z * (2.8114572543455206e-15)))))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05 + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11 + z * (4.779477332387385e-14))))));
+  }
+};
+template <> struct SinCosConstants<float> {
+  static constexpr float two_over_pi = 0.6366197466850281f, round = 12582912.0f;
+  static constexpr float p1 = 1.5703125f, p2 = 0.000484466552734375f, p3 = -6.397578431460715e-07f;
+  static constexpr float overflow_beyond_limit = 0x1p96f;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.1666666716337204f + z * (0.008333333767950535f + z * (-0.00019841270113829523f + z * (2.7557318844628753e-06f + z * (-2.5052107943679403e-08f))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.0416666679084301f + z * (-0.0013888889225199819f + z * (2.4801587642286904e-05f + z * (-2.755731998149713e-07f + z * (2.0876755879584152e-09f))));
+  }
+};
+template <typename T> struct SinCos {
+  T sin, cos;
+};
+template <typename E, typename T> inline SinCos<T> sincos_of(const T& x) {
+  typedef SinCosConstants<E> K;
+  const T y = x * K::two_over_pi;
+  // NaN beyond the limit without a comparison: 0 * finite is 0, 0 * inf is NaN.
+  const T nan = E(0) * ((y * y) * K::overflow_beyond_limit);
+  const T k = (y + K::round) - K::round;
+  const T r = ((x - k * K::p1) - k * K::p2) - k * K::p3;
+  const T z = r * r;
+  const T s = r + r * z * K::sin_series(z);
+  const T c = (E(1) - E(0.5) * z) + z * z * K::cos_series(z);
+  // q = k mod 4 in {-2, ..., 2}; b = sin(q pi/2) = q - 2 round(q / 2) and a = cos(q pi/2) =
+  // (1 - b^2)(1 - q^2 / 2), exact on these integers: sin x = a s + b c, cos x = a c - b s.
+  const T q = k - E(4) * ((k * E(0.25) + K::round) - K::round);
+  const T b = q - E(2) * ((q * E(0.5) + K::round) - K::round);
+  const T a = (E(1) - b * b) * (E(1) - E(0.5) * (q * q));
+  return {(s * a + c * b) + nan, (c * a - s * b) + nan};
+}
+// The sines and cosines of a one-state function's angles, all at once before its statements: one
+// loop over sincos_of, which g++ vectorises (N is a multiple of 4, and __restrict spares a run-time
+// overlap check: -O2 vectorises neither a remainder nor a checked loop), then the angles sincos_of
+// leaves NaN (beyond its range, or not finite) through libm. Under -ffast-math, which folds
+// sincos_of's rounding away, libm throughout.
+template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], S (&__restrict s)[N], S (&__restrict c)[N]) {
+#if defined(__FAST_MATH__)
+  for (int k = 0; k < N; ++k) {
+    s[k] = std::sin(x[k]);
+    c[k] = std::cos(x[k]);
+  }
+#else
+  for (int k = 0; k < N; ++k) {
+    const SinCos<S> r = sincos_of<S>(x[k]);
+    s[k] = r.sin;
+    c[k] = r.cos;
+  }
+  for (int k = 0; k < N; ++k)
+    if (s[k] != s[k]) {
+      s[k] = std::sin(x[k]);
+      c[k] = std::cos(x[k]);
+    }
+#endif
+}// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 // 80 operations: 26 additions/subtractions, 43 multiplications, 0 divisions, 5 negations, 6 sin/cos, 0 square roots.
 template <typename S>
 void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {
   (void)q;
   (void)v;
   (void)qdd;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = -v[0];
-  const S _t3 = -qdd[0];
-  const S _t4 = S(9.81) * _t1;
-  const S _t5 = S(9.81) * _t0;
-  const S _t6 = qdd[0] * S(0.025);
-  const S _t7 = _t4 - _t6;
-  const S _t8 = S(0.2) * _t7;
-  const S _t9 = S(0.025) * _t8;
-  const S _t10 = qdd[0] * S(4.6666667e-05);
-  const S _t11 = _t9 - _t10;
-  const S _t12 = std::cos(q[1]);
-  const S _t13 = std::sin(q[1]);
-  const S _t14 = v[0] * S(0.05);
-  const S _t15 = _t12 * _t14;
-  const S _t16 = _t13 * _t14;
-  const S _t17 = _t2 - v[1];
-  const S _t18 = v[1] * _t15;
-  const S _t19 = v[1] * _t16;
-  const S _t20 = qdd[0] * S(0.05);
-  const S _t21 = _t4 - _t20;
-  const S _t22 = _t5 * _t13;
-  const S _t23 = _t12 * _t21;
-  const S _t24 = _t22 + _t23;
-  const S _t25 = _t5 * _t12;
-  const S _t26 = _t13 * _t21;
-  const S _t27 = _t25 - _t26;
-  const S _t28 = _t3 - qdd[1];
-  const S _t29 = _t19 + _t24;
-  const S _t30 = _t18 + _t27;
-  const S _t31 = _t17 * S(0.084);
-  const S _t32 = _t17 * S(0.035);
-  const S _t33 = _t32 - _t15;
-  const S _t34 = S(0.3) * _t33;
-  const S _t35 = _t16 - _t31;
-  const S _t36 = S(0.3) * _t35;
-  const S _t37 = _t17 * _t34;
-  const S _t38 = _t17 * _t36;
-  const S _t39 = _t15 * _t36;
-  const S _t40 = _t16 * _t34;
-  const S _t41 = _t39 + _t40;
-  const S _t42 = _t28 * S(0.084);
-  const S _t43 = _t28 * S(0.035);
-  const S _t44 = _t29 + _t43;
-  const S _t45 = S(0.3) * _t44;
-  const S _t46 = _t30 - _t42;
-  const S _t47 = S(0.3) * _t46;
-  const S _t48 = S(0.084) * _t47;
-  const S _t49 = S(0.035) * _t45;
-  const S _t50 = _t49 - _t48;
-  const S _t51 = _t28 * S(0.0008329);
-  const S _t52 = _t50 + _t51;
-  const S _t53 = _t38 + _t45;
-  const S _t54 = _t47 - _t37;
-  const S _t55 = _t41 + _t52;
-  const S _t56 = std::cos(q[2]);
-  const S _t57 = std::sin(q[2]);
-  const S _t58 = S(9.81) * _t57;
-  const S _t59 = S(9.81) * _t56;
-  const S _t60 = qdd[2] * S(-0.011);
-  const S _t61 = qdd[2] * S(0.06);
-  const S _t62 = _t58 - _t61;
-  const S _t63 = S(0.25) * _t62;
-  const S _t64 = _t59 + _t60;
-  const S _t65 = S(0.25) * _t64;
-  const S _t66 = S(-0.011) * _t65;
-  const S _t67 = S(0.06) * _t63;
-  const S _t68 = _t67 - _t66;
-  const S _t69 = qdd[2] * S(0.000316333333);
-  const S _t70 = _t68 - _t69;
-  const S _t71 = -_t70;
-  tau[2] = _t71;
-  const S _t72 = -_t55;
-  tau[1] = _t72;
-  const S _t73 = _t13 * _t54;
-  const S _t74 = _t12 * _t53;
-  const S _t75 = _t74 - _t73;
-  const S _t76 = S(0.05) * _t75;
-  const S _t77 = _t55 + _t76;
-  const S _t78 = _t11 + _t77;
-  const S _t79 = -_t78;
-  tau[0] = _t79;
+  const S _angle[4] = {q[0], q[1], q[2], S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = -v[0];
+  const S _t1 = -qdd[0];
+  const S _t2 = S(9.81) * _sin[0];
+  const S _t3 = S(9.81) * _cos[0];
+  const S _t4 = qdd[0] * S(0.025);
+  const S _t5 = _t2 - _t4;
+  const S _t6 = S(0.2) * _t5;
+  const S _t7 = S(0.025) * _t6;
+  const S _t8 = qdd[0] * S(4.6666667e-05);
+  const S _t9 = _t7 - _t8;
+  const S _t10 = v[0] * S(0.05);
+  const S _t11 = _cos[1] * _t10;
+  const S _t12 = _sin[1] * _t10;
+  const S _t13 = _t0 - v[1];
+  const S _t14 = v[1] * _t11;
+  const S _t15 = v[1] * _t12;
+  const S _t16 = qdd[0] * S(0.05);
+  const S _t17 = _t2 - _t16;
+  const S _t18 = _t3 * _sin[1];
+  const S _t19 = _cos[1] * _t17;
+  const S _t20 = _t18 + _t19;
+  const S _t21 = _t3 * _cos[1];
+  const S _t22 = _sin[1] * _t17;
+  const S _t23 = _t21 - _t22;
+  const S _t24 = _t1 - qdd[1];
+  const S _t25 = _t15 + _t20;
+  const S _t26 = _t14 + _t23;
+  const S _t27 = _t13 * S(0.084);
+  const S _t28 = _t13 * S(0.035);
+  const S _t29 = _t28 - _t11;
+  const S _t30 = S(0.3) * _t29;
+  const S _t31 = _t12 - _t27;
+  const S _t32 = S(0.3) * _t31;
+  const S _t33 = _t13 * _t30;
+  const S _t34 = _t13 * _t32;
+  const S _t35 = _t11 * _t32;
+  const S _t36 = _t12 * _t30;
+  const S _t37 = _t35 + _t36;
+  const S _t38 = _t24 * S(0.084);
+  const S _t39 = _t24 * S(0.035);
+  const S _t40 = _t25 + _t39;
+  const S _t41 = S(0.3) * _t40;
+  const S _t42 = _t26 - _t38;
+  const S _t43 = S(0.3) * _t42;
+  const S _t44 = S(0.084) * _t43;
+  const S _t45 = S(0.035) * _t41;
+  const S _t46 = _t45 - _t44;
+  const S _t47 = _t24 * S(0.0008329);
+  const S _t48 = _t46 + _t47;
+  const S _t49 = _t34 + _t41;
+  const S _t50 = _t43 - _t33;
+  const S _t51 = _t37 + _t48;
+  const S _t52 = S(9.81) * _sin[2];
+  const S _t53 = S(9.81) * _cos[2];
+  const S _t54 = qdd[2] * S(-0.011);
+  const S _t55 = qdd[2] * S(0.06);
+  const S _t56 = _t52 - _t55;
+  const S _t57 = S(0.25) * _t56;
+  const S _t58 = _t53 + _t54;
+  const S _t59 = S(0.25) * _t58;
+  const S _t60 = S(-0.011) * _t59;
+  const S _t61 = S(0.06) * _t57;
+  const S _t62 = _t61 - _t60;
+  const S _t63 = qdd[2] * S(0.000316333333);
+  const S _t64 = _t62 - _t63;
+  const S _t65 = -_t64;
+  tau[2] = _t65;
+  const S _t66 = -_t51;
+  tau[1] = _t66;
+  const S _t67 = _sin[1] * _t50;
+  const S _t68 = _cos[1] * _t49;
+  const S _t69 = _t68 - _t67;
+  const S _t70 = S(0.05) * _t69;
+  const S _t71 = _t51 + _t70;
+  const S _t72 = _t9 + _t71;
+  const S _t73 = -_t72;
+  tau[0] = _t73;
 }
 
 }  // namespace

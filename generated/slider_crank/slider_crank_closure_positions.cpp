@@ -11,41 +11,116 @@ namespace slider_crank {
 
 namespace {
 
-// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
+// sin and cos in arithmetic alone: sincos_of, the same operations for one state (T = S) and for a
+// vector of states (T = V, --batch), so that both round alike, and no branch, which would split
+// the function where g++ contracts multiply-adds.
+//   x = r + k pi/2, k the nearest integer to x 2/pi (adding and subtracting 1.5 2^52 rounds),
+//   r by Cody and Waite's three-part pi/2 (k p1 and k p2 exact for |k| < 2^20; float 2^16);
+//   sin r and cos r by their Taylor series, |r| <= pi/4 (truncation below 1e-17; float 1e-9);
+//   the quadrant selects and signs them by exact multiplications by 0 and +-1.
+// Error within 1 ulp of 1 (measured 0.9 ulp) for |x| < 2^20 pi/2 = 1.6e6 rad (float: 2^16 pi/2 =
+// 1.0e5 rad); NaN beyond, and for NaN or infinite x.
+template <typename E> struct SinCosConstants;
+template <> struct SinCosConstants<double> {
+  static constexpr double two_over_pi = 0.6366197723675814, round = 6755399441055744.0;
+  static constexpr double p1 = 1.5707963267341256, p2 = 6.077100506303966e-11, p3 = 2.0222662487959506e-21;
+  // (x 2/pi)^2 times this overflows to infinity exactly beyond |x 2/pi| = 2^20.
+  static constexpr double overflow_beyond_limit = 0x1p984;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984 + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10 + z * (-7.647163731819816e-13 + z * (2.8114572543455206e-15)))))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05 + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11 + z * (4.779477332387385e-14))))));
+  }
+};
+template <> struct SinCosConstants<float> {
+  static constexpr float two_over_pi = 0.6366197466850281f, round = 12582912.0f;
+  static constexpr float p1 = 1.5703125f, p2 = 0.000484466552734375f, p3 = -6.397578431460715e-07f;
+  static constexpr float overflow_beyond_limit = 0x1p96f;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.1666666716337204f + z * (0.008333333767950535f + z * (-0.00019841270113829523f + z * (2.7557318844628753e-06f + z * (-2.5052107943679403e-08f))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.0416666679084301f + z * (-0.0013888889225199819f + z * (2.4801587642286904e-05f + z * (-2.755731998149713e-07f + z * (2.0876755879584152e-09f))));
+  }
+};
+template <typename T> struct SinCos {
+  T sin, cos;
+};
+template <typename E, typename T> inline SinCos<T> sincos_of(const T& x) {
+  typedef SinCosConstants<E> K;
+  const T y = x * K::two_over_pi;
+  // NaN beyond the limit without a comparison: 0 * finite is 0, 0 * inf is NaN.
+  const T nan = E(0) * ((y * y) * K::overflow_beyond_limit);
+  const T k = (y + K::round) - K::round;
+  const T r = ((x - k * K::p1) - k * K::p2) - k * K::p3;
+  const T z = r * r;
+  const T s = r + r * z * K::sin_series(z);
+  const T c = (E(1) - E(0.5) * z) + z * z * K::cos_series(z);
+  // q = k mod 4 in {-2, ..., 2}; b = sin(q pi/2) = q - 2 round(q / 2) and a = cos(q pi/2) =
+  // (1 - b^2)(1 - q^2 / 2), exact on these integers: sin x = a s + b c, cos x = a c - b s.
+  const T q = k - E(4) * ((k * E(0.25) + K::round) - K::round);
+  const T b = q - E(2) * ((q * E(0.5) + K::round) - K::round);
+  const T a = (E(1) - b * b) * (E(1) - E(0.5) * (q * q));
+  return {(s * a + c * b) + nan, (c * a - s * b) + nan};
+}
+// The sines and cosines of a one-state function's angles, all at once before its statements: one
+// loop over sincos_of, which g++ vectorises (N is a multiple of 4, and __restrict spares a run-time
+// overlap check: -O2 vectorises neither a remainder nor a checked loop), then the angles sincos_of
+// leaves NaN (beyond its range, or not finite) through libm. Under -ffast-math, which folds
+// sincos_of's rounding away, libm throughout.
+template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], S (&__restrict s)[N], S (&__restrict c)[N]) {
+#if defined(__FAST_MATH__)
+  for (int k = 0; k < N; ++k) {
+    s[k] = std::sin(x[k]);
+    c[k] = std::cos(x[k]);
+  }
+#else
+  for (int k = 0; k < N; ++k) {
+    const SinCos<S> r = sincos_of<S>(x[k]);
+    s[k] = r.sin;
+    c[k] = r.cos;
+  }
+  for (int k = 0; k < N; ++k)
+    if (s[k] != s[k]) {
+      s[k] = std::sin(x[k]);
+      c[k] = std::cos(x[k]);
+    }
+#endif
+}// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 30 operations: 11 additions/subtractions, 14 multiplications, 0 divisions, 1 negations, 4 sin/cos, 0 square roots.
 template <typename S> void closure_residual(const S* q, S* residual) {
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = std::cos(q[1]);
-  const S _t3 = std::sin(q[1]);
-  const S _t4 = _t1 * _t3;
-  const S _t5 = _t0 * _t2;
-  const S _t6 = _t5 - _t4;
-  const S _t7 = _t0 * _t3;
-  const S _t8 = _t1 * _t2;
-  const S _t9 = _t7 + _t8;
-  const S _t10 = -_t7;
-  const S _t11 = _t10 - _t8;
-  const S _t12 = _t1 * S(0.05);
-  const S _t13 = _t0 * S(0.05);
-  const S _t14 = q[2] + S(0.12);
-  const S _t15 = _t11 * S(-0.05);
-  const S _t16 = _t6 * S(0.12);
-  const S _t17 = _t15 + _t16;
-  const S _t18 = _t6 * S(-0.05);
-  const S _t19 = _t9 * S(0.12);
-  const S _t20 = _t18 + _t19;
-  const S _t21 = _t17 - _t12;
-  const S _t22 = _t13 + _t20;
-  const S _t23 = _t14 - _t21;
-  const S _t24 = _t9 * _t22;
-  const S _t25 = _t6 * _t23;
-  const S _t26 = _t25 - _t24;
-  const S _t27 = _t6 * _t22;
-  const S _t28 = _t11 * _t23;
-  const S _t29 = _t28 - _t27;
-  residual[0] = _t26;
-  residual[1] = _t29;
+  const S _angle[4] = {q[0], q[1], S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = _sin[0] * _sin[1];
+  const S _t1 = _cos[0] * _cos[1];
+  const S _t2 = _t1 - _t0;
+  const S _t3 = _cos[0] * _sin[1];
+  const S _t4 = _sin[0] * _cos[1];
+  const S _t5 = _t3 + _t4;
+  const S _t6 = -_t3;
+  const S _t7 = _t6 - _t4;
+  const S _t8 = _sin[0] * S(0.05);
+  const S _t9 = _cos[0] * S(0.05);
+  const S _t10 = q[2] + S(0.12);
+  const S _t11 = _t7 * S(-0.05);
+  const S _t12 = _t2 * S(0.12);
+  const S _t13 = _t11 + _t12;
+  const S _t14 = _t2 * S(-0.05);
+  const S _t15 = _t5 * S(0.12);
+  const S _t16 = _t14 + _t15;
+  const S _t17 = _t13 - _t8;
+  const S _t18 = _t9 + _t16;
+  const S _t19 = _t10 - _t17;
+  const S _t20 = _t5 * _t18;
+  const S _t21 = _t2 * _t19;
+  const S _t22 = _t21 - _t20;
+  const S _t23 = _t2 * _t18;
+  const S _t24 = _t7 * _t19;
+  const S _t25 = _t24 - _t23;
+  residual[0] = _t22;
+  residual[1] = _t25;
 }
 
 // The values of closure_newton_step that depend only on inputs the loop does not change, computed once before it.
@@ -53,14 +128,15 @@ template <typename S> void closure_residual(const S* q, S* residual) {
 template <typename S>
 void closure_newton_step_setup(const S* q, S* invariants) {
   (void)q;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = _t1 * S(0.05);
-  const S _t3 = _t0 * S(0.05);
-  invariants[0] = _t0;
-  invariants[1] = _t1;
-  invariants[2] = _t2;
-  invariants[3] = _t3;
+  const S _angle[4] = {q[0], S(0), S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = _sin[0] * S(0.05);
+  const S _t1 = _cos[0] * S(0.05);
+  invariants[0] = _cos[0];
+  invariants[1] = _sin[0];
+  invariants[2] = _t0;
+  invariants[3] = _t1;
 }
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
@@ -69,63 +145,163 @@ template <typename S>
 void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots, S* step, S* factor) {
   (void)q;
   (void)invariants;
-  const S _t0 = std::cos(q[1]);
-  const S _t1 = std::sin(q[1]);
-  const S _t2 = invariants[1] * _t1;
-  const S _t3 = invariants[0] * _t0;
-  const S _t4 = _t3 - _t2;
-  const S _t5 = invariants[0] * _t1;
-  const S _t6 = invariants[1] * _t0;
-  const S _t7 = _t5 + _t6;
-  const S _t8 = -_t5;
-  const S _t9 = _t8 - _t6;
-  const S _t10 = q[2] + S(0.12);
-  const S _t11 = _t9 * S(-0.05);
-  const S _t12 = _t4 * S(0.12);
-  const S _t13 = _t11 + _t12;
-  const S _t14 = _t4 * S(-0.05);
-  const S _t15 = _t7 * S(0.12);
-  const S _t16 = _t14 + _t15;
-  const S _t17 = _t13 - invariants[2];
-  const S _t18 = invariants[3] + _t16;
-  const S _t19 = invariants[2] + _t10;
-  const S _t20 = _t7 * _t19;
-  const S _t21 = _t4 * invariants[3];
-  const S _t22 = -_t21;
-  const S _t23 = _t22 - _t20;
-  const S _t24 = _t4 * _t19;
-  const S _t25 = _t9 * invariants[3];
-  const S _t26 = -_t25;
-  const S _t27 = _t26 - _t24;
-  const S _t28 = _t10 - _t17;
-  const S _t29 = _t7 * _t18;
-  const S _t30 = _t4 * _t28;
+  const S _angle[4] = {q[1], S(0), S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = invariants[1] * _sin[0];
+  const S _t1 = invariants[0] * _cos[0];
+  const S _t2 = _t1 - _t0;
+  const S _t3 = invariants[0] * _sin[0];
+  const S _t4 = invariants[1] * _cos[0];
+  const S _t5 = _t3 + _t4;
+  const S _t6 = -_t3;
+  const S _t7 = _t6 - _t4;
+  const S _t8 = q[2] + S(0.12);
+  const S _t9 = _t7 * S(-0.05);
+  const S _t10 = _t2 * S(0.12);
+  const S _t11 = _t9 + _t10;
+  const S _t12 = _t2 * S(-0.05);
+  const S _t13 = _t5 * S(0.12);
+  const S _t14 = _t12 + _t13;
+  const S _t15 = _t11 - invariants[2];
+  const S _t16 = invariants[3] + _t14;
+  const S _t17 = invariants[2] + _t8;
+  const S _t18 = _t5 * _t17;
+  const S _t19 = _t2 * invariants[3];
+  const S _t20 = -_t19;
+  const S _t21 = _t20 - _t18;
+  const S _t22 = _t2 * _t17;
+  const S _t23 = _t7 * invariants[3];
+  const S _t24 = -_t23;
+  const S _t25 = _t24 - _t22;
+  const S _t26 = _t8 - _t15;
+  const S _t27 = _t5 * _t16;
+  const S _t28 = _t2 * _t26;
+  const S _t29 = _t28 - _t27;
+  const S _t30 = _t2 * _t16;
+  const S _t31 = _t7 * _t26;
+  const S _t32 = _t31 - _t30;
+  const S _t33 = _t25 * _t25;
+  const S _t34 = _t21 * _t21;
+  const S _t35 = _t33 + _t34;
+  const S _t36 = std::sqrt(_t35);
+  factor[2] = _t36;
+  const S _t37 = S(1.1754943508222875e-38) > _t36 ? S(1.1754943508222875e-38) : _t36;
+  const S _t38 = S(1) / _t37;
+  const S _t39 = _t36 * _t38;
+  const S _t40 = S(1) - _t39;
+  const S _t41 = _t21 * _t38;
+  const S _t42 = _t40 + _t41;
+  factor[0] = _t42;
+  const S _t43 = _t25 * _t38;
+  factor[1] = _t43;
+  const S _t44 = _t7 * _t43;
+  const S _t45 = _t2 * _t42;
+  const S _t46 = _t44 + _t45;
+  factor[3] = _t46;
+  const S _t47 = _t2 * _t43;
+  const S _t48 = _t7 * _t42;
+  const S _t49 = _t48 - _t47;
+  factor[4] = _t49;
+  const S _t50 = _t32 * _t43;
+  const S _t51 = _t29 * _t42;
+  const S _t52 = _t50 + _t51;
+  const S _t53 = _t29 * _t43;
+  const S _t54 = _t32 * _t42;
+  const S _t55 = _t54 - _t53;
+  const S _t56 = S(1) / _t49;
+  const S _t57 = _t55 * _t56;
+  const S _t58 = S(1) / _t36;
+  const S _t59 = _t46 * _t57;
+  const S _t60 = _t52 - _t59;
+  const S _t61 = _t58 * _t60;
+  residual[0] = _t29;
+  residual[1] = _t32;
+  pivots[0] = _t36;
+  pivots[1] = _t49;
+  step[0] = _t61;
+  step[1] = _t57;
+}
+
+// The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
+// 4 operations: 0 additions/subtractions, 2 multiplications, 0 divisions, 0 negations, 2 sin/cos, 0 square roots.
+template <typename S>
+void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants) {
+  (void)q;
+  (void)v;
+  const S _angle[4] = {q[0], S(0), S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = _sin[0] * S(0.05);
+  const S _t1 = _cos[0] * S(0.05);
+  invariants[0] = _cos[0];
+  invariants[1] = _sin[0];
+  invariants[2] = _t0;
+  invariants[3] = _t1;
+}
+
+// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
+// 81 operations: 25 additions/subtractions, 43 multiplications, 3 divisions, 6 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
+template <typename S>
+void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
+  (void)q;
+  (void)v;
+  (void)invariants;
+  const S _angle[4] = {q[1], S(0), S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = invariants[1] * _sin[0];
+  const S _t1 = invariants[0] * _cos[0];
+  const S _t2 = _t1 - _t0;
+  const S _t3 = invariants[0] * _sin[0];
+  const S _t4 = invariants[1] * _cos[0];
+  const S _t5 = _t3 + _t4;
+  const S _t6 = -_t3;
+  const S _t7 = _t6 - _t4;
+  const S _t8 = q[2] + S(0.12);
+  const S _t9 = _t7 * S(-0.05);
+  const S _t10 = _t2 * S(0.12);
+  const S _t11 = _t9 + _t10;
+  const S _t12 = _t2 * S(-0.05);
+  const S _t13 = _t5 * S(0.12);
+  const S _t14 = _t12 + _t13;
+  const S _t15 = _t11 - invariants[2];
+  const S _t16 = invariants[3] + _t14;
+  const S _t17 = invariants[2] + _t8;
+  const S _t18 = _t5 * _t17;
+  const S _t19 = _t2 * invariants[3];
+  const S _t20 = -_t19;
+  const S _t21 = _t20 - _t18;
+  const S _t22 = _t2 * _t17;
+  const S _t23 = _t7 * invariants[3];
+  const S _t24 = -_t23;
+  const S _t25 = _t24 - _t22;
+  const S _t26 = _t5 * _t8;
+  const S _t27 = _t2 * _t8;
+  const S _t28 = _t8 - _t15;
+  const S _t29 = _t5 * _t16;
+  const S _t30 = _t2 * _t28;
   const S _t31 = _t30 - _t29;
-  const S _t32 = _t4 * _t18;
-  const S _t33 = _t9 * _t28;
+  const S _t32 = _t2 * _t16;
+  const S _t33 = _t7 * _t28;
   const S _t34 = _t33 - _t32;
-  const S _t35 = _t27 * _t27;
-  const S _t36 = _t23 * _t23;
+  const S _t35 = _t25 * _t25;
+  const S _t36 = _t21 * _t21;
   const S _t37 = _t35 + _t36;
   const S _t38 = std::sqrt(_t37);
-  factor[2] = _t38;
   const S _t39 = S(1.1754943508222875e-38) > _t38 ? S(1.1754943508222875e-38) : _t38;
   const S _t40 = S(1) / _t39;
   const S _t41 = _t38 * _t40;
   const S _t42 = S(1) - _t41;
-  const S _t43 = _t23 * _t40;
+  const S _t43 = _t21 * _t40;
   const S _t44 = _t42 + _t43;
-  factor[0] = _t44;
-  const S _t45 = _t27 * _t40;
-  factor[1] = _t45;
-  const S _t46 = _t9 * _t45;
-  const S _t47 = _t4 * _t44;
+  const S _t45 = _t25 * _t40;
+  const S _t46 = _t7 * _t45;
+  const S _t47 = _t2 * _t44;
   const S _t48 = _t46 + _t47;
-  factor[3] = _t48;
-  const S _t49 = _t4 * _t45;
-  const S _t50 = _t9 * _t44;
+  const S _t49 = _t2 * _t45;
+  const S _t50 = _t7 * _t44;
   const S _t51 = _t50 - _t49;
-  factor[4] = _t51;
   const S _t52 = _t34 * _t45;
   const S _t53 = _t31 * _t44;
   const S _t54 = _t52 + _t53;
@@ -138,126 +314,29 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t61 = _t48 * _t59;
   const S _t62 = _t54 - _t61;
   const S _t63 = _t60 * _t62;
+  const S _t64 = _t26 * v[0];
+  const S _t65 = _t27 * v[0];
+  const S _t66 = _t45 * _t65;
+  const S _t67 = _t44 * _t64;
+  const S _t68 = -_t67;
+  const S _t69 = _t68 - _t66;
+  const S _t70 = _t45 * _t64;
+  const S _t71 = _t44 * _t65;
+  const S _t72 = _t70 - _t71;
+  const S _t73 = _t58 * _t72;
+  const S _t74 = _t48 * _t73;
+  const S _t75 = _t69 - _t74;
+  const S _t76 = _t60 * _t75;
+  const S _t77 = -_t76;
+  const S _t78 = -_t73;
   residual[0] = _t31;
   residual[1] = _t34;
   pivots[0] = _t38;
   pivots[1] = _t51;
   step[0] = _t63;
   step[1] = _t59;
-}
-
-// The values of closure_newton_step_velocities that depend only on inputs the loop does not change, computed once before it.
-// 4 operations: 0 additions/subtractions, 2 multiplications, 0 divisions, 0 negations, 2 sin/cos, 0 square roots.
-template <typename S>
-void closure_newton_step_velocities_setup(const S* q, const S* v, S* invariants) {
-  (void)q;
-  (void)v;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = _t1 * S(0.05);
-  const S _t3 = _t0 * S(0.05);
-  invariants[0] = _t0;
-  invariants[1] = _t1;
-  invariants[2] = _t2;
-  invariants[3] = _t3;
-}
-
-// One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and the dependent velocities -Phi_z^-1 Phi_y v_y at q from the same factor (detail::dependent_velocities_from_factor).
-// 81 operations: 25 additions/subtractions, 43 multiplications, 3 divisions, 6 negations, 2 sin/cos, 1 square roots, 1 max (selects) per iteration.
-template <typename S>
-void closure_newton_step_velocities(const S* q, const S* v, const S* invariants, S* residual, S* pivots, S* step, S* vz) {
-  (void)q;
-  (void)v;
-  (void)invariants;
-  const S _t0 = std::cos(q[1]);
-  const S _t1 = std::sin(q[1]);
-  const S _t2 = invariants[1] * _t1;
-  const S _t3 = invariants[0] * _t0;
-  const S _t4 = _t3 - _t2;
-  const S _t5 = invariants[0] * _t1;
-  const S _t6 = invariants[1] * _t0;
-  const S _t7 = _t5 + _t6;
-  const S _t8 = -_t5;
-  const S _t9 = _t8 - _t6;
-  const S _t10 = q[2] + S(0.12);
-  const S _t11 = _t9 * S(-0.05);
-  const S _t12 = _t4 * S(0.12);
-  const S _t13 = _t11 + _t12;
-  const S _t14 = _t4 * S(-0.05);
-  const S _t15 = _t7 * S(0.12);
-  const S _t16 = _t14 + _t15;
-  const S _t17 = _t13 - invariants[2];
-  const S _t18 = invariants[3] + _t16;
-  const S _t19 = invariants[2] + _t10;
-  const S _t20 = _t7 * _t19;
-  const S _t21 = _t4 * invariants[3];
-  const S _t22 = -_t21;
-  const S _t23 = _t22 - _t20;
-  const S _t24 = _t4 * _t19;
-  const S _t25 = _t9 * invariants[3];
-  const S _t26 = -_t25;
-  const S _t27 = _t26 - _t24;
-  const S _t28 = _t7 * _t10;
-  const S _t29 = _t4 * _t10;
-  const S _t30 = _t10 - _t17;
-  const S _t31 = _t7 * _t18;
-  const S _t32 = _t4 * _t30;
-  const S _t33 = _t32 - _t31;
-  const S _t34 = _t4 * _t18;
-  const S _t35 = _t9 * _t30;
-  const S _t36 = _t35 - _t34;
-  const S _t37 = _t27 * _t27;
-  const S _t38 = _t23 * _t23;
-  const S _t39 = _t37 + _t38;
-  const S _t40 = std::sqrt(_t39);
-  const S _t41 = S(1.1754943508222875e-38) > _t40 ? S(1.1754943508222875e-38) : _t40;
-  const S _t42 = S(1) / _t41;
-  const S _t43 = _t40 * _t42;
-  const S _t44 = S(1) - _t43;
-  const S _t45 = _t23 * _t42;
-  const S _t46 = _t44 + _t45;
-  const S _t47 = _t27 * _t42;
-  const S _t48 = _t9 * _t47;
-  const S _t49 = _t4 * _t46;
-  const S _t50 = _t48 + _t49;
-  const S _t51 = _t4 * _t47;
-  const S _t52 = _t9 * _t46;
-  const S _t53 = _t52 - _t51;
-  const S _t54 = _t36 * _t47;
-  const S _t55 = _t33 * _t46;
-  const S _t56 = _t54 + _t55;
-  const S _t57 = _t33 * _t47;
-  const S _t58 = _t36 * _t46;
-  const S _t59 = _t58 - _t57;
-  const S _t60 = S(1) / _t53;
-  const S _t61 = _t59 * _t60;
-  const S _t62 = S(1) / _t40;
-  const S _t63 = _t50 * _t61;
-  const S _t64 = _t56 - _t63;
-  const S _t65 = _t62 * _t64;
-  const S _t66 = _t28 * v[0];
-  const S _t67 = _t29 * v[0];
-  const S _t68 = _t47 * _t67;
-  const S _t69 = _t46 * _t66;
-  const S _t70 = -_t69;
-  const S _t71 = _t70 - _t68;
-  const S _t72 = _t47 * _t66;
-  const S _t73 = _t46 * _t67;
-  const S _t74 = _t72 - _t73;
-  const S _t75 = _t60 * _t74;
-  const S _t76 = _t50 * _t75;
-  const S _t77 = _t71 - _t76;
-  const S _t78 = _t62 * _t77;
-  const S _t79 = -_t78;
-  const S _t80 = -_t75;
-  residual[0] = _t33;
-  residual[1] = _t36;
-  pivots[0] = _t40;
-  pivots[1] = _t53;
-  step[0] = _t65;
-  step[1] = _t61;
-  vz[0] = _t79;
-  vz[1] = _t80;
+  vz[0] = _t77;
+  vz[1] = _t78;
 }
 
 // Sub-system k owns entries [subsystem_begin[k], subsystem_begin[k + 1]) of the step's arrays;

@@ -11,223 +11,298 @@ namespace slider_crank {
 
 namespace {
 
-// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+// sin and cos in arithmetic alone: sincos_of, the same operations for one state (T = S) and for a
+// vector of states (T = V, --batch), so that both round alike, and no branch, which would split
+// the function where g++ contracts multiply-adds.
+//   x = r + k pi/2, k the nearest integer to x 2/pi (adding and subtracting 1.5 2^52 rounds),
+//   r by Cody and Waite's three-part pi/2 (k p1 and k p2 exact for |k| < 2^20; float 2^16);
+//   sin r and cos r by their Taylor series, |r| <= pi/4 (truncation below 1e-17; float 1e-9);
+//   the quadrant selects and signs them by exact multiplications by 0 and +-1.
+// Error within 1 ulp of 1 (measured 0.9 ulp) for |x| < 2^20 pi/2 = 1.6e6 rad (float: 2^16 pi/2 =
+// 1.0e5 rad); NaN beyond, and for NaN or infinite x.
+template <typename E> struct SinCosConstants;
+template <> struct SinCosConstants<double> {
+  static constexpr double two_over_pi = 0.6366197723675814, round = 6755399441055744.0;
+  static constexpr double p1 = 1.5707963267341256, p2 = 6.077100506303966e-11, p3 = 2.0222662487959506e-21;
+  // (x 2/pi)^2 times this overflows to infinity exactly beyond |x 2/pi| = 2^20.
+  static constexpr double overflow_beyond_limit = 0x1p984;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.16666666666666666 + z * (0.008333333333333333 + z * (-0.0001984126984126984 + z * (2.7557319223985893e-06 + z * (-2.505210838544172e-08 + z * (1.6059043836821613e-10 + z * (-7.647163731819816e-13 + z * (2.8114572543455206e-15)))))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.041666666666666664 + z * (-0.001388888888888889 + z * (2.48015873015873e-05 + z * (-2.755731922398589e-07 + z * (2.08767569878681e-09 + z * (-1.1470745597729725e-11 + z * (4.779477332387385e-14))))));
+  }
+};
+template <> struct SinCosConstants<float> {
+  static constexpr float two_over_pi = 0.6366197466850281f, round = 12582912.0f;
+  static constexpr float p1 = 1.5703125f, p2 = 0.000484466552734375f, p3 = -6.397578431460715e-07f;
+  static constexpr float overflow_beyond_limit = 0x1p96f;
+  template <typename T> static T sin_series(const T& z) {
+    return -0.1666666716337204f + z * (0.008333333767950535f + z * (-0.00019841270113829523f + z * (2.7557318844628753e-06f + z * (-2.5052107943679403e-08f))));
+  }
+  template <typename T> static T cos_series(const T& z) {
+    return 0.0416666679084301f + z * (-0.0013888889225199819f + z * (2.4801587642286904e-05f + z * (-2.755731998149713e-07f + z * (2.0876755879584152e-09f))));
+  }
+};
+template <typename T> struct SinCos {
+  T sin, cos;
+};
+template <typename E, typename T> inline SinCos<T> sincos_of(const T& x) {
+  typedef SinCosConstants<E> K;
+  const T y = x * K::two_over_pi;
+  // NaN beyond the limit without a comparison: 0 * finite is 0, 0 * inf is NaN.
+  const T nan = E(0) * ((y * y) * K::overflow_beyond_limit);
+  const T k = (y + K::round) - K::round;
+  const T r = ((x - k * K::p1) - k * K::p2) - k * K::p3;
+  const T z = r * r;
+  const T s = r + r * z * K::sin_series(z);
+  const T c = (E(1) - E(0.5) * z) + z * z * K::cos_series(z);
+  // q = k mod 4 in {-2, ..., 2}; b = sin(q pi/2) = q - 2 round(q / 2) and a = cos(q pi/2) =
+  // (1 - b^2)(1 - q^2 / 2), exact on these integers: sin x = a s + b c, cos x = a c - b s.
+  const T q = k - E(4) * ((k * E(0.25) + K::round) - K::round);
+  const T b = q - E(2) * ((q * E(0.5) + K::round) - K::round);
+  const T a = (E(1) - b * b) * (E(1) - E(0.5) * (q * q));
+  return {(s * a + c * b) + nan, (c * a - s * b) + nan};
+}
+// The sines and cosines of a one-state function's angles, all at once before its statements: one
+// loop over sincos_of, which g++ vectorises (N is a multiple of 4, and __restrict spares a run-time
+// overlap check: -O2 vectorises neither a remainder nor a checked loop), then the angles sincos_of
+// leaves NaN (beyond its range, or not finite) through libm. Under -ffast-math, which folds
+// sincos_of's rounding away, libm throughout.
+template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], S (&__restrict s)[N], S (&__restrict c)[N]) {
+#if defined(__FAST_MATH__)
+  for (int k = 0; k < N; ++k) {
+    s[k] = std::sin(x[k]);
+    c[k] = std::cos(x[k]);
+  }
+#else
+  for (int k = 0; k < N; ++k) {
+    const SinCos<S> r = sincos_of<S>(x[k]);
+    s[k] = r.sin;
+    c[k] = r.cos;
+  }
+  for (int k = 0; k < N; ++k)
+    if (s[k] != s[k]) {
+      s[k] = std::sin(x[k]);
+      c[k] = std::cos(x[k]);
+    }
+#endif
+}// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
 // 207 operations: 73 additions/subtractions, 114 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void full_accelerations_impl(const S* q, const S* v, const S* tau, S* qdd) {
   (void)q;
   (void)v;
   (void)tau;
-  const S _t0 = std::cos(q[0]);
-  const S _t1 = std::sin(q[0]);
-  const S _t2 = std::cos(q[1]);
-  const S _t3 = std::sin(q[1]);
-  const S _t4 = _t1 * _t3;
-  const S _t5 = _t0 * _t2;
-  const S _t6 = _t5 - _t4;
-  const S _t7 = _t0 * _t3;
-  const S _t8 = _t1 * _t2;
-  const S _t9 = _t7 + _t8;
-  const S _t10 = -_t7;
-  const S _t11 = _t10 - _t8;
-  const S _t12 = _t1 * S(0.05);
-  const S _t13 = _t0 * S(0.05);
-  const S _t14 = q[2] + S(0.12);
-  const S _t15 = _t11 * S(-0.05);
-  const S _t16 = _t6 * S(0.12);
-  const S _t17 = _t15 + _t16;
-  const S _t18 = _t6 * S(-0.05);
-  const S _t19 = _t9 * S(0.12);
-  const S _t20 = _t18 + _t19;
-  const S _t21 = _t17 - _t12;
-  const S _t22 = _t13 + _t20;
-  const S _t23 = _t12 + _t14;
-  const S _t24 = _t9 * _t23;
-  const S _t25 = _t6 * _t13;
+  const S _angle[4] = {q[0], q[1], S(0), S(0)};
+  S _sin[4], _cos[4];
+  sincos_all(_angle, _sin, _cos);
+  const S _t0 = _sin[0] * _sin[1];
+  const S _t1 = _cos[0] * _cos[1];
+  const S _t2 = _t1 - _t0;
+  const S _t3 = _cos[0] * _sin[1];
+  const S _t4 = _sin[0] * _cos[1];
+  const S _t5 = _t3 + _t4;
+  const S _t6 = -_t3;
+  const S _t7 = _t6 - _t4;
+  const S _t8 = _sin[0] * S(0.05);
+  const S _t9 = _cos[0] * S(0.05);
+  const S _t10 = q[2] + S(0.12);
+  const S _t11 = _t7 * S(-0.05);
+  const S _t12 = _t2 * S(0.12);
+  const S _t13 = _t11 + _t12;
+  const S _t14 = _t2 * S(-0.05);
+  const S _t15 = _t5 * S(0.12);
+  const S _t16 = _t14 + _t15;
+  const S _t17 = _t13 - _t8;
+  const S _t18 = _t9 + _t16;
+  const S _t19 = _t8 + _t10;
+  const S _t20 = _t5 * _t19;
+  const S _t21 = _t2 * _t9;
+  const S _t22 = -_t21;
+  const S _t23 = _t22 - _t20;
+  const S _t24 = _t2 * _t19;
+  const S _t25 = _t7 * _t9;
   const S _t26 = -_t25;
   const S _t27 = _t26 - _t24;
-  const S _t28 = _t6 * _t23;
-  const S _t29 = _t11 * _t13;
-  const S _t30 = -_t29;
-  const S _t31 = _t30 - _t28;
-  const S _t32 = _t9 * _t14;
-  const S _t33 = _t6 * _t14;
-  const S _t34 = _t31 * _t31;
-  const S _t35 = _t27 * _t27;
-  const S _t36 = _t34 + _t35;
-  const S _t37 = std::sqrt(_t36);
-  const S _t38 = S(1.1754943508222875e-38) > _t37 ? S(1.1754943508222875e-38) : _t37;
-  const S _t39 = S(1) / _t38;
-  const S _t40 = _t37 * _t39;
-  const S _t41 = S(1) - _t40;
-  const S _t42 = _t27 * _t39;
+  const S _t28 = _t5 * _t10;
+  const S _t29 = _t2 * _t10;
+  const S _t30 = _t27 * _t27;
+  const S _t31 = _t23 * _t23;
+  const S _t32 = _t30 + _t31;
+  const S _t33 = std::sqrt(_t32);
+  const S _t34 = S(1.1754943508222875e-38) > _t33 ? S(1.1754943508222875e-38) : _t33;
+  const S _t35 = S(1) / _t34;
+  const S _t36 = _t33 * _t35;
+  const S _t37 = S(1) - _t36;
+  const S _t38 = _t23 * _t35;
+  const S _t39 = _t37 + _t38;
+  const S _t40 = _t27 * _t35;
+  const S _t41 = _t7 * _t40;
+  const S _t42 = _t2 * _t39;
   const S _t43 = _t41 + _t42;
-  const S _t44 = _t31 * _t39;
-  const S _t45 = _t11 * _t44;
-  const S _t46 = _t6 * _t43;
-  const S _t47 = _t45 + _t46;
-  const S _t48 = _t6 * _t44;
-  const S _t49 = _t11 * _t43;
-  const S _t50 = _t49 - _t48;
-  const S _t51 = _t33 * _t44;
-  const S _t52 = _t32 * _t43;
-  const S _t53 = -_t52;
-  const S _t54 = _t53 - _t51;
-  const S _t55 = _t32 * _t44;
-  const S _t56 = _t33 * _t43;
-  const S _t57 = _t55 - _t56;
-  const S _t58 = S(1) / _t50;
-  const S _t59 = _t57 * _t58;
-  const S _t60 = S(1) / _t37;
-  const S _t61 = _t47 * _t59;
-  const S _t62 = _t54 - _t61;
-  const S _t63 = _t60 * _t62;
-  const S _t64 = v[0] * _t63;
-  const S _t65 = v[0] * _t59;
-  const S _t66 = -_t65;
-  const S _t67 = v[0] * S(0.05);
-  const S _t68 = _t2 * _t67;
-  const S _t69 = _t3 * _t67;
-  const S _t70 = _t64 - v[0];
-  const S _t71 = _t64 * _t68;
-  const S _t72 = -_t71;
-  const S _t73 = _t64 * _t69;
-  const S _t74 = S(0.12) * _t70;
-  const S _t75 = S(-0.05) * _t70;
-  const S _t76 = _t75 - _t68;
-  const S _t77 = _t69 - _t74;
-  const S _t78 = _t11 * _t77;
-  const S _t79 = _t6 * _t76;
-  const S _t80 = _t78 + _t79;
-  const S _t81 = _t6 * _t77;
-  const S _t82 = _t9 * _t76;
-  const S _t83 = _t81 + _t82;
-  const S _t84 = _t70 * _t76;
-  const S _t85 = _t70 * _t77;
-  const S _t86 = _t85 - _t73;
-  const S _t87 = _t72 - _t84;
-  const S _t88 = _t11 * _t87;
-  const S _t89 = _t6 * _t86;
-  const S _t90 = _t88 + _t89;
-  const S _t91 = _t6 * _t87;
-  const S _t92 = _t9 * _t86;
-  const S _t93 = _t91 + _t92;
-  const S _t94 = _t14 - _t21;
-  const S _t95 = _t66 - _t80;
-  const S _t96 = _t70 * _t94;
-  const S _t97 = _t22 * _t70;
-  const S _t98 = _t95 + _t97;
-  const S _t99 = _t96 - _t83;
-  const S _t100 = _t70 * _t98;
-  const S _t101 = _t70 * _t99;
-  const S _t102 = _t70 * _t95;
-  const S _t103 = _t70 * _t83;
-  const S _t104 = _t103 - _t90;
-  const S _t105 = _t104 - _t101;
-  const S _t106 = _t102 - _t93;
-  const S _t107 = _t100 + _t106;
-  const S _t108 = _t9 * _t107;
-  const S _t109 = _t6 * _t105;
-  const S _t110 = _t108 + _t109;
-  const S _t111 = _t6 * _t107;
-  const S _t112 = _t11 * _t105;
-  const S _t113 = _t111 + _t112;
-  const S _t114 = _t44 * _t113;
-  const S _t115 = _t43 * _t110;
-  const S _t116 = -_t115;
-  const S _t117 = _t116 - _t114;
-  const S _t118 = _t44 * _t110;
-  const S _t119 = _t43 * _t113;
-  const S _t120 = _t118 - _t119;
-  const S _t121 = _t58 * _t120;
-  const S _t122 = _t47 * _t121;
-  const S _t123 = _t117 - _t122;
-  const S _t124 = _t60 * _t123;
-  const S _t125 = _t70 * S(0.06);
-  const S _t126 = _t70 * S(-0.025);
-  const S _t127 = _t126 - _t68;
-  const S _t128 = S(0.3) * _t127;
-  const S _t129 = _t69 - _t125;
-  const S _t130 = S(0.3) * _t129;
-  const S _t131 = _t70 * _t128;
-  const S _t132 = _t70 * _t130;
-  const S _t133 = _t68 * _t130;
-  const S _t134 = _t69 * _t128;
-  const S _t135 = _t133 + _t134;
-  const S _t136 = _t2 * S(-0.05);
-  const S _t137 = _t3 * S(-0.05);
-  const S _t138 = S(-1) + _t63;
-  const S _t139 = tau[1] * _t63;
-  const S _t140 = tau[0] - _t139;
-  const S _t141 = tau[2] * _t59;
-  const S _t142 = _t140 - _t141;
-  const S _t143 = S(-0.0075) * _t138;
-  const S _t144 = S(0.3) * _t136;
-  const S _t145 = _t143 + _t144;
-  const S _t146 = S(-0.018) * _t138;
-  const S _t147 = S(0.3) * _t137;
-  const S _t148 = _t146 - _t147;
-  const S _t149 = S(0.0016947999999999998) * _t138;
-  const S _t150 = S(-0.018) * _t137;
-  const S _t151 = S(-0.0075) * _t136;
-  const S _t152 = _t151 - _t150;
-  const S _t153 = _t149 + _t152;
-  const S _t154 = _t124 * S(-0.0075);
-  const S _t155 = _t73 * S(0.3);
+  const S _t44 = _t2 * _t40;
+  const S _t45 = _t7 * _t39;
+  const S _t46 = _t45 - _t44;
+  const S _t47 = _t29 * _t40;
+  const S _t48 = _t28 * _t39;
+  const S _t49 = -_t48;
+  const S _t50 = _t49 - _t47;
+  const S _t51 = _t28 * _t40;
+  const S _t52 = _t29 * _t39;
+  const S _t53 = _t51 - _t52;
+  const S _t54 = S(1) / _t46;
+  const S _t55 = _t53 * _t54;
+  const S _t56 = S(1) / _t33;
+  const S _t57 = _t43 * _t55;
+  const S _t58 = _t50 - _t57;
+  const S _t59 = _t56 * _t58;
+  const S _t60 = v[0] * _t59;
+  const S _t61 = v[0] * _t55;
+  const S _t62 = -_t61;
+  const S _t63 = v[0] * S(0.05);
+  const S _t64 = _cos[1] * _t63;
+  const S _t65 = _sin[1] * _t63;
+  const S _t66 = _t60 - v[0];
+  const S _t67 = _t60 * _t64;
+  const S _t68 = -_t67;
+  const S _t69 = _t60 * _t65;
+  const S _t70 = S(0.12) * _t66;
+  const S _t71 = S(-0.05) * _t66;
+  const S _t72 = _t71 - _t64;
+  const S _t73 = _t65 - _t70;
+  const S _t74 = _t7 * _t73;
+  const S _t75 = _t2 * _t72;
+  const S _t76 = _t74 + _t75;
+  const S _t77 = _t2 * _t73;
+  const S _t78 = _t5 * _t72;
+  const S _t79 = _t77 + _t78;
+  const S _t80 = _t66 * _t72;
+  const S _t81 = _t66 * _t73;
+  const S _t82 = _t81 - _t69;
+  const S _t83 = _t68 - _t80;
+  const S _t84 = _t7 * _t83;
+  const S _t85 = _t2 * _t82;
+  const S _t86 = _t84 + _t85;
+  const S _t87 = _t2 * _t83;
+  const S _t88 = _t5 * _t82;
+  const S _t89 = _t87 + _t88;
+  const S _t90 = _t10 - _t17;
+  const S _t91 = _t62 - _t76;
+  const S _t92 = _t66 * _t90;
+  const S _t93 = _t18 * _t66;
+  const S _t94 = _t91 + _t93;
+  const S _t95 = _t92 - _t79;
+  const S _t96 = _t66 * _t94;
+  const S _t97 = _t66 * _t95;
+  const S _t98 = _t66 * _t91;
+  const S _t99 = _t66 * _t79;
+  const S _t100 = _t99 - _t86;
+  const S _t101 = _t100 - _t97;
+  const S _t102 = _t98 - _t89;
+  const S _t103 = _t96 + _t102;
+  const S _t104 = _t5 * _t103;
+  const S _t105 = _t2 * _t101;
+  const S _t106 = _t104 + _t105;
+  const S _t107 = _t2 * _t103;
+  const S _t108 = _t7 * _t101;
+  const S _t109 = _t107 + _t108;
+  const S _t110 = _t40 * _t109;
+  const S _t111 = _t39 * _t106;
+  const S _t112 = -_t111;
+  const S _t113 = _t112 - _t110;
+  const S _t114 = _t40 * _t106;
+  const S _t115 = _t39 * _t109;
+  const S _t116 = _t114 - _t115;
+  const S _t117 = _t54 * _t116;
+  const S _t118 = _t43 * _t117;
+  const S _t119 = _t113 - _t118;
+  const S _t120 = _t56 * _t119;
+  const S _t121 = _t66 * S(0.06);
+  const S _t122 = _t66 * S(-0.025);
+  const S _t123 = _t122 - _t64;
+  const S _t124 = S(0.3) * _t123;
+  const S _t125 = _t65 - _t121;
+  const S _t126 = S(0.3) * _t125;
+  const S _t127 = _t66 * _t124;
+  const S _t128 = _t66 * _t126;
+  const S _t129 = _t64 * _t126;
+  const S _t130 = _t65 * _t124;
+  const S _t131 = _t129 + _t130;
+  const S _t132 = _cos[1] * S(-0.05);
+  const S _t133 = _sin[1] * S(-0.05);
+  const S _t134 = S(-1) + _t59;
+  const S _t135 = tau[1] * _t59;
+  const S _t136 = tau[0] - _t135;
+  const S _t137 = tau[2] * _t55;
+  const S _t138 = _t136 - _t137;
+  const S _t139 = S(-0.0075) * _t134;
+  const S _t140 = S(0.3) * _t132;
+  const S _t141 = _t139 + _t140;
+  const S _t142 = S(-0.018) * _t134;
+  const S _t143 = S(0.3) * _t133;
+  const S _t144 = _t142 - _t143;
+  const S _t145 = S(0.0016947999999999998) * _t134;
+  const S _t146 = S(-0.018) * _t133;
+  const S _t147 = S(-0.0075) * _t132;
+  const S _t148 = _t147 - _t146;
+  const S _t149 = _t145 + _t148;
+  const S _t150 = _t120 * S(-0.0075);
+  const S _t151 = _t69 * S(0.3);
+  const S _t152 = -_t151;
+  const S _t153 = _t152 - _t150;
+  const S _t154 = _t120 * S(-0.018);
+  const S _t155 = _t67 * S(0.3);
   const S _t156 = -_t155;
   const S _t157 = _t156 - _t154;
-  const S _t158 = _t124 * S(-0.018);
-  const S _t159 = _t71 * S(0.3);
-  const S _t160 = -_t159;
-  const S _t161 = _t160 - _t158;
-  const S _t162 = _t124 * S(0.0016947999999999998);
-  const S _t163 = _t71 * S(-0.018);
-  const S _t164 = _t73 * S(-0.0075);
-  const S _t165 = -_t164;
-  const S _t166 = _t165 - _t163;
-  const S _t167 = _t166 - _t162;
-  const S _t168 = _t132 + _t157;
-  const S _t169 = _t161 - _t131;
-  const S _t170 = _t135 + _t167;
-  const S _t171 = _t138 * _t170;
-  const S _t172 = _t137 * _t169;
-  const S _t173 = _t136 * _t168;
-  const S _t174 = _t173 - _t172;
-  const S _t175 = _t171 + _t174;
-  const S _t176 = _t142 - _t175;
-  const S _t177 = _t138 * _t153;
-  const S _t178 = _t137 * _t148;
-  const S _t179 = _t136 * _t145;
-  const S _t180 = _t179 - _t178;
-  const S _t181 = _t177 + _t180;
-  const S _t182 = S(0.00017166666700000002) + _t181;
-  const S _t183 = _t59 * S(0.5);
-  const S _t184 = _t121 * S(0.5);
-  const S _t185 = _t59 * _t184;
-  const S _t186 = _t176 + _t185;
-  const S _t187 = _t59 * _t183;
-  const S _t188 = _t182 + _t187;
-  const S _t189 = _t3 * _t148;
-  const S _t190 = _t2 * _t145;
-  const S _t191 = _t190 - _t189;
-  const S _t192 = _t2 * _t148;
-  const S _t193 = _t3 * _t145;
+  const S _t158 = _t120 * S(0.0016947999999999998);
+  const S _t159 = _t67 * S(-0.018);
+  const S _t160 = _t69 * S(-0.0075);
+  const S _t161 = -_t160;
+  const S _t162 = _t161 - _t159;
+  const S _t163 = _t162 - _t158;
+  const S _t164 = _t128 + _t153;
+  const S _t165 = _t157 - _t127;
+  const S _t166 = _t131 + _t163;
+  const S _t167 = _t134 * _t166;
+  const S _t168 = _t133 * _t165;
+  const S _t169 = _t132 * _t164;
+  const S _t170 = _t169 - _t168;
+  const S _t171 = _t167 + _t170;
+  const S _t172 = _t138 - _t171;
+  const S _t173 = _t134 * _t149;
+  const S _t174 = _t133 * _t144;
+  const S _t175 = _t132 * _t141;
+  const S _t176 = _t175 - _t174;
+  const S _t177 = _t173 + _t176;
+  const S _t178 = S(0.00017166666700000002) + _t177;
+  const S _t179 = _t55 * S(0.5);
+  const S _t180 = _t117 * S(0.5);
+  const S _t181 = _t55 * _t180;
+  const S _t182 = _t172 + _t181;
+  const S _t183 = _t55 * _t179;
+  const S _t184 = _t178 + _t183;
+  const S _t185 = _sin[1] * _t144;
+  const S _t186 = _cos[1] * _t141;
+  const S _t187 = _t186 - _t185;
+  const S _t188 = _cos[1] * _t144;
+  const S _t189 = _sin[1] * _t141;
+  const S _t190 = _t188 + _t189;
+  const S _t191 = S(-0.005000000000000001) + _t187;
+  const S _t192 = _cos[0] * _t190;
+  const S _t193 = _sin[0] * _t191;
   const S _t194 = _t192 + _t193;
-  const S _t195 = S(-0.005000000000000001) + _t191;
-  const S _t196 = _t0 * _t194;
-  const S _t197 = _t1 * _t195;
-  const S _t198 = _t196 + _t197;
-  const S _t199 = S(1) / _t188;
-  const S _t200 = _t198 * S(9.81);
-  const S _t201 = _t186 - _t200;
-  const S _t202 = _t199 * _t201;
-  qdd[0] = _t202;
-  const S _t203 = _t63 * _t202;
-  const S _t204 = _t124 - _t203;
-  qdd[1] = _t204;
-  const S _t205 = _t59 * _t202;
-  const S _t206 = _t121 - _t205;
-  qdd[2] = _t206;
+  const S _t195 = S(1) / _t184;
+  const S _t196 = _t194 * S(9.81);
+  const S _t197 = _t182 - _t196;
+  const S _t198 = _t195 * _t197;
+  qdd[0] = _t198;
+  const S _t199 = _t59 * _t198;
+  const S _t200 = _t120 - _t199;
+  qdd[1] = _t200;
+  const S _t201 = _t55 * _t198;
+  const S _t202 = _t117 - _t201;
+  qdd[2] = _t202;
 }
 
 }  // namespace

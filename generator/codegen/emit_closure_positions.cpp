@@ -258,7 +258,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   return ctx.templates.render("closure_positions_source", {{"banner", ctx.banner},
                                                            {"header", ctx.header},
                                                            {"robot", ctx.robot},
-                                                           {"sincos", sincos_helper(ctx)},
+                                                           {"sincos", sincos_helper(ctx, !model.subsystems.empty())},
                                                            {"implementation", out},
                                                            {"entry_points", entry_points}});
 }

@@ -26,8 +26,9 @@ struct EmitContext {
   std::string banner;  ///< banner.fmt rendered
   ScalarChoice scalars = ScalarChoice::Both;
   int max_statements_per_part = kMaxStatementsPerPart;
-  /// sin and cos by sincos_of<S> (sincos.fmt) instead of libm: with --batch, so that the
-  /// one-state functions compute what the batch computes, bit for bit.
+  /// sin and cos of computed values by sincos_of<S> (sincos.fmt) instead of libm (those of inputs
+  /// are sincos_of's always, sincos_all): with --batch, so that the one-state functions compute
+  /// what the batch computes, bit for bit.
   bool inline_sincos = false;
 
   /// public_name.fmt: the entry point of `function` for `scalar`.

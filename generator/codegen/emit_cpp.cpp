@@ -31,7 +31,16 @@ std::vector<bool> reachable(const TracedFunction& f) {
 
 }  // namespace
 
-std::string sincos_helper(const EmitContext& ctx) { return ctx.inline_sincos ? ctx.templates.render("sincos", {}) : std::string(); }
+std::string sincos_helper(const EmitContext& ctx, bool uses_trig) {
+  return ctx.inline_sincos || uses_trig ? ctx.templates.render("sincos", {}) : std::string();
+}
+
+bool uses_trig(const TracedFunction& f) {
+  const std::vector<bool> seen = reachable(f);
+  for (int id = 0; id < f.graph.size(); ++id)
+    if (seen[static_cast<std::size_t>(id)] && (f.graph.node(id).op == Op::Sin || f.graph.node(id).op == Op::Cos)) return true;
+  return false;
+}
 
 std::string call_arguments(const TracedFunction& f) {
   std::string args;
@@ -138,6 +147,7 @@ class StatementPrinter {
  public:
   StatementPrinter(const TracedFunction& f, const std::vector<bool>& seen, StatementStyle style)
       : f_(f), seen_(seen), lanes_(style.lanes), inline_sincos_(style.inline_sincos || style.lanes > 0) {
+    if (!batch()) gather_angles();
     if (!inline_sincos_) return;
     // sin and cos of one argument are computed together (sincos_of gives both).
     std::vector<int> sin_of(static_cast<std::size_t>(f.graph.size()), -1), cos_of(sin_of);
@@ -156,7 +166,25 @@ class StatementPrinter {
   }
 
   bool batch() const { return lanes_ > 0; }
-  /// The type of a temporary.
+  /// A sin or cos of an input, computed in the prologue (one state only).
+  bool in_prologue(int id) const { return angle_slot_.empty() ? false : angle_slot_[static_cast<std::size_t>(id)] >= 0; }
+  bool has_prologue() const { return !angles_.empty(); }
+
+  /// One state: the sines and cosines of the inputs, all at once before any statement
+  /// (sincos_all of sincos.fmt: one loop over sincos_of that g++ vectorises, 2 to 8 angles per
+  /// instruction; libm calls, one by one, cost each function its fixed share: a third of talos'
+  /// mass matrix). `_angle` is padded with zeros to a multiple of 4 lanes so that -O2, which
+  /// vectorises only loops without a remainder, vectorises it too.
+  std::string prologue() const {
+    if (angles_.empty()) return std::string();
+    const std::size_t padded = (angles_.size() + 3) / 4 * 4;
+    std::string list;
+    for (std::size_t k = 0; k < padded; ++k) {
+      if (k > 0) list += ", ";
+      list += k < angles_.size() ? input_name(angles_[k]) : std::string("S(0)");
+    }
+    return fmt::format("  const S _angle[{0}] = {{{1}}};\n  S _sin[{0}], _cos[{0}];\n  sincos_all(_angle, _sin, _cos);\n", padded, list);
+  }
   const char* value_type() const { return batch() ? "V" : "S"; }
 
   /// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
@@ -170,8 +198,10 @@ class StatementPrinter {
       if (n.op == Op::Constant) {
         name = literal(n.value);
       } else if (n.op == Op::Input) {
-        const std::string element = fmt::format("{}[{}]", f_.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
+        const std::string element = input_name(id);
         name = batch() ? fmt::format("lanes_load<V>({})", element) : element;
+      } else if (in_prologue(id)) {
+        name = fmt::format("{}[{}]", n.op == Op::Sin ? "_sin" : "_cos", angle_slot_[static_cast<std::size_t>(id)]);
       } else {
         name = fmt::format("_t{}", temporaries++);
       }
@@ -228,6 +258,28 @@ class StatementPrinter {
   }
 
  private:
+  std::string input_name(int id) const {
+    const Node& n = f_.graph.node(id);
+    return fmt::format("{}[{}]", f_.inputs.at(static_cast<std::size_t>(n.input)).name, n.index);
+  }
+
+  /// angles_: the inputs whose sin or cos the function takes, in the order of their first sin
+  /// or cos; angle_slot_[id]: a sin or cos node's index in it (else -1).
+  void gather_angles() {
+    angle_slot_.assign(static_cast<std::size_t>(f_.graph.size()), -1);
+    std::vector<int> slot_of_input(static_cast<std::size_t>(f_.graph.size()), -1);
+    for (int id = 0; id < f_.graph.size(); ++id) {
+      const Node& n = f_.graph.node(id);
+      if (!seen_[static_cast<std::size_t>(id)] || (n.op != Op::Sin && n.op != Op::Cos) || f_.graph.node(n.a).op != Op::Input) continue;
+      int& slot = slot_of_input[static_cast<std::size_t>(n.a)];
+      if (slot < 0) {
+        slot = static_cast<int>(angles_.size());
+        angles_.push_back(n.a);
+      }
+      angle_slot_[static_cast<std::size_t>(id)] = slot;
+    }
+  }
+
   /// An operand that must be a vector in a batch: a constant is broadcast.
   template <typename Name> std::string vector_operand(int id, Name name) const {
     return batch() && f_.graph.is_constant(id) ? fmt::format("lanes_broadcast<V>({})", name(id)) : std::string(name(id));
@@ -278,6 +330,8 @@ class StatementPrinter {
   int lanes_;
   bool inline_sincos_;
   std::vector<int> partner_;  ///< inline sin/cos: the cos of a sin's argument and vice versa, else -1
+  std::vector<int> angles_;      ///< one state: the input nodes whose sin and cos the prologue computes
+  std::vector<int> angle_slot_;  ///< one state: a prologue sin or cos node's index in angles_, else -1
 };
 
 /// Every output's assignments, or (with `only`) those of the outputs it marks.
@@ -324,10 +378,10 @@ std::string place_output_assignments(const TracedFunction& f, const StatementPri
   return first;
 }
 
-std::vector<int> statement_ids(const TracedFunction& f, const std::vector<bool>& seen) {
+std::vector<int> statement_ids(const TracedFunction& f, const std::vector<bool>& seen, const StatementPrinter& printer) {
   std::vector<int> statements;
   for (int id = 0; id < f.graph.size(); ++id)
-    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id))) statements.push_back(id);
+    if (seen[static_cast<std::size_t>(id)] && is_statement(f.graph.node(id)) && !printer.in_prologue(id)) statements.push_back(id);
   return statements;
 }
 
@@ -347,17 +401,18 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style) {
   const StatementPrinter printer(f, seen, style);
   const std::vector<std::string> names = printer.leaf_and_temporary_names();
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
-  const std::vector<int> run = statement_ids(f, seen);
+  const std::vector<int> run = statement_ids(f, seen, printer);
   // Which outputs are written as soon as they exist; the others are written at the end.
   std::vector<bool> early(f.outputs.size(), style.early_outputs);
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     if (std::find(style.early_anyway.begin(), style.early_anyway.end(), f.outputs[o].name) != style.early_anyway.end()) early[o] = true;
   std::vector<bool> late(early.size());
   for (std::size_t o = 0; o < early.size(); ++o) late[o] = !early[o];
-  if (std::find(early.begin(), early.end(), true) == early.end()) return printer.statements(run, name) + output_assignments(f, printer, names);
+  if (std::find(early.begin(), early.end(), true) == early.end())
+    return printer.prologue() + printer.statements(run, name) + output_assignments(f, printer, names);
   std::vector<std::string> after;
   const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after, early);
-  return first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late);
+  return printer.prologue() + first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late);
 }
 
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
@@ -369,7 +424,7 @@ std::string batch_parameters(const TracedFunction& f, const std::string& scalar,
 SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
   const std::vector<bool> seen = reachable(f);
   const StatementPrinter printer(f, seen, style);
-  const std::vector<int> statements = statement_ids(f, seen);
+  const std::vector<int> statements = statement_ids(f, seen, printer);
   const int count = static_cast<int>(statements.size());
   if (count <= max_statements) return {"", emit_statements(f, style)};
 
@@ -426,10 +481,12 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
   const std::string value = printer.value_type();
   SplitStatements out;
   for (int p = 0; p < parts; ++p) {
-    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, {}* w) {{\n", prefix, p,
-                             input_parameters(f, "S", style.lanes), printer.batch() ? "typename Lanes<S>::type" : "S");
+    out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, {}{}* w) {{\n", prefix, p,
+                             input_parameters(f, "S", style.lanes), printer.has_prologue() ? "const S* _sin, const S* _cos, " : "",
+                             printer.batch() ? "typename Lanes<S>::type" : "S");
     if (printer.batch()) out.parts += "  typedef typename Lanes<S>::type V __attribute__((unused));\n";
     out.parts += unused_inputs(f);
+    if (printer.has_prologue()) out.parts += "  (void)_sin;\n  (void)_cos;\n";
     auto name = [&](int id) -> const std::string& {
       const std::size_t i = static_cast<std::size_t>(id);
       return part_of[i] == p ? local_names[i] : workspace_names[i];
@@ -443,7 +500,9 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
   }
   std::string arguments;
   for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
-  out.body = fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
+  if (printer.has_prologue()) arguments += "_sin, _cos, ";
+  out.body = printer.prologue();
+  out.body += fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
                          "  // w carries the {} values that cross a part boundary.\n  {} w[{}];\n",
                          count, parts, slots, value, std::max(slots, 1));
   for (int p = 0; p < parts; ++p) out.body += fmt::format("  {}_part{}<S>({}w);\n", prefix, p, arguments);
@@ -462,7 +521,7 @@ std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
                                {"function", f.name},
                                {"doc", f.doc},
                                {"cost", describe_operations(count_operations(f))},
-                               {"sincos", sincos_helper(ctx)},
+                               {"sincos", sincos_helper(ctx, uses_trig(f))},
                                {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
                                {"parts", split.parts},
                                {"impl_parameters", parameters(f, "S")},

@@ -19,8 +19,12 @@ std::string describe_operations(const OpCount& count);
 /// f's parameter list for `scalar`: `const S* in..., S* out...`.
 std::string parameters(const TracedFunction& f, const std::string& scalar);
 
-/// sincos.fmt rendered when ctx.inline_sincos, else nothing: the {sincos} of the source templates.
-std::string sincos_helper(const EmitContext& ctx);
+/// sincos.fmt rendered when the source computes a sin or cos (uses_trig) or ctx.inline_sincos,
+/// else nothing: the {sincos} of the source templates.
+std::string sincos_helper(const EmitContext& ctx, bool uses_trig);
+
+/// Whether f's outputs depend on a sin or cos.
+bool uses_trig(const TracedFunction& f);
 
 /// f's parameter names, inputs then outputs: `q, v, qdd`.
 std::string call_arguments(const TracedFunction& f);
@@ -37,8 +41,10 @@ std::string emit_entry_points(const std::string& function, const std::string& ar
                               const std::function<std::string(const std::string&)>& parameters_for, const EmitContext& ctx);
 
 /// How statements are printed: for one state or for `lanes` states at once (lanes > 0, batch
-/// functions), and sin and cos by libm (std::sin, std::cos) or inline (sincos_of<S>, sincos.fmt:
-/// arithmetic alone, the same for one state and for lanes; always inline in a batch).
+/// functions). For one state, the sines and cosines of inputs (every joint angle) come first, all
+/// at once (`sincos_all`, sincos.fmt); other sines and cosines by libm (std::sin, std::cos) or,
+/// with inline_sincos, by sincos_of<S> (arithmetic alone, the same for one state and for lanes;
+/// always so in a batch).
 struct StatementStyle {
   int lanes = 0;
   bool inline_sincos = false;
@@ -52,7 +58,8 @@ struct StatementStyle {
 /// S (*out)[lanes]...` (in[i][w]: entry i of state w); lanes 0 gives parameters(f, scalar).
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
 
-/// The straight-line statements of f's body: `const S _tN = ...;` in topological order, with one
+/// The straight-line statements of f's body: for one state, the prologue computing the sines
+/// and cosines of its inputs (`_angle`, `_sin`, `_cos`: StatementStyle), then `const S _tN = ...;` in topological order, with one
 /// assignment per output element (`name[i] = ...;`) as soon as its value exists, but after the
 /// last statement reading an input (so inputs are all read before any output is written), or
 /// all at the end without style.early_outputs; two-space indented. emit_definition wraps
@@ -65,7 +72,8 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 
 
 /// A function body split into parts: `parts` defines `template <typename S> void
-/// <prefix>_part<k>(inputs..., S* w)` (marked noinline, see noinline_macro), each computing
+/// <prefix>_part<k>(inputs..., [_sin, _cos,] S* w)` (marked noinline, see noinline_macro; the
+/// body's prologue computes _sin and _cos once for all parts), each computing
 /// one run of consecutive statements and storing at its end the values later parts or the
 /// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
 /// the outputs. Functions of at most max_statements statements are not split: parts is empty

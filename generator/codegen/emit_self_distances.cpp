@@ -269,7 +269,7 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
        {"header", ctx.header},
        {"robot", ctx.robot},
        {"cost", cost},
-       {"sincos", sincos_helper(ctx)},
+       {"sincos", sincos_helper(ctx, np > 0 && uses_trig(traced))},
        {"impl_parameters", impl_arguments()},
        {"full_parameters", arguments("S")},
        {"near_parameters", near_arguments("S")},

@@ -39,7 +39,7 @@ const PlaceholderSpec kDoc{"doc", "the function's one-line description"};
 const PlaceholderSpec kCost{"cost", "its operation count: 12 operations: 5 additions/subtractions, ..."};
 const PlaceholderSpec kCallee{"callee", "the public name of the function computed first, for this scalar"};
 const PlaceholderSpec kSourceFunction{"source_function", "the name of the function computed first"};
-const PlaceholderSpec kSinCos{"sincos", "sincos.fmt rendered when sin and cos are computed inline (--batch), else nothing"};
+const PlaceholderSpec kSinCos{"sincos", "sincos.fmt rendered when the source computes a sin or cos (or with --batch), else nothing"};
 
 std::vector<TemplateSpec> make_catalog() {
   return {
@@ -146,7 +146,7 @@ std::vector<TemplateSpec> make_catalog() {
         {"impl_parameters", "the parameter list with scalar S: const S (*q)[lanes], ..."},
         {"body", "the statements of <function>_batch_impl<S>, on V"},
         kEntryPoints}},
-      {"sincos", "sincos_of<S>(x): sin and cos in arithmetic alone, for one state and for lanes alike (--batch)", {}},
+      {"sincos", "sincos_of<S>(x): sin and cos in arithmetic alone, for one state and for lanes alike; sincos_all(angle, sin, cos): a one-state function's angles all at once", {}},
       {"batch_width", "the header's batch constant, when generated with --batch",
        {kRobot, {"lanes", "the number of states per call"}, {"functions", "the batched functions' names, comma-separated"}}},
       {"selection_source", "the source of a function that keeps some entries of another's output",
