@@ -1,7 +1,8 @@
 // Where emit_statements (generator/codegen/emit_cpp.hpp) writes a function's outputs: as soon as
 // their values exist (early_outputs), all at the end, or at the end except the outputs named in
 // early_anyway (the closure's Newton step writes its factor early and its residual rows last); and
-// how a one-state function takes the sines and cosines of its inputs: all at once, first.
+// how a one-state function takes the sines and cosines of its inputs: all at once, first; and
+// where split_statements writes many constant output entries: by a function of their own.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -110,6 +111,34 @@ TEST(SplitStatements, PartsReadTheBodysSinesAndCosines) {
   EXPECT_NE(split.parts.find("void trig_part0(const S* x, const S* _sin, const S* _cos, S* w)"), std::string::npos) << split.parts;
   EXPECT_EQ(split.parts.find("_angle"), std::string::npos) << split.parts;
   EXPECT_EQ(count_of(split.body + split.parts, "sincos_all"), 1u);
+}
+
+/// out (zeros + 1 entries): out[0] = x0 x1, the rest zero.
+TracedFunction mostly_zeros(int zeros) {
+  TracedFunction f;
+  f.name = "sparse";
+  f.inputs = {{"x", 2, ""}};
+  f.outputs = {{"out", zeros + 1, ""}};
+  ExpressionGraph& g = f.graph;
+  f.output_ids = {{g.binary(Op::Mul, g.input(0, 0), g.input(0, 1))}};
+  for (int k = 0; k < zeros; ++k) f.output_ids[0].push_back(g.constant(0.0));
+  return f;
+}
+
+TEST(SplitStatements, ManyConstantOutputsAreWrittenLastByAFunctionOfTheirOwn) {
+  const SplitStatements many = split_statements(mostly_zeros(256), "sparse", 1000, {});
+  EXPECT_NE(many.parts.find("MBGEN_GENERATED_NOINLINE void sparse_constants(S* out) {"), std::string::npos) << many.parts;
+  EXPECT_EQ(count_of(many.parts, "] = S(0);"), 256u) << many.parts;
+  EXPECT_EQ(count_of(many.body, "S(0)"), 0u) << many.body;
+  const std::string call = "  sparse_constants<S>(out);\n";
+  ASSERT_GE(many.body.size(), call.size());
+  EXPECT_EQ(many.body.substr(many.body.size() - call.size()), call) << "called last:\n" << many.body;
+  EXPECT_NE(many.body.find("out[0] = "), std::string::npos) << many.body;
+  // Fewer stay in place; a batch keeps them (its stores are vectors already).
+  const SplitStatements few = split_statements(mostly_zeros(255), "sparse", 1000, {});
+  EXPECT_TRUE(few.parts.empty()) << few.parts;
+  EXPECT_EQ(count_of(few.body, "] = S(0);"), 255u) << few.body;
+  EXPECT_EQ(split_statements(mostly_zeros(256), "sparse", 1000, {2, true}).parts.find("_constants"), std::string::npos);
 }
 
 }  // namespace

@@ -336,13 +336,58 @@ class StatementPrinter {
 
 /// Every output's assignments, or (with `only`) those of the outputs it marks.
 std::string output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names,
-                               const std::vector<bool>* only = nullptr) {
+                               const std::vector<bool>* only = nullptr, bool skip_constants = false) {
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::string body;
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     for (std::size_t i = 0; i < (only && !(*only)[o] ? 0 : f.output_ids[o].size()); ++i)
-      body += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), f.output_ids[o][i], name);
+      if (!(skip_constants && f.graph.is_constant(f.output_ids[o][i])))
+        body += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), f.output_ids[o][i], name);
   return body;
+}
+
+/// The output entries that are constants (structural zeros, a robot's total mass, the identity
+/// blocks of a velocity map).
+int count_constant_outputs(const TracedFunction& f) {
+  int n = 0;
+  for (const auto& ids : f.output_ids)
+    for (int id : ids) n += f.graph.is_constant(id);
+  return n;
+}
+
+/// From this many constant output entries on, a one-state function writes them by a function of
+/// their own, called last (see split_statements): large mass matrices, Jacobians, velocity maps,
+/// contact Jacobians. Below it the separate pass costs what the packed stores save, or more
+/// (hyq's mass matrix, 120 zeros: 2-5 % slower so).
+constexpr int kConstantOutputsApart = 256;
+
+/// `<prefix>_constants<S>(outputs...)`: writes f's constant output entries.
+std::string constant_outputs_function(const TracedFunction& f, const std::string& prefix, int count) {
+  std::string parameters, stores;
+  for (std::size_t o = 0; o < f.outputs.size(); ++o) {
+    bool any = false;
+    for (std::size_t i = 0; i < f.output_ids[o].size(); ++i) {
+      const int id = f.output_ids[o][i];
+      if (!f.graph.is_constant(id)) continue;
+      any = true;
+      stores += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, literal(f.graph.node(id).value));
+    }
+    if (any) parameters += fmt::format("{}S* {}", parameters.empty() ? "" : ", ", f.outputs[o].name);
+  }
+  return fmt::format("// The {} output entries that are the same at every call, by a function of their own: g++\n"
+                     "// vectorises no basic block as large as {}'s, and stores them there 8 bytes at a time.\n"
+                     "template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_constants({}) {{\n{}}}\n\n",
+                     count, f.name, prefix, parameters, stores);
+}
+
+std::string constant_outputs_call(const TracedFunction& f, const std::string& prefix) {
+  std::string arguments;
+  for (std::size_t o = 0; o < f.outputs.size(); ++o) {
+    bool any = false;
+    for (int id : f.output_ids[o]) any = any || f.graph.is_constant(id);
+    if (any) arguments += (arguments.empty() ? "" : ", ") + f.outputs[o].name;
+  }
+  return fmt::format("  {}_constants<S>({});\n", prefix, arguments);
 }
 
 /// The output assignments placed early: after[k] holds those printed after the k-th statement of
@@ -353,7 +398,8 @@ std::string output_assignments(const TracedFunction& f, const StatementPrinter& 
 /// input, so every input is read before any output is written, as when all were written last:
 /// a caller passing an output that overlaps an input gets what it got before.
 std::string place_output_assignments(const TracedFunction& f, const StatementPrinter& printer, const std::vector<std::string>& names,
-                                     const std::vector<int>& order, std::vector<std::string>& after, const std::vector<bool>& placed) {
+                                     const std::vector<int>& order, std::vector<std::string>& after, const std::vector<bool>& placed,
+                                     bool skip_constants) {
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   std::vector<int> position(static_cast<std::size_t>(f.graph.size()), -1);
   int last_read = -1;
@@ -372,6 +418,7 @@ std::string place_output_assignments(const TracedFunction& f, const StatementPri
   for (std::size_t o = 0; o < f.outputs.size(); ++o)
     for (std::size_t i = 0; i < (placed[o] ? f.output_ids[o].size() : 0); ++i) {
       const int id = f.output_ids[o][i];
+      if (skip_constants && f.graph.is_constant(id)) continue;
       const int k = std::max(position[static_cast<std::size_t>(id)], last_read);
       (k < 0 ? first : after[static_cast<std::size_t>(k)]) += printer.assignment(fmt::format("{}[{}]", f.outputs[o].name, i), id, name);
     }
@@ -408,11 +455,12 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style) {
     if (std::find(style.early_anyway.begin(), style.early_anyway.end(), f.outputs[o].name) != style.early_anyway.end()) early[o] = true;
   std::vector<bool> late(early.size());
   for (std::size_t o = 0; o < early.size(); ++o) late[o] = !early[o];
+  const bool skip = style.constants_apart;
   if (std::find(early.begin(), early.end(), true) == early.end())
-    return printer.prologue() + printer.statements(run, name) + output_assignments(f, printer, names);
+    return printer.prologue() + printer.statements(run, name) + output_assignments(f, printer, names, nullptr, skip);
   std::vector<std::string> after;
-  const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after, early);
-  return printer.prologue() + first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late);
+  const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after, early, skip);
+  return printer.prologue() + first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late, skip);
 }
 
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
@@ -421,7 +469,23 @@ std::string batch_parameters(const TracedFunction& f, const std::string& scalar,
   return args;
 }
 
+namespace {
+SplitStatements split_statements_of(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style);
+}  // namespace
+
 SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
+  const int constants = count_constant_outputs(f);
+  style.constants_apart = style.lanes == 0 && constants >= kConstantOutputsApart;
+  SplitStatements out = split_statements_of(f, prefix, max_statements, style);
+  if (style.constants_apart) {
+    out.parts += constant_outputs_function(f, prefix, constants);
+    out.body += constant_outputs_call(f, prefix);
+  }
+  return out;
+}
+
+namespace {
+SplitStatements split_statements_of(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
   const std::vector<bool> seen = reachable(f);
   const StatementPrinter printer(f, seen, style);
   const std::vector<int> statements = statement_ids(f, seen, printer);
@@ -506,9 +570,10 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
                          "  // w carries the {} values that cross a part boundary.\n  {} w[{}];\n",
                          count, parts, slots, value, std::max(slots, 1));
   for (int p = 0; p < parts; ++p) out.body += fmt::format("  {}_part{}<S>({}w);\n", prefix, p, arguments);
-  out.body += output_assignments(f, printer, workspace_names);
+  out.body += output_assignments(f, printer, workspace_names, nullptr, style.constants_apart);
   return out;
 }
+}  // namespace
 
 std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
   const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});

@@ -52,6 +52,9 @@ struct StatementStyle {
   bool early_outputs = true;
   /// With early_outputs false, these outputs (by name) are still written as soon as they exist.
   std::vector<std::string> early_anyway = {};
+  /// The constant output entries are left out (split_statements writes them by a function of
+  /// their own: set there, for one state, from 256 such entries on).
+  bool constants_apart = false;
 };
 
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
@@ -78,6 +81,10 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 /// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
 /// the outputs. Functions of at most max_statements statements are not split: parts is empty
 /// and body is emit_statements(f, style). With style.lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
+/// For one state, a function with at least 256 constant output entries (structural zeros of a
+/// mass matrix or a Jacobian, a velocity map's identity) writes them last by a function of their
+/// own, `<prefix>_constants<S>(outputs...)` in parts (noinline): in a small function g++ packs
+/// them into vector stores, in the function's single large basic block it does not.
 struct SplitStatements {
   std::string parts;
   std::string body;
