@@ -346,48 +346,39 @@ std::string output_assignments(const TracedFunction& f, const StatementPrinter& 
   return body;
 }
 
-/// The output entries that are constants (structural zeros, a robot's total mass, the identity
-/// blocks of a velocity map).
-int count_constant_outputs(const TracedFunction& f) {
-  int n = 0;
-  for (const auto& ids : f.output_ids)
-    for (int id : ids) n += f.graph.is_constant(id);
-  return n;
-}
-
 /// From this many constant output entries on, a one-state function writes them by a function of
 /// their own, called last (see split_statements): large mass matrices, Jacobians, velocity maps,
 /// contact Jacobians. Below it the separate pass costs what the packed stores save, or more
 /// (hyq's mass matrix, 120 zeros: 2-5 % slower so).
 constexpr int kConstantOutputsApart = 256;
 
-/// `<prefix>_constants<S>(outputs...)`: writes f's constant output entries.
-std::string constant_outputs_function(const TracedFunction& f, const std::string& prefix, int count) {
-  std::string parameters, stores;
+/// f's constant output entries (structural zeros, a robot's total mass, the identity blocks of a
+/// velocity map): how many, `<prefix>_constants<S>(outputs...)` writing them, and its call.
+struct ConstantOutputs {
+  int count = 0;
+  std::string definition, call;
+};
+ConstantOutputs constant_outputs(const TracedFunction& f, const std::string& prefix) {
+  ConstantOutputs c;
+  std::string parameters, arguments, stores;
   for (std::size_t o = 0; o < f.outputs.size(); ++o) {
-    bool any = false;
+    const int before = c.count;
     for (std::size_t i = 0; i < f.output_ids[o].size(); ++i) {
       const int id = f.output_ids[o][i];
       if (!f.graph.is_constant(id)) continue;
-      any = true;
+      ++c.count;
       stores += fmt::format("  {}[{}] = {};\n", f.outputs[o].name, i, literal(f.graph.node(id).value));
     }
-    if (any) parameters += fmt::format("{}S* {}", parameters.empty() ? "" : ", ", f.outputs[o].name);
+    if (c.count == before) continue;
+    parameters += fmt::format("{}S* {}", parameters.empty() ? "" : ", ", f.outputs[o].name);
+    arguments += (arguments.empty() ? "" : ", ") + f.outputs[o].name;
   }
-  return fmt::format("// The {} output entries that are the same at every call, by a function of their own: g++\n"
-                     "// vectorises no basic block as large as {}'s, and stores them there 8 bytes at a time.\n"
-                     "template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_constants({}) {{\n{}}}\n\n",
-                     count, f.name, prefix, parameters, stores);
-}
-
-std::string constant_outputs_call(const TracedFunction& f, const std::string& prefix) {
-  std::string arguments;
-  for (std::size_t o = 0; o < f.outputs.size(); ++o) {
-    bool any = false;
-    for (int id : f.output_ids[o]) any = any || f.graph.is_constant(id);
-    if (any) arguments += (arguments.empty() ? "" : ", ") + f.outputs[o].name;
-  }
-  return fmt::format("  {}_constants<S>({});\n", prefix, arguments);
+  c.definition = fmt::format("// The {} output entries that are the same at every call, by a function of their own: g++\n"
+                             "// vectorises no basic block as large as {}'s, and stores them there 8 bytes at a time.\n"
+                             "template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_constants({}) {{\n{}}}\n\n",
+                             c.count, f.name, prefix, parameters, stores);
+  c.call = fmt::format("  {}_constants<S>({});\n", prefix, arguments);
+  return c;
 }
 
 /// The output assignments placed early: after[k] holds those printed after the k-th statement of
@@ -474,12 +465,12 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
 }  // namespace
 
 SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
-  const int constants = count_constant_outputs(f);
-  style.constants_apart = style.lanes == 0 && constants >= kConstantOutputsApart;
+  const ConstantOutputs constants = constant_outputs(f, prefix);
+  style.constants_apart = style.lanes == 0 && constants.count >= kConstantOutputsApart;
   SplitStatements out = split_statements_of(f, prefix, max_statements, style);
   if (style.constants_apart) {
-    out.parts += constant_outputs_function(f, prefix, constants);
-    out.body += constant_outputs_call(f, prefix);
+    out.parts += constants.definition;
+    out.body += constants.call;
   }
   return out;
 }
