@@ -95,6 +95,29 @@ TEST(DampedLeastSquares, ProjectorIsOrthogonalAndAnnihilatesTheRowSpace) {
   EXPECT_NEAR(N.trace(), 6.0, 1e-13);  // dimension of the null space: 10 - 4
 }
 
+// The projector's two halves (to_null_space, from_null_space) applied to several columns at once
+// compose to the projector applied column by column, and products taken between them are the
+// projected vectors' products: on a rank-deficient A (the pivoted QR) and a regular one (the fast
+// path's unpivoted QR).
+TEST(DampedLeastSquares, NullSpaceCoordinatesComposeToTheProjector) {
+  MatX<double> deficient = random_matrix(6, 10, 21);
+  deficient.row(5) = deficient.row(0) - 0.5 * deficient.row(2);
+  for (const MatX<double>& A : {deficient, random_matrix(6, 10, 22)}) {
+    DampedLeastSquares<double> dls(6, 10, DampingOptions{0.0, 1e-3, 1e-3, 1e-10});
+    ASSERT_TRUE(dls.compute(A));
+    const MatX<double> N = projector(dls, 10);
+    const MatX<double> Y = random_matrix(10, 4, 23);
+    Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> Z = Y;
+    dls.to_null_space(Z);
+    EXPECT_LT((Z.topRows(dls.rank())).cwiseAbs().maxCoeff(), 1e-300) << "D0 zeroes the first rank rows";
+    const MatX<double> gram = Z.transpose() * Z, projected_gram = (N * Y).transpose() * (N * Y);
+    EXPECT_LT((gram - projected_gram).cwiseAbs().maxCoeff(), 1e-14 * projected_gram.norm()) << "rank " << dls.rank();
+    dls.from_null_space(Z);
+    EXPECT_LT((MatX<double>(Z) - N * Y).cwiseAbs().maxCoeff(), 1e-14 * Y.norm()) << "rank " << dls.rank();
+    EXPECT_LT((A * MatX<double>(Z)).cwiseAbs().maxCoeff(), 1e-14 * A.norm() * Y.norm());
+  }
+}
+
 /// U diag(s) V^T (m x n) with seeded random orthogonal U, V; returns V too.
 MatX<double> with_singular_values(int m, int n, const VecX<double>& s, unsigned seed, MatX<double>& V) {
   const MatX<double> U = Eigen::HouseholderQR<MatX<double>>(random_matrix(m, m, seed)).householderQ();
@@ -109,15 +132,19 @@ TEST(DampedLeastSquares, ProjectorRankFollowsTheToleranceAtTinySingularValues) {
   // tolerance (1e-10 relative): 1e-8 is a direction the task sees (the projector must remove it),
   // 1e-12 is null space (the projector must keep it). A projector of the wrong rank fails the
   // trace and the check on v_17, the right singular vector of the tiny singular value.
+  // With no singular region (0) every bound passes the fast path's first test, so its unpivoted
+  // QR must find the rank from the tolerance alone: 1e-8 takes the fast path, 1e-12 must not.
+  for (const double region : {1e-2, 0.0})
   for (const double tiny : {1e-8, 1e-12}) {
     VecX<double> s = VecX<double>::LinSpaced(18, 3.0, 0.5);
     s[17] = tiny;
     MatX<double> V;
     const MatX<double> A = with_singular_values(18, 38, s, 11, V);
-    DampedLeastSquares<double> dls(18, 38, DampingOptions{0.0, 1e-2, 1e-2, 1e-10});
+    DampedLeastSquares<double> dls(18, 38, DampingOptions{0.0, region, 1e-2, 1e-10});
     ASSERT_TRUE(dls.compute(A));
     const int expected_rank = tiny > 1e-10 * 3.0 ? 18 : 17;
     EXPECT_EQ(dls.rank(), expected_rank) << "tiny " << tiny;
+    EXPECT_EQ(dls.exact_singular_values(), !(region == 0.0 && expected_rank == 18)) << "tiny " << tiny << ", region " << region;
     const MatX<double> N = projector(dls, 38);
     EXPECT_NEAR(N.trace(), 38.0 - expected_rank, 1e-13) << "tiny " << tiny;
     // A wrong rank fails here by orders of magnitude. Rank 18: A N = 0 to round-off (keeping the
@@ -137,6 +164,13 @@ TEST(DampedLeastSquares, ProjectorRankFollowsTheToleranceAtTinySingularValues) {
     }
     // Singular values, decreasing, to an absolute 1e-14 (3 sigma_max u x a few): the tiny one
     // too, which the square root of a Gram eigenvalue could only give to ~1e-8.
+    // The fast path has no singular values, only its bound: at most sigma_min, and within
+    // sqrt(18) of it (1 / |R^-1|_F, the Frobenius norm of the inverse).
+    if (!dls.exact_singular_values()) {
+      EXPECT_LE(dls.smallest_singular_value(), tiny * (1 + 1e-6));
+      EXPECT_GE(dls.smallest_singular_value(), tiny / std::sqrt(18.0));
+      continue;
+    }
     for (int i = 0; i < 18; ++i) EXPECT_NEAR(dls.singular_values()[i], s[i], 1e-14) << "tiny " << tiny << " i " << i;
     EXPECT_NEAR(dls.smallest_singular_value(), tiny, 1e-14);
   }

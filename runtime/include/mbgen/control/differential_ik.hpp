@@ -173,8 +173,8 @@ template <typename Backend> class BasicDifferentialIk {
     gradient_ = VecX<S>::Zero(nv_);
     gradient_c_ = VecX<S>::Zero(nc_);
     Bk_ = Mat3X<S>::Zero(3, nc_);
-    C_ = Eigen::Matrix<S, Eigen::Dynamic, 3>::Zero(nc_, 3);
-    column_ = VecX<S>::Zero(nc_);
+    to_null_ = Eigen::Matrix<S, Eigen::Dynamic, 4, Eigen::RowMajor>::Zero(nc_, 4);
+    from_null_ = Eigen::Matrix<S, Eigen::Dynamic, 2, Eigen::RowMajor>::Zero(nc_, 2);
     u1_ = VecX<S>::Zero(nc_);
     u2_ = VecX<S>::Zero(nc_);
     uc_ = VecX<S>::Zero(nc_);
@@ -223,7 +223,7 @@ template <typename Backend> class BasicDifferentialIk {
     report.smallest_singular_value = static_cast<double>(dls_.smallest_singular_value());
     dls_.solve(xd_, u1_);
 
-    // Collision: u_c = -D T^T dP/dq, projected into the null space.
+    // Collision: u_c = -D T^T dP/dq, projected into the null space (below, with the momentum rows).
     uc_.setZero();
     if (pairs_ > 0) {
       // The near set at the activation distance: only the pairs closer than it (the active ones)
@@ -236,9 +236,7 @@ template <typename Backend> class BasicDifferentialIk {
           collision_potential_gradient<S>(num_near, near_.data(), distance_.data(), distance_J_, options_.collision, gradient_);
       to_coordinates(gradient_, gradient_c_);
       uc_ = -scale_.cwiseProduct(gradient_c_);
-      dls_.project_to_null(uc_);
     }
-    u2_ = uc_;
     if (options_.angular_momentum.enabled) {
       if (loops_) {
         times_velocity_map(Ag_.template bottomRows<3>(), Bk_);
@@ -247,17 +245,26 @@ template <typename Backend> class BasicDifferentialIk {
       }
       Bk_.array().rowwise() *= scale_.transpose().array();
       Bk_.array().colwise() *= axis_scale_.array();  // per-axis weights: rows scaled by their square roots
-      for (int k = 0; k < 3; ++k) {
-        column_ = Bk_.row(k).transpose();
-        dls_.project_to_null(column_);
-        C_.col(k) = column_;
-      }
+      // In the null space's coordinates (N = P^T D0 P, damped_least_squares.hpp): t_c = D0 P u_c and
+      // t_B = D0 P (Bk D)^T, one pass over the reflectors for the four columns. With C = N (Bk D)^T,
+      // C^T C = t_B^T t_B and C^T u_c = t_B^T t_c, and u2 = N u_c + C s = P^T (t_c + t_B s).
+      to_null_.col(0) = uc_;
+      to_null_.template rightCols<3>() = Bk_.transpose();
+      dls_.to_null_space(to_null_);
       const Vec3<S> r = axis_scale_.cwiseProduct(angular_momentum_target) - Bk_ * u1_;
       Mat3<S> M;
-      M.noalias() = C_.transpose() * C_;
+      M.noalias() = to_null_.template rightCols<3>().transpose() * to_null_.template rightCols<3>();
       M.diagonal().array() += S(1) / S(options_.angular_momentum.weight);
-      const Vec3<S> s = Eigen::LLT<Mat3<S>>(M).solve(r - C_.transpose() * uc_);
-      u2_.noalias() += C_ * s;
+      const Vec3<S> s = Eigen::LLT<Mat3<S>>(M).solve(r - to_null_.template rightCols<3>().transpose() * to_null_.col(0));
+      from_null_.col(0) = to_null_.col(0);
+      from_null_.col(1).noalias() = to_null_.template rightCols<3>() * s;
+      from_null_.col(1) += to_null_.col(0);
+      dls_.from_null_space(from_null_);  // [N u_c, u2]
+      uc_ = from_null_.col(0);
+      u2_ = from_null_.col(1);
+    } else {
+      if (pairs_ > 0) dls_.project_to_null(uc_);
+      u2_ = uc_;
     }
     secondary_ = scale_.cwiseProduct(u2_);
     collision_ = scale_.cwiseProduct(uc_);
@@ -416,10 +423,11 @@ template <typename Backend> class BasicDifferentialIk {
   std::vector<S> t_value_;
   int t_count_ = 0;
   MatX<S> J_, A_;
-  Eigen::Matrix<S, Eigen::Dynamic, 3> C_;  ///< N (Bk D)^T
+  Eigen::Matrix<S, Eigen::Dynamic, 4, Eigen::RowMajor> to_null_;    ///< D0 P [u_c, (Bk D)^T] (null-space coordinates)
+  Eigen::Matrix<S, Eigen::Dynamic, 2, Eigen::RowMajor> from_null_;  ///< [t_c, t_c + t_B s], then P^T times it
   VecX<S> xd_;
   Mat3X<S> Jcom_, Bk_;
-  VecX<S> gradient_, gradient_c_, column_, u1_, u2_, uc_, c_, secondary_, collision_;
+  VecX<S> gradient_, gradient_c_, u1_, u2_, uc_, c_, secondary_, collision_;
 };
 
 /// The differential IK on the generic runtime: GenericBackend<S> over the model, with the tasks'
