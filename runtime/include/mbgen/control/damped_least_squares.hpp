@@ -150,10 +150,7 @@ template <typename S> class DampedLeastSquares {
       rank_ = j + 1;
     }
 
-    if (m_ <= n_ && rank_ == m_ && fast_path(S(0))) {
-      valid_ = true;
-      return true;
-    }
+    // m <= n: the unpivoted try above already decided the fast path (its bound is this R's).
     exact_sigma_ = true;
     gram_.noalias() = r_ * r_.transpose();
     tri_.compute(gram_);
@@ -360,14 +357,7 @@ template <typename S> class DampedLeastSquares {
           y1[1 + i] -= w1 * essential[i];
         }
       }
-      if (c < m_) {
-        S* __restrict y = plain_.col(c).data() + j;
-        S w = y[0];
-        for (int i = 0; i < len; ++i) w += essential[i] * y[1 + i];
-        w *= tau;
-        y[0] -= w;
-        for (int i = 0; i < len; ++i) y[1 + i] -= w * essential[i];
-      }
+      if (c < m_) reflect(plain_.col(j).tail(len), tau, j, plain_.col(c));
     }
   }
 
