@@ -6,19 +6,15 @@
 //   fd/lola_legs_transmission/{generic,generated}   the legs-only scene with the drive linkages
 //                          replaced by their transmissions (scene: loops): a tree, what the
 //                          reduction buys against fd/lola/*
-//   closure/<robot>/{generic,generated}   closure_positions: Newton for the dependent coordinates,
-//                          to the 1e-12 tolerance, on a controller's ticks (closure_ticks: 1 ms
-//                          apart at 1 rad/s, each warm-started from the last tick's closed pose)
-//   closure/<robot>/{generic,generated}_kept   the same ticks with a ClosureFactor kept from one
-//                          call to the next: simplified steps with the last factor first
+//   closure/<robot>/{generic,generated}   closure_positions: Newton for the dependent coordinates
+//                          from a pose whose dependent coordinates were moved by up to 1e-3
+//                          (a simulation step's warm start), to the 1e-12 tolerance
 // on Lola, Cassie (MJCF), cassie_like and digit_like_2legs, and the scaling series
 //   fd_chain/<k>/{generic,reference}   a chain of k four-bar modules (loop_chain.hpp), k = 1 .. 64.
 // Inputs: 64 seeded consistent states per robot (loops closed by Newton, v = G vy) with random
 // joint forces, the same for both implementations.
 #include "bench_loops.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -67,53 +63,19 @@ struct IndependentSample {
   VecX<double> q, vy, tau;
 };
 
-/// A warm start for Newton: one tick's independent coordinates, the last tick's dependent ones.
+/// A warm start for Newton: the dependent coordinates of a closed q moved by up to 1e-3.
 struct ClosureSample {
   VecX<double> q;
 };
-
-/// A controller's ticks for closure_positions: kPoolSize poses 1 ms apart along a motion of the
-/// independent coordinates from the first state of the pool, at 1 rad/s in the largest (0.1 m/s
-/// on slides; the direction that state's velocity), forward for half the pool and back, so that
-/// the cycle the bench runs is one motion. Each warm start is the last tick's closed pose with
-/// the new independent coordinates: what a tick without a predictor hands Newton (the dependent
-/// coordinates ~1e-3 off).
-std::shared_ptr<const std::vector<ClosureSample>> closure_ticks(const Model& model, const Sample& start) {
-  Data<double> data(model);
-  double largest = 0;
-  for (int y : data.independent_v) largest = std::max(largest, std::abs(start.v[y]));
-  std::vector<VecX<double>> closed(kPoolSize, start.q);
-  for (std::size_t k = 0; k < kPoolSize; ++k) {
-    const int t = static_cast<int>(std::min(k, kPoolSize - k));  // ticks from the start: up, then down
-    if (k > 0) closed[k] = closed[k - 1];
-    for (int y : data.independent_v) {
-      const int i = model.q_index_of_v(y);
-      if (i < 0) continue;
-      const bool slide = model.joint(model.joint_of_v(y)).type == JointType::Prismatic;
-      closed[k][i] = start.q[i] + t * 1e-3 * (slide ? 0.1 : 1.0) * start.v[y] / largest;
-    }
-    if (closure_positions<double>(model, data, closed[k]).status != ClosureStatus::Converged)
-      throw std::runtime_error("bench: cannot close the ticks of " + model.name);
-  }
-  auto ticks = std::make_shared<std::vector<ClosureSample>>();
-  for (std::size_t k = 0; k < kPoolSize; ++k) {
-    ClosureSample x{closed[(k + kPoolSize - 1) % kPoolSize]};
-    for (int y : data.independent_v)
-      if (model.q_index_of_v(y) >= 0) x.q[model.q_index_of_v(y)] = closed[k][model.q_index_of_v(y)];
-    ticks->push_back(std::move(x));
-  }
-  return ticks;
-}
 
 /// No generated closure_positions (the scaling chain).
 struct NoClosure {
   void operator()(double*) const {}
 };
 
-template <typename GeneratedClosure = NoClosure, typename GeneratedKeptClosure = NoClosure>
+template <typename GeneratedClosure = NoClosure>
 void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras,
-                           GeneratedForwardDynamics generated = nullptr, GeneratedClosure generated_closure = {},
-                           GeneratedKeptClosure generated_kept_closure = {}) {
+                           GeneratedForwardDynamics generated = nullptr, GeneratedClosure generated_closure = {}) {
   static std::vector<std::unique_ptr<Robot>> robots;  // live as long as the benchmarks
   gen::LoadOptions options;
   if (!extras.empty()) options.extras_file = extras;
@@ -157,9 +119,16 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                      });
   }
   if (generated && !model->closures.empty()) {
-    const auto pool = closure_ticks(*model, robot->pool->front());
-    // Each copies the warm start first (Newton works in place); the kept factors live as long as
-    // the benchmarks, carried from tick to tick.
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    auto pool = std::make_shared<std::vector<ClosureSample>>();
+    for (const Sample& sample : *robot->pool) {
+      ClosureSample x{sample.q};
+      for (const SubSystem& sub : model->subsystems)
+        for (int z : sub.dependent) x.q[model->q_index_of_v(z)] += 1e-3 * unit(rng);
+      pool->push_back(std::move(x));
+    }
+    // Both copy the warm start first (Newton works in place).
     add_benchmark<ClosureSample>("closure", label, "generic", pool,
                                  [model, w = std::make_shared<Generic>(*model), q = std::make_shared<VecX<double>>()](const ClosureSample& x) {
                                    *q = x.q;
@@ -172,19 +141,6 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                    generated_closure(q->data());
                                    return q->data();
                                  });
-    add_benchmark<ClosureSample>("closure", label, "generic_kept", pool,
-                                 [model, w = std::make_shared<Generic>(*model), factor = std::make_shared<ClosureFactor<double>>(*model),
-                                  q = std::make_shared<VecX<double>>()](const ClosureSample& x) {
-                                   *q = x.q;
-                                   closure_positions<double>(*model, w->data, *q, *factor);
-                                   return q->data();
-                                 });
-    add_benchmark<ClosureSample>("closure", label, "generated_kept", pool,
-                                 [generated_kept_closure, q = std::make_shared<VecX<double>>()](const ClosureSample& x) {
-                                   *q = x.q;
-                                   generated_kept_closure(q->data());
-                                   return q->data();
-                                 });
   }
   robots.push_back(std::move(robot));
 }
@@ -193,34 +149,16 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
 
 void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
-  // The generated closure_positions, plain and with a factor kept from call to call (one per robot,
-  // as a controller keeps one per sequence of poses).
   add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics,
-                        [](double* q) { lola::closure_positions(q); },
-                        [](double* q) {
-                          static lola::ClosureFactor<double> factor;
-                          lola::closure_positions(q, factor);
-                        });
+                        [](double* q) { lola::closure_positions(q); });
   add_closed_loop_robot("lola_legs_transmission", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola_legs_transmission.yaml",
                         &lola_legs_transmission::forward_dynamics);
   add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics,
-                        [](double* q) { cassie_mjcf::closure_positions(q); },
-                        [](double* q) {
-                          static cassie_mjcf::ClosureFactor<double> factor;
-                          cassie_mjcf::closure_positions(q, factor);
-                        });
+                        [](double* q) { cassie_mjcf::closure_positions(q); });
   add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics,
-                        [](double* q) { pl_cassie_like::closure_positions(q); },
-                        [](double* q) {
-                          static pl_cassie_like::ClosureFactor<double> factor;
-                          pl_cassie_like::closure_positions(q, factor);
-                        });
+                        [](double* q) { pl_cassie_like::closure_positions(q); });
   add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "",
-                        &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); },
-                        [](double* q) {
-                          static pl_digit_like_2legs::ClosureFactor<double> factor;
-                          pl_digit_like_2legs::closure_positions(q, factor);
-                        });
+                        &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); });
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
   std::filesystem::create_directories(dir);
   for (int k : {1, 2, 4, 8, 16, 32, 64}) {

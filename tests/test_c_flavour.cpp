@@ -72,14 +72,6 @@ template <typename S> std::vector<S> cpp_results(const S* q0, const S* vy, const
   put(q2, ns::nq);
   out.push_back(S(r2.iterations));
   put(v2, ns::nv);
-  ns::ClosureFactor<S> factor;  // closure_positions with a kept factor, twice from q0
-  S q3[ns::nq];
-  std::copy(q0, q0 + ns::nq, q3);
-  const auto r3 = ns::closure_positions(q3, factor);
-  std::copy(q0, q0 + ns::nq, q3);
-  const auto r4 = ns::closure_positions(q3, factor);
-  put(q3, ns::nq);
-  for (S x : {S(r3.iterations), S(r4.iterations), S(factor.valid ? 1 : 0)}) out.push_back(x);
   return out;
 }
 

@@ -182,89 +182,6 @@ TEST_P(LoopMapsTest, ResidualCheckAndSimplifiedStepCloseAsNewtonDoes) {
               model.name.c_str(), checked_by_residual, draws, simplified, three_steps);
 }
 
-TEST_P(LoopMapsTest, KeptFactorClosesATrajectoryAsNewtonDoes) {
-  // A controller's ticks: 1 ms apart along a motion of the independent coordinates at 1 rad/s in
-  // the largest (0.1 m/s on slides), each warm-started from the last closed pose with the new
-  // independent coordinates. closure_positions with a ClosureFactor closes every tick as the
-  // plain call does (converged, q within 1e-9: both closed to 1e-12, kappa(Phi_z) apart, up to
-  // ~1e3 at these poses; its reported residual the recomputed one), and closes at least a quarter
-  // of the ticks after the first by simplified steps alone (its factor left as it was: no Newton
-  // step): nearly all on most models, 11 of 39 on wl16_like, whose Phi_z is the worst conditioned
-  // (~6e3). Printed: how many steps each took (simplified steps are more, a fraction of a Newton
-  // step each).
-  std::mt19937_64 rng(41);
-  VecX<double> q, v;
-  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  double largest = 0;
-  for (int y : data.independent_v) largest = std::max(largest, std::abs(v[y]));
-  Data<double> plain_data(model);
-  ClosureFactor<double> factor(model);
-  EXPECT_FALSE(factor.valid);
-  int simplified_only = 0, kept_steps = 0, newton_steps = 0;
-  const int ticks = 40;
-  for (int tick = 0; tick < ticks; ++tick) {
-    for (int y : data.independent_v) {
-      const int i = model.q_index_of_v(y);
-      if (i < 0) continue;
-      const bool slide = model.joint(model.joint_of_v(y)).type == JointType::Prismatic;
-      q[i] += 1e-3 * (slide ? 0.1 : 1.0) * v[y] / largest;
-    }
-    VecX<double> plain = q;
-    const VecX<double> before = factor.values;
-    const ClosureResult<double> kept = closure_positions<double>(model, data, q, factor);
-    const ClosureResult<double> reference = closure_positions<double>(model, plain_data, plain);
-    ASSERT_EQ(kept.status, ClosureStatus::Converged) << tick;
-    ASSERT_EQ(reference.status, ClosureStatus::Converged) << tick;
-    EXPECT_LT((q - plain).cwiseAbs().maxCoeff(), 1e-9) << tick;
-    double recomputed = 0;
-    closure_residual<double>(model, plain_data, q);
-    ASSERT_TRUE(detail::kept_residual<double>(model, plain_data, recomputed));
-    EXPECT_EQ(kept.residual, recomputed) << tick;
-    EXPECT_LT(kept.residual, ClosureOptions{}.tolerance);
-    EXPECT_TRUE(factor.valid);
-    if (tick > 0 && factor.values == before) ++simplified_only;
-    if (tick > 0) kept_steps += kept.iterations, newton_steps += reference.iterations;
-  }
-  EXPECT_GE(4 * simplified_only, ticks - 1) << simplified_only << " of " << ticks - 1 << " ticks closed by simplified steps alone";
-  std::printf("  %s: %d of %d ticks closed by simplified steps alone; %d steps with the kept factor, %d plain\n", model.name.c_str(),
-              simplified_only, ticks - 1, kept_steps, newton_steps);
-}
-
-TEST_P(LoopMapsTest, KeptFactorThatDoesNotContractGivesWayToNewton) {
-  // A kept factor whose steps go the wrong way (its R negated: each step the Newton step reversed)
-  // raises the residual: the step is undone and Newton takes over from the warm start itself, so
-  // q is the plain call's bit for bit in one iteration more, and the factor kept afterwards is
-  // the one a fresh ClosureFactor gets from the same call.
-  std::mt19937_64 rng(43);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  VecX<double> q, v;
-  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  ClosureFactor<double> wrong(model), fresh(model);
-  VecX<double> first = q;
-  ASSERT_EQ(closure_positions<double>(model, data, first, wrong).status, ClosureStatus::Converged);
-  ASSERT_TRUE(wrong.valid);
-  const std::vector<int> begin = closure_factor_begin(model);
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const int n = model.subsystems[k].rank();
-    for (int i = begin[k] + n * (n - 1); i < begin[k + 1]; ++i) wrong.values[i] = -wrong.values[i];
-  }
-  VecX<double> moved = q;
-  for (int z : dependent_coordinates(model)) moved[model.q_index_of_v(z)] += 1e-3 * unit(rng);
-  VecX<double> plain = moved, with_wrong = moved, with_fresh = moved;
-  Data<double> other(model);
-  const ClosureResult<double> reference = closure_positions<double>(model, other, plain);
-  const ClosureResult<double> result = closure_positions<double>(model, data, with_wrong, wrong);
-  const ClosureResult<double> from_fresh = closure_positions<double>(model, other, with_fresh, fresh);
-  ASSERT_EQ(result.status, ClosureStatus::Converged);
-  EXPECT_EQ(with_wrong, plain);
-  EXPECT_EQ(result.iterations, reference.iterations + 1);
-  EXPECT_EQ(with_fresh, plain);
-  EXPECT_EQ(from_fresh.iterations, reference.iterations);
-  EXPECT_TRUE(wrong.valid);
-  EXPECT_EQ(wrong.values, fresh.values);
-  EXPECT_EQ(wrong.pivot_ratio, fresh.pivot_ratio);
-}
-
 TEST_P(LoopMapsTest, NewtonOnRegularPosesIsConvergedInDoubleAndFloat) {
   // No false dead point: from seeded random closed poses (spread 0.05, as test_generated) with
   // the dependent coordinates moved by up to 1e-3, Newton reports converged, in double with the
@@ -302,13 +219,10 @@ TEST_P(LoopMapsTest, MapsDoNotAllocate) {
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
   MatX<double> T(model.nv(), static_cast<int>(data.independent_v.size()));
   VecX<double> vy = VecX<double>::Ones(T.cols()), v_full(model.nv()), g(model.nv());
-  ClosureStatus status, kept_status[2];
-  ClosureFactor<double> factor(model);
-  VecX<double> q_kept = q;
+  ClosureStatus status;
   {
     MallocGuard guard;
     status = closure_positions<double>(model, data, q).status;
-    for (ClosureStatus& s : kept_status) s = closure_positions<double>(model, data, q_kept, factor).status;  // a Newton step, then the kept factor
     velocity_map<double>(model, data, q, T);
     full_velocities<double>(model, data, q, vy, v_full);
     acceleration_bias<double>(model, data, q, vy, g);
@@ -316,7 +230,6 @@ TEST_P(LoopMapsTest, MapsDoNotAllocate) {
     EXPECT_EQ(guard.count(), 0u);
   }
   EXPECT_EQ(status, ClosureStatus::Converged);
-  for (ClosureStatus s : kept_status) EXPECT_EQ(s, ClosureStatus::Converged);
 }
 
 TEST_P(LoopMapsTest, NanStateIsNotConvergedNeverConverged) {
@@ -326,15 +239,6 @@ TEST_P(LoopMapsTest, NanStateIsNotConvergedNeverConverged) {
   const ClosureResult<double> result = closure_positions<double>(model, data, q);
   EXPECT_NE(result.status, ClosureStatus::Converged);
   EXPECT_EQ(result.iterations, 0);
-  // With a kept factor: the same, and the factor dropped.
-  ClosureFactor<double> factor(model);
-  VecX<double> closed = d.assembly.q;
-  ASSERT_EQ(closure_positions<double>(model, data, closed, factor).status, ClosureStatus::Converged);
-  ASSERT_TRUE(factor.valid);
-  const ClosureResult<double> kept = closure_positions<double>(model, data, q, factor);
-  EXPECT_EQ(kept.status, result.status);
-  EXPECT_EQ(kept.iterations, 0);
-  EXPECT_FALSE(factor.valid);
 }
 
 TEST_P(LoopMapsTest, NonFiniteCoordinateOffTheLoopsIsNotConverged) {
@@ -449,32 +353,27 @@ TEST(LoopMapsClosedForm, SliderCrankFollowsItsClosedForm) {
 /// stroke end x = l + r (slider_joint = 0.06) crank and rod are in line and Phi_z is singular;
 /// beyond it there is no closed pose. Either way: a status, and a finite q. Returns the result at
 /// the stroke end.
-template <typename S> ClosureResult<S> approach_the_stroke_end(const ClosureOptions& options, bool kept_factor = false) {
+template <typename S> ClosureResult<S> approach_the_stroke_end(const ClosureOptions& options) {
   const gen::Description d = load(kMechanisms + "slider_crank.urdf", MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
   const Model& model = d.model;
   Data<S> data(model);
-  ClosureFactor<S> factor(model);
-  const auto closure_positions = [&](const Model& m, Data<S>& work, VecX<S>& x, const ClosureOptions& o) {
-    return kept_factor ? mbgen::closure_positions<S>(m, work, x, factor, o) : mbgen::closure_positions<S>(m, work, x, o);
-  };
   const int slider = q_index(model, "slider_joint");
   EXPECT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
   VecX<S> q = VecX<S>::Zero(model.nq());
   // Warm-started approach: regular until close to the stroke end.
   for (double x : {0.01, 0.02, 0.03, 0.04, 0.05}) {
     q[slider] = S(x);
-    const ClosureResult<S> r = closure_positions(model, data, q, options);
+    const ClosureResult<S> r = closure_positions<S>(model, data, q, options);
     EXPECT_EQ(r.status, ClosureStatus::Converged) << x << ": relative pivot ratio " << r.relative_pivot_ratio;
   }
   q[slider] = S(0.06);
-  const ClosureResult<S> at_dead_point = closure_positions(model, data, q, options);
+  const ClosureResult<S> at_dead_point = closure_positions<S>(model, data, q, options);
   EXPECT_EQ(at_dead_point.status, ClosureStatus::Singular) << to_string(at_dead_point.status) << ", residual " << at_dead_point.residual
                                                            << ", relative pivot ratio " << at_dead_point.relative_pivot_ratio;
   EXPECT_TRUE(q.allFinite());
-  EXPECT_FALSE(factor.valid);
   const VecX<S> at_stroke_end = q;
   q[slider] = S(0.07);  // beyond the stroke
-  const ClosureResult<S> beyond = closure_positions(model, data, q, options);
+  const ClosureResult<S> beyond = closure_positions<S>(model, data, q, options);
   EXPECT_NE(beyond.status, ClosureStatus::Converged);
   EXPECT_TRUE(q.allFinite());
   std::cout << "[ dead pt  ] " << (sizeof(S) == 8 ? "double" : "float") << " at the stroke end: " << to_string(at_dead_point.status)
@@ -495,16 +394,6 @@ TEST(LoopMapsDeadPoint, SliderDrivenToTheStrokeEndIsSingularNotNaN) {
   const ClosureResult<double> before = approach_the_stroke_end<double>(pivot_test_only);
   EXPECT_EQ(at_dead_point.iterations, before.iterations);
   EXPECT_EQ(at_dead_point.iterations, 18);
-}
-
-TEST(LoopMapsDeadPoint, KeptFactorStillFindsTheStrokeEnd) {
-  // The approach with a kept factor from each step to the next: its simplified steps cannot close
-  // the double root at the stroke end (they contract less and less: the residual of a quadratic
-  // root falls by a factor near 1 per step), Newton takes over and finds the dead point, and the
-  // failed call drops the factor. In double and in float.
-  const ClosureResult<double> in_double = approach_the_stroke_end<double>(ClosureOptions{}, true);
-  EXPECT_LT(in_double.pivot_ratio, 1e-5);
-  approach_the_stroke_end<float>(float_options(), true);
 }
 
 TEST(LoopMapsDeadPoint, FloatNewtonTellsTheStrokeEndByTheRelativePivotRatio) {

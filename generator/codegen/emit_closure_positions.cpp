@@ -6,7 +6,6 @@
 
 #include "codegen/hoist_invariants.hpp"
 #include "codegen/trace_loop_maps.hpp"
-#include "mbgen/algorithm/closure_positions.hpp"
 #include "mbgen/data.hpp"
 
 namespace mbgen::codegen {
@@ -76,66 +75,18 @@ template <typename S> void take_step(S* q, const S* step, const ClosureOptions<S
   }
 }
 
-// Newton's exits: a kept factor (closure_positions with a factor) is valid when q closed, and its
-// pivot ratios are the last Newton step's, whose factor the step wrote into it.
-template <typename S, typename Factor> ClosureResult<S> keep(const ClosureResult<S>& result, Factor* kept) {
-  if (kept) {
-    kept->valid = result.status == ClosureStatus::converged;
-    if (kept->valid) kept->pivot_ratio = result.pivot_ratio, kept->relative_pivot_ratio = result.relative_pivot_ratio;
-  }
-  return result;
-}
-
-// Each simplified step with a kept factor must shrink the residual by this for the next one to be
-// taken (the runtime's detail::kKeptFactorContraction says why a tenth).
-constexpr double kept_factor_contraction = 0.1;
-
-template <typename S, bool kVelocities, typename Factor>
-ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options, Factor* kept) {
+template <typename S, bool kVelocities>
+ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& options) {
   // A non-finite coordinate is no pose, closed or not. The step reads only the loops' own
   // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
   for (int i = 0; i < num_off_loop_q; ++i)
     if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
-  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], own_factor[kVelocities ? 1 : factor_size];
-  // The Newton step writes its factor where the simplified steps read it: the kept one's, or ours.
-  S* const factor = kept ? kept->values : own_factor;
+  S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], factor[kVelocities ? 1 : factor_size];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
   if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
   else closure_newton_step_setup<S>(q, invariants);
   ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
-  // Simplified steps with the kept factor while each shrinks the residual tenfold, where that
-  // factor was far from singular (the runtime's detail::close_with_kept_factor); a step that did
-  // not lower the residual is undone, and Newton's full steps take over.
-  if (kept && kept->valid && kept->pivot_ratio >= S(100) * options.singular_tolerance &&
-      kept->relative_pivot_ratio >= S(100) * options.dead_point_tolerance) {
-    S previous = S(-1), saved[R];
-    for (;;) {
-      closure_residual<S>(q, residual);
-      bool closed = true, finite = true;
-      S largest = S(0);
-      for (int i = 0; i < R; ++i) {
-        if (!(std::fabs(residual[i]) < options.tolerance)) closed = false;
-        if (!std::isfinite(residual[i])) finite = false;
-        if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
-      }
-      if (closed) {
-        result.residual = largest, result.pivot_ratio = kept->pivot_ratio, result.relative_pivot_ratio = kept->relative_pivot_ratio;
-        return result;
-      }
-      const bool contracting = finite && (previous < S(0) || largest <= S(kept_factor_contraction) * previous);
-      if (!contracting || result.iterations == options.max_iterations) {
-        if (previous >= S(0) && !(largest < previous))
-          for (int i = 0; i < R; ++i) q[dependent_q[i]] = saved[i];
-        break;
-      }
-      for (int i = 0; i < R; ++i) saved[i] = q[dependent_q[i]];
-      step_from_factor<S>(factor, residual, step);
-      take_step<S>(q, step, options);
-      ++result.iterations;
-      previous = largest;
-    }
-  }
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
   bool factor_is_last_steps = false;  // factor holds the Newton step's just taken
@@ -149,7 +100,7 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
         if (!std::isfinite(residual[i])) finite = false;
         if (std::fabs(residual[i]) > largest) largest = std::fabs(residual[i]);
       }
-      if (closed) return result.residual = largest, keep(result, kept);
+      if (closed) return result.residual = largest, result;
       // Not closed yet: one simplified step with the last factor, then the residual again (the
       // runtime's detail::residual_check_predicted); a second failure pays for a full step.
       if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
@@ -189,19 +140,19 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
       const S relative = ratio / nominal_pivot_ratio<S>[k];
       if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative, worst_relative = k;
     }
-    if (!finite) return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, keep(result, kept);
+    if (!finite) return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
     if (!(result.pivot_ratio >= options.singular_tolerance))
-      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, keep(result, kept);
+      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
     if (result.residual < options.tolerance) {  // closed, but maybe within the tolerance's reach of a dead point
       if (result.relative_pivot_ratio >= options.dead_point_tolerance) {
         if constexpr (kVelocities)
           for (int i = 0; i < R; ++i) v[dependent_v[i]] = vz[i];
-        return keep(result, kept);
+        return result;
       }
-      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, keep(result, kept);
+      return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;
     }
     if (result.iterations == options.max_iterations)
-      return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, keep(result, kept);
+      return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
     // The runtime's detail::residual_check_predicted: quadratic convergence predicts the next
     // residual below the tolerance, far from a dead point; never with velocities (they need the
     // factor at the returned q).
@@ -232,8 +183,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   std::string out;
   if (model.subsystems.empty()) {
     out += "// No loops: every configuration is closed.\n"
-           "template <typename S, bool kVelocities, typename Factor>\n"
-           "ClosureResult<S> closure_positions_impl(S*, S*, const ClosureOptions<S>&, Factor*) {\n"
+           "template <typename S, bool kVelocities> ClosureResult<S> closure_positions_impl(S*, S*, const ClosureOptions<S>&) {\n"
            "  return {ClosureStatus::converged, 0, S(0), S(1), S(1), -1};\n}\n";
   } else {
     bool noinline_defined = false;
@@ -286,7 +236,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
     if (off_loop_q.empty()) off_loop_q.push_back(0);
     out += int_array("subsystem_begin", begin) + int_array("dependent_q", dependent_q) + int_array("dependent_v", dependent_v) +
            int_array("off_loop_q", off_loop_q);
-    const std::vector<int> factor_begin = mbgen::closure_factor_begin(model);
+    const std::vector<int> factor_begin = closure_factor_begin(model);
     out += "// Sub-system k's factor (the step's last output): entries [factor_begin[k], factor_begin[k + 1]).\n";
     out += fmt::format("constexpr int factor_size = {};\n", factor_begin.back()) + int_array("factor_begin", factor_begin);
     out += "// The sizes of the setups' invariants (at least 1).\n" + setup_sizes;
@@ -302,7 +252,6 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
   for (const std::string& s : scalar_types(ctx.scalars))
     entry_points += ctx.templates.render(
         "closure_entry_point", {{"public_name", ctx.public_name("closure_positions", s)},
-                                {"closure_positions_kept", ctx.public_name("closure_positions_kept", s)},
                                 {"close_loops", ctx.public_name("close_loops", s)},
                                 {"scalar", s},
                                 {"robot", ctx.robot}});

@@ -189,8 +189,6 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   for (int v : independent) independent_names.push_back(gen::coordinate_name(model, v));
   std::vector<std::string> actuated_names;
   for (int v : actuation.actuated_v) actuated_names.push_back(gen::coordinate_name(model, v));
-  // C++ has no empty arrays: a factor of one entry without loops.
-  const int closure_factor_size = std::max(closure_factor_begin(model).back(), 1);
   std::string declarations, scalar_declarations;
   for (const TracedFunction& f : functions) declarations += emit_declaration(f, ctx);
   for (const std::string& f : selection.left_out)
@@ -200,8 +198,6 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
                                             {{"robot", ctx.robot},
                                              {"scalar", s},
                                              {"closure_positions", ctx.public_name("closure_positions", s)},
-                                             {"closure_positions_kept", ctx.public_name("closure_positions_kept", s)},
-                                             {"closure_factor_size", std::to_string(closure_factor_size)},
                                              {"close_loops", ctx.public_name("close_loops", s)},
                                              {"independent_velocities", ctx.public_name("independent_velocities", s)}});
   TemplateFields header_fields = {
@@ -225,8 +221,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       {"frame_names", frame_names.empty() ? std::string()
                                           : templates.render("frame_names", {{"robot", ctx.robot}, {"names", quoted_list(frame_names)}})},
       {"declarations", declarations},
-      {"scalar_declarations", scalar_declarations},
-      {"closure_factor_size", std::to_string(closure_factor_size)}};
+      {"scalar_declarations", scalar_declarations}};
   header_fields.insert(header_fields.end(), distances.header_fields.begin(), distances.header_fields.end());
   const auto number = [](double x) { return fmt::format("{}", x); };  // shortest round-trip
   header_fields.push_back({"num_contact_spheres", std::to_string(contacts.size())});

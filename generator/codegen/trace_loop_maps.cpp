@@ -14,6 +14,12 @@ int num_dependent(const Model& model) {
   return n;
 }
 
+std::vector<int> closure_factor_begin(const Model& model) {
+  std::vector<int> begin{0};
+  for (const SubSystem& s : model.subsystems) begin.push_back(begin.back() + s.rank() * (s.rank() - 1) + s.rank() * (s.rank() + 1) / 2);
+  return begin;
+}
+
 TracedFunction trace_closure_newton_step(const Model& model, bool with_velocities) {
   if (model.subsystems.empty()) throw std::logic_error("trace_closure_newton_step: the model has no loops");
   const int r = num_dependent(model);

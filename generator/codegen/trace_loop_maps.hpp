@@ -12,11 +12,16 @@ namespace mbgen::codegen {
 /// Total rank of the sub-systems: the number of dependent coordinates (0 without loops).
 int num_dependent(const Model& model);
 
+/// Where each sub-system's part of closure_newton_step's factor begins (one entry more than the
+/// sub-systems; the last is the factor's length): per sub-system of rank n, n (n - 1) / 2 cosines,
+/// as many sines and R's n (n + 1) / 2 upper entries.
+std::vector<int> closure_factor_begin(const Model& model);
+
 /// closure_newton_step(q, residual, pivots, step, factor): at q (nq), per sub-system in order,
 /// the kept closure rows (residual), the diagonal of Phi_z's Givens R factor (pivots) and the
 /// Newton step Phi_z^-1 Phi (step, to subtract from the dependent coordinates in
 /// SubSystem::dependent order), each num_dependent(model) long; and the factor itself (factor,
-/// mbgen::closure_factor_begin(model).back() long, the runtime ClosureFactor's layout), for the loop's simplified steps. Needs a model with loops.
+/// closure_factor_begin(model).back() long), for the loop's simplified steps. Needs a model with loops.
 /// with_velocities: closure_newton_step_velocities(q, v, residual, pivots, step, vz), also the
 /// dependent velocities from v's independent ones at q (vz, the same order), for close_loops; no
 /// factor (close_loops takes no simplified step).

@@ -17,7 +17,6 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#include <vector>
 
 #include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/givens_qr.hpp"
@@ -102,42 +101,7 @@ template <typename S> struct ClosureResult {
   int subsystem = -1;
 };
 
-/// Where each sub-system's factor of Phi_z starts in a ClosureFactor's values (and the generated
-/// code's factor array), one entry more than there are sub-systems: a sub-system of rank n takes
-/// its n (n - 1) / 2 Givens cosines, then the sines, then R's upper triangle row by row.
-inline std::vector<int> closure_factor_begin(const Model& model) {
-  std::vector<int> begin{0};
-  for (const SubSystem& s : model.subsystems) begin.push_back(begin.back() + s.rank() * (s.rank() - 1) + s.rank() * (s.rank() + 1) / 2);
-  return begin;
-}
-
-/// The factor of every sub-system's Phi_z that closure_positions keeps from one call to the next
-/// (closure_positions(model, data, q, factor, options)): successive poses of a simulation or a
-/// controller are close, and the last call's factor serves the next call's simplified Newton
-/// steps, each a residual and a triangular solve instead of a Jacobian and a factorisation.
-/// Allocates once, here; the calls do not.
-template <typename S> struct ClosureFactor {
-  explicit ClosureFactor(const Model& model) : values(VecX<S>::Zero(closure_factor_begin(model).back())), saved_q(model.nq()) {}
-  /// Per sub-system, its Givens rotations and R (closure_factor_begin's layout).
-  VecX<S> values;
-  /// The pivot ratios of that factor (ClosureResult's), which the simplified steps report.
-  S pivot_ratio = S(1), relative_pivot_ratio = S(1);
-  /// False until a call converges with a Newton step of its own; a call that fails clears it.
-  bool valid = false;
-  /// Scratch: the iterate before a simplified step, restored when the step did not lower the residual.
-  VecX<S> saved_q;
-};
-
 namespace detail {
-
-/// How much each simplified step with a kept factor must shrink the residual for the next to be
-/// taken. The kept factor is the last call's, one step of the caller's motion away (1 ms at
-/// ~1 rad/s moves a linkage by ~1e-3): the steps then contract by ~kappa(Phi_z) |Phi_zz| |dq|,
-/// 1e-2 or less, and the 1e-3 of a warm start closes in three or four. A tenth bounds what a
-/// failing run costs: from a residual r, at most log10(r / tolerance) steps (nine from 1e-3) of
-/// a fraction of a Newton step each (cassie_like: a residual and a triangular solve, ~600
-/// operations against ~5,000), before a full step takes over.
-inline constexpr double kKeptFactorContraction = 0.1;
 
 /// q index of each sub-system coordinate (its joint is 1-DoF: SubSystemWork checks it).
 inline int q_index_of_coordinate(const Model& model, const SubSystem& sub, std::size_t j) {
@@ -256,96 +220,12 @@ bool residual_check_predicted(const ClosureResult<S>& last, S previous_residual,
          last.pivot_ratio >= S(100 * options.singular_tolerance) && last.relative_pivot_ratio >= S(100 * options.dead_point_tolerance);
 }
 
-/// Copies data's factor of every sub-system's Phi_z into `values` (closure_factor_begin's layout).
-template <typename S> void store_factor(const Model& model, const Data<S>& data, VecX<S>& values) {
-  int m = 0;
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystemWork<S>& w = data.subsystem[k];
-    const int n = model.subsystems[k].rank(), rotations = n * (n - 1) / 2;
-    for (int i = 0; i < rotations; ++i) values[m++] = w.rotation_c[i];
-    for (int i = 0; i < rotations; ++i) values[m++] = w.rotation_s[i];
-    for (int i = 0; i < n; ++i)
-      for (int j = i; j < n; ++j) values[m++] = w.R(i, j);
-  }
-}
-
-/// The reverse of store_factor: data's factor from `values` (R's lower triangle is not read).
-template <typename S> void load_factor(const Model& model, const VecX<S>& values, Data<S>& data) {
-  int m = 0;
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    SubSystemWork<S>& w = data.subsystem[k];
-    const int n = model.subsystems[k].rank(), rotations = n * (n - 1) / 2;
-    for (int i = 0; i < rotations; ++i) w.rotation_c[i] = values[m++];
-    for (int i = 0; i < rotations; ++i) w.rotation_s[i] = values[m++];
-    for (int i = 0; i < n; ++i)
-      for (int j = i; j < n; ++j) w.R(i, j) = values[m++];
-  }
-}
-
-/// Subtracts each sub-system's step (the rhs' last column) from its dependent coordinates, scaled
-/// to max_step in its largest entry.
-template <typename S> void take_step(const Model& model, const Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options) {
-  using std::abs;
-  for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
-    const SubSystem& sub = model.subsystems[k];
-    const SubSystemWork<S>& w = data.subsystem[k];
-    const int p = static_cast<int>(sub.independent.size());
-    S largest = S(0);
-    for (int d = 0; d < sub.rank(); ++d)
-      if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
-    const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
-    for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
-      if (w.coordinate_role[j] < 0) q[q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
-  }
-}
-
-/// Simplified Newton steps with a kept factor (closure_positions with a ClosureFactor), taken only
-/// where that factor was far from singular (its pivot ratios 100 times their tolerances, as
-/// residual_check_predicted asks): each checks the residual, and closes q when it is below the
-/// tolerance (true; the result reports the kept factor's pivot ratios), else solves with the kept
-/// factor. They stop (false) when a step shrank the residual by less than
-/// kKeptFactorContraction, when it is not finite, or at the iteration cap: q goes back to the
-/// iterate before the last step when that step did not lower the residual, and Newton's full
-/// steps take over. Near a dead point the factor's ratios fail the test, or Phi_z has changed
-/// too much for the steps to contract: either way the pose gets its own factorisation.
-template <typename S>
-bool close_with_kept_factor(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options,
-                            ClosureFactor<S>& kept, ClosureResult<S>& result) {
-  if (!kept.valid || !(kept.pivot_ratio >= S(100 * options.singular_tolerance)) ||
-      !(kept.relative_pivot_ratio >= S(100 * options.dead_point_tolerance)))
-    return false;
-  load_factor<S>(model, kept.values, data);
-  S previous = S(-1);  // the residual before the last step (-1: no step yet)
-  for (;;) {
-    closure_residual<S>(model, data, q);
-    S residual;
-    const bool finite = kept_residual<S>(model, data, residual);
-    if (finite && residual < S(options.tolerance)) {
-      result.residual = residual;
-      result.pivot_ratio = kept.pivot_ratio;
-      result.relative_pivot_ratio = kept.relative_pivot_ratio;
-      return true;
-    }
-    const bool contracting = finite && (previous < S(0) || residual <= S(kKeptFactorContraction) * previous);
-    if (!contracting || result.iterations == options.max_iterations) {
-      if (previous >= S(0) && !(residual < previous)) q = kept.saved_q;
-      return false;
-    }
-    kept.saved_q = q;
-    step_from_factor<S>(model, data);
-    take_step<S>(model, data, q, options);
-    ++result.iterations;
-    previous = residual;
-  }
-}
-
 /// closure_positions; with factor_at_solution (close_loops) every iterate gets the full step, so
-/// that the factor of Phi_z left in data is the one at the returned q. With a kept factor, its
-/// simplified steps first (close_with_kept_factor); the factor of the last Newton step is kept
-/// when the call converges, and the kept one dropped when it fails.
+/// that the factor of Phi_z left in data is the one at the returned q.
 template <typename S>
 ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options,
-                                 bool factor_at_solution, ClosureFactor<S>* kept = nullptr) {
+                                 bool factor_at_solution) {
+  using std::abs;
   ClosureResult<S> result;
   // A non-finite coordinate is no pose, closed or not. The rows read only the loops' own
   // coordinates (closure.hpp), where Newton finds a NaN and names its sub-system; one elsewhere
@@ -359,21 +239,23 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
       return result;
     }
   }
-  if (kept && close_with_kept_factor<S>(model, data, q, options, *kept, result)) return result;
-  // Newton's exits keep the factor of its last step when q closed, and drop the kept one otherwise.
-  const auto keep = [&](const ClosureResult<S>& r) {
-    if (!kept) return r;
-    kept->valid = r.status == ClosureStatus::Converged;
-    if (kept->valid) {
-      store_factor<S>(model, data, kept->values);
-      kept->pivot_ratio = r.pivot_ratio;
-      kept->relative_pivot_ratio = r.relative_pivot_ratio;
-    }
-    return r;
-  };
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
   bool factor_is_last_steps = false;  // data holds the factor of the Newton step just taken
+  // Each sub-system's step from the rhs' last column, scaled to max_step in its largest entry.
+  const auto take_step = [&] {
+    for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
+      const SubSystem& sub = model.subsystems[k];
+      const SubSystemWork<S>& w = data.subsystem[k];
+      const int p = static_cast<int>(sub.independent.size());
+      S largest = S(0);
+      for (int d = 0; d < sub.rank(); ++d)
+        if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
+      const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
+      for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
+        if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
+    }
+  };
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
       closure_residual<S>(model, data, q);
@@ -381,12 +263,12 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
       const bool finite = kept_residual<S>(model, data, residual);
       if (finite && residual < S(options.tolerance)) {
         result.residual = residual;
-        return keep(result);
+        return result;
       }
       // Not closed yet: one simplified step with the last factor (residual_check_predicted).
       if (finite && factor_is_last_steps && result.iterations < options.max_iterations) {
         step_from_factor<S>(model, data);
-        take_step<S>(model, data, q, options);
+        take_step();
         factor_is_last_steps = false;
         previous_residual = residual;
         continue;
@@ -400,18 +282,18 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
       result.status = status;
       result.subsystem = status == ClosureStatus::Singular ? detail::worst_pivot_subsystem<S>(model, data)
                                                            : detail::worst_residual_subsystem<S>(model, data);
-      return keep(result);
+      return result;
     };
     if (!finite) return fail(ClosureStatus::NotConverged);
     if (!(result.pivot_ratio >= S(options.singular_tolerance))) return fail(ClosureStatus::Singular);
     if (result.residual < S(options.tolerance))
-      return result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? (result.status = ClosureStatus::Converged, keep(result))
+      return result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? (result.status = ClosureStatus::Converged, result)
                                                                              : fail(ClosureStatus::Singular);
     if (result.iterations == options.max_iterations) return fail(ClosureStatus::NotConverged);
     residual_check = !factor_at_solution && residual_check_predicted<S>(result, previous_residual, options);
     factor_is_last_steps = true;
     previous_residual = result.residual;
-    take_step<S>(model, data, q, options);
+    take_step();
   }
 }
 
@@ -429,20 +311,6 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
 template <typename S>
 ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
   return detail::close_positions<S>(model, data, q, options, false);
-}
-
-/// closure_positions with a factor kept from the last call (ClosureFactor): the call first takes
-/// simplified Newton steps with it (detail::close_with_kept_factor), each a residual and a solve
-/// with the kept rotations and R, as long as each shrinks the residual tenfold; Newton's full steps
-/// take over from there, and the factor of the last one is kept for the next call when q closed
-/// (a failure drops it). The right call for a sequence of nearby poses (a simulation's or a
-/// controller's ticks): from a warm start 1e-3 off, three or four simplified steps where Newton
-/// takes two or three full ones and a check (docs/loops.md). A q closed by simplified steps
-/// alone reports the kept factor's pivot ratios, those of the last call's pose.
-template <typename S>
-ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, ClosureFactor<S>& factor,
-                                   const ClosureOptions& options = {}) {
-  return detail::close_positions<S>(model, data, q, options, false, &factor);
 }
 
 /// Closes the loops and makes v consistent with them in one pass: closure_positions, then, when
