@@ -8,7 +8,11 @@
 //                          reduction buys against fd/lola/*
 //   closure/<robot>/{generic,generated}   closure_positions: Newton for the dependent coordinates
 //                          from a pose whose dependent coordinates were moved by up to 1e-3
-//                          (a simulation step's warm start), to the 1e-12 tolerance
+//                          each (a tick without a predictor, as an actuator-to-joint map's), to
+//                          the 1e-12 tolerance
+//   project/<robot>/{generic,generated}   the simulator's projection: close_loops (positions and
+//                          velocities) on the state one simulator step leaves (RK4, its default
+//                          step, before it projects), to its closure_tolerance (1e-11)
 // on Lola, Cassie (MJCF), cassie_like and digit_like_2legs, and the scaling series
 //   fd_chain/<k>/{generic,reference}   a chain of k four-bar modules (loop_chain.hpp), k = 1 .. 64.
 // Inputs: 64 seeded consistent states per robot (loops closed by Newton, v = G vy) with random
@@ -23,6 +27,8 @@
 #include "lola.hpp"
 #include "lola_legs_transmission.hpp"
 #include "loop_chain.hpp"
+#include "mbgen/sim/backend.hpp"
+#include "mbgen/sim/simulator.hpp"
 #include "model/load_description.hpp"
 #include "pl_cassie_like.hpp"
 #include "pl_digit_like_2legs.hpp"
@@ -68,14 +74,45 @@ struct ClosureSample {
   VecX<double> q;
 };
 
+/// The tolerance of the simulator's projection (SimulatorOptions::closure_tolerance, 1e-11).
+const double kProjection = sim::SimulatorOptions{}.closure_tolerance;
+
+/// The state a simulator step hands its projection.
+struct ProjectionSample {
+  VecX<double> q, v;
+};
+
+/// Per state of the pool, the state one step of the simulator leaves before it projects: its
+/// default integrator and step (RK4, 1e-4 s) on the generic backend, no contact, no controller
+/// (gravity and the pool's velocities), projection off. What Simulator::project() then closes.
+std::shared_ptr<const std::vector<ProjectionSample>> projection_starts(const Model& model, const std::vector<Sample>& pool) {
+  sim::SimulatorOptions options;
+  options.project = false;
+  options.contact = false;
+  auto starts = std::make_shared<std::vector<ProjectionSample>>();
+  for (const Sample& sample : pool) {
+    sim::Simulator<sim::GenericBackend<double>> simulator(sim::GenericBackend<double>(model), options);
+    if (simulator.set_state(sample.q.data(), sample.v.data()) != 0 || simulator.step() != sim::StepStatus::ok)
+      throw std::runtime_error("bench: cannot step " + model.name);
+    starts->push_back({simulator.q(), simulator.v()});
+  }
+  return starts;
+}
+
 /// No generated closure_positions (the scaling chain).
 struct NoClosure {
   void operator()(double*) const {}
 };
 
-template <typename GeneratedClosure = NoClosure>
+/// No generated close_loops.
+struct NoProjection {
+  void operator()(double*, double*) const {}
+};
+
+template <typename GeneratedClosure = NoClosure, typename GeneratedProjection = NoProjection>
 void add_closed_loop_robot(const std::string& name, const std::string& urdf, const std::string& extras,
-                           GeneratedForwardDynamics generated = nullptr, GeneratedClosure generated_closure = {}) {
+                           GeneratedForwardDynamics generated = nullptr, GeneratedClosure generated_closure = {},
+                           GeneratedProjection generated_projection = {}) {
   static std::vector<std::unique_ptr<Robot>> robots;  // live as long as the benchmarks
   gen::LoadOptions options;
   if (!extras.empty()) options.extras_file = extras;
@@ -141,6 +178,22 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                    generated_closure(q->data());
                                    return q->data();
                                  });
+    const auto starts = projection_starts(*model, *robot->pool);
+    ClosureOptions projection;
+    projection.tolerance = kProjection;
+    add_benchmark<ProjectionSample>("project", label, "generic", starts,
+                                    [model, projection, w = std::make_shared<Generic>(*model), x = std::make_shared<ProjectionSample>()](
+                                        const ProjectionSample& start) {
+                                      *x = start;
+                                      close_loops<double>(*model, w->data, x->q, x->v, projection);
+                                      return x->q.data();
+                                    });
+    add_benchmark<ProjectionSample>("project", label, "generated", starts,
+                                    [generated_projection, x = std::make_shared<ProjectionSample>()](const ProjectionSample& start) {
+                                      *x = start;
+                                      generated_projection(x->q.data(), x->v.data());
+                                      return x->q.data();
+                                    });
   }
   robots.push_back(std::move(robot));
 }
@@ -149,16 +202,38 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
 
 void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
+  // The generated closure_positions, and close_loops as the simulator's projection calls it (its
+  // closure_tolerance; the generated Backend's close_loops does the same).
   add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics,
-                        [](double* q) { lola::closure_positions(q); });
+                        [](double* q) { lola::closure_positions(q); },
+                        [](double* q, double* v) {
+                          lola::ClosureOptions<double> options = lola::closure_options_double;
+                          options.tolerance = kProjection;
+                          lola::close_loops(q, v, options);
+                        });
   add_closed_loop_robot("lola_legs_transmission", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola_legs_transmission.yaml",
                         &lola_legs_transmission::forward_dynamics);
   add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics,
-                        [](double* q) { cassie_mjcf::closure_positions(q); });
+                        [](double* q) { cassie_mjcf::closure_positions(q); },
+                        [](double* q, double* v) {
+                          cassie_mjcf::ClosureOptions<double> options = cassie_mjcf::closure_options_double;
+                          options.tolerance = kProjection;
+                          cassie_mjcf::close_loops(q, v, options);
+                        });
   add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics,
-                        [](double* q) { pl_cassie_like::closure_positions(q); });
+                        [](double* q) { pl_cassie_like::closure_positions(q); },
+                        [](double* q, double* v) {
+                          pl_cassie_like::ClosureOptions<double> options = pl_cassie_like::closure_options_double;
+                          options.tolerance = kProjection;
+                          pl_cassie_like::close_loops(q, v, options);
+                        });
   add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "",
-                        &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); });
+                        &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); },
+                        [](double* q, double* v) {
+                          pl_digit_like_2legs::ClosureOptions<double> options = pl_digit_like_2legs::closure_options_double;
+                          options.tolerance = kProjection;
+                          pl_digit_like_2legs::close_loops(q, v, options);
+                        });
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
   std::filesystem::create_directories(dir);
   for (int k : {1, 2, 4, 8, 16, 32, 64}) {
