@@ -104,6 +104,14 @@ struct NoClosure {
   void operator()(double*) const {}
 };
 
+/// A generated close_loops as the simulator's projection calls it: the robot's default options
+/// with the projection's tolerance (what the generated Backend's close_loops does).
+template <typename Options, typename Result>
+auto projection(Result (*close_loops)(double*, double*, const Options&), Options options) {
+  options.tolerance = kProjection;
+  return [close_loops, options](double* q, double* v) { close_loops(q, v, options); };
+}
+
 /// No generated close_loops.
 struct NoProjection {
   void operator()(double*, double*) const {}
@@ -179,13 +187,13 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
                                    return q->data();
                                  });
     const auto starts = projection_starts(*model, *robot->pool);
-    ClosureOptions projection;
-    projection.tolerance = kProjection;
+    ClosureOptions to_projection;
+    to_projection.tolerance = kProjection;
     add_benchmark<ProjectionSample>("project", label, "generic", starts,
-                                    [model, projection, w = std::make_shared<Generic>(*model), x = std::make_shared<ProjectionSample>()](
+                                    [model, to_projection, w = std::make_shared<Generic>(*model), x = std::make_shared<ProjectionSample>()](
                                         const ProjectionSample& start) {
                                       *x = start;
-                                      close_loops<double>(*model, w->data, x->q, x->v, projection);
+                                      close_loops<double>(*model, w->data, x->q, x->v, to_projection);
                                       return x->q.data();
                                     });
     add_benchmark<ProjectionSample>("project", label, "generated", starts,
@@ -202,38 +210,21 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
 
 void add_loop_benchmarks() {
   const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
-  // The generated closure_positions, and close_loops as the simulator's projection calls it (its
-  // closure_tolerance; the generated Backend's close_loops does the same).
+  // The generated closure_positions, and close_loops as the simulator's projection calls it.
   add_closed_loop_robot("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml", &lola::forward_dynamics,
                         [](double* q) { lola::closure_positions(q); },
-                        [](double* q, double* v) {
-                          lola::ClosureOptions<double> options = lola::closure_options_double;
-                          options.tolerance = kProjection;
-                          lola::close_loops(q, v, options);
-                        });
+                        projection(&lola::close_loops, lola::closure_options_double));
   add_closed_loop_robot("lola_legs_transmission", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola_legs_transmission.yaml",
                         &lola_legs_transmission::forward_dynamics);
   add_closed_loop_robot("cassie", shared + "/cassie_mjcf/cassie.xml", "", &cassie_mjcf::forward_dynamics,
                         [](double* q) { cassie_mjcf::closure_positions(q); },
-                        [](double* q, double* v) {
-                          cassie_mjcf::ClosureOptions<double> options = cassie_mjcf::closure_options_double;
-                          options.tolerance = kProjection;
-                          cassie_mjcf::close_loops(q, v, options);
-                        });
+                        projection(&cassie_mjcf::close_loops, cassie_mjcf::closure_options_double));
   add_closed_loop_robot("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "", &pl_cassie_like::forward_dynamics,
                         [](double* q) { pl_cassie_like::closure_positions(q); },
-                        [](double* q, double* v) {
-                          pl_cassie_like::ClosureOptions<double> options = pl_cassie_like::closure_options_double;
-                          options.tolerance = kProjection;
-                          pl_cassie_like::close_loops(q, v, options);
-                        });
+                        projection(&pl_cassie_like::close_loops, pl_cassie_like::closure_options_double));
   add_closed_loop_robot("digit_like_2legs", shared + "/parallel_legs/digit_like_2legs/robot.urdf", "",
                         &pl_digit_like_2legs::forward_dynamics, [](double* q) { pl_digit_like_2legs::closure_positions(q); },
-                        [](double* q, double* v) {
-                          pl_digit_like_2legs::ClosureOptions<double> options = pl_digit_like_2legs::closure_options_double;
-                          options.tolerance = kProjection;
-                          pl_digit_like_2legs::close_loops(q, v, options);
-                        });
+                        projection(&pl_digit_like_2legs::close_loops, pl_digit_like_2legs::closure_options_double));
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbgen_bench_loop_chain";
   std::filesystem::create_directories(dir);
   for (int k : {1, 2, 4, 8, 16, 32, 64}) {
