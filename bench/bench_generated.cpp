@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "hyq.hpp"
+#include "hyq_snapped.hpp"
 #include "iiwa14.hpp"
 #include "talos.hpp"
 #if MBGEN_BENCH_V3
@@ -127,6 +128,9 @@ void add_batch(const Robot& robot,
 void add_generated(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_GENERATED_API(iiwa14), "generated");
   if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq), "generated");
+  // The same robot with its quarter turns exact (bench/data/hyq_quarter_turns.yaml): its mass
+  // matrix within 1e-13 of the literal one's (test LoadUrdf.SnapQuarterTurns*), a quarter fewer operations.
+  if (robot.name == "hyq") add(robot, MBGEN_GENERATED_API(hyq_snapped), "generated_snapped");
   if (robot.name == "talos") add(robot, MBGEN_GENERATED_API(talos), "generated");
 #if MBGEN_BENCH_V3
   // x86-64-v3 code on a CPU without AVX2 and FMA would stop at its first instruction.

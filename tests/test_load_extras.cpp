@@ -163,6 +163,13 @@ TEST(LoadExtras, DriveOnAFixedJointIsAnError) {
   EXPECT_NE(e.problem().find("'tool_joint', a fixed joint"), std::string::npos) << e.what();
 }
 
+TEST(LoadExtras, SnapQuarterTurnsIsRefusedForAnMjcf) {
+  const LoadError e = load_error(test::shared_robot("cassie_mjcf/cassie.xml"), kData + "/extras/hyq_quarter_turns.yaml");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.element(), "snap_quarter_turns");
+  EXPECT_NE(e.problem().find("is an MJCF"), std::string::npos) << e.what();
+}
+
 TEST(LoadExtras, MixingTheTwoSchemasIsAnError) {
   const LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/mixed_schemas.yaml");
   EXPECT_NE(e.problem().find("mixes the keys of the two schemas"), std::string::npos) << e.what();

@@ -2,6 +2,9 @@
 // root idiom, limits, and every shared robot loading both ways.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <random>
+
 #include "load/load_error.hpp"
 #include "test_support.hpp"
 
@@ -41,6 +44,62 @@ TEST(LoadUrdf, FixedJointMergingLumpsInertiaAndKeepsFrames) {
   EXPECT_EQ(model.frame(model.frame_index("tip")).kind, FrameKind::Link);
   EXPECT_EQ(model.frame(model.frame_index("tip_joint")).kind, FrameKind::Joint);
   EXPECT_EQ(model.frame(model.frame_index("base")).body, kWorldBody);
+}
+
+/// hyq_no_sensors.urdf writes its quarter turns in decimal (rpy="1.57079632679 0 0"): 4.9e-12
+/// where a 0 is meant, above the 1e-14 every rotation entry is snapped within. The extras'
+/// `snap_quarter_turns: 1e-9` makes each joint's fixed rotation a signed permutation exactly; the
+/// dynamics move by the rounding the URDF wrote (M within 1e-12 of the literal model's, and not
+/// equal to it: the option changed the model), and nothing else in the robot changes.
+TEST(LoadUrdf, SnapQuarterTurnsMakesDecimalQuarterTurnsExact) {
+  const std::string urdf = test::shared_robot("hyq/hyq_no_sensors.urdf");
+  gen::LoadOptions literal_options;
+  literal_options.base = BaseType::Floating;
+  literal_options.pick_up_robot_yaml = false;
+  const Model literal = gen::load_description(urdf, literal_options).model;
+  gen::LoadOptions snapped_options;
+  snapped_options.extras_file = kData + "/extras/hyq_quarter_turns.yaml";
+  const Model snapped = gen::load_description(urdf, snapped_options).model;
+  ASSERT_EQ(literal.num_joints(), snapped.num_joints());
+  auto is_signed_permutation = [](const Mat3<double>& R) {
+    return R.cwiseAbs().rowwise().sum().isApprox(Vec3<double>::Ones(), 0.0) && (R.array() == 0.0 || R.array().abs() == 1.0).all();
+  };
+  int off_by_rounding = 0;
+  for (int j = 1; j < literal.num_joints(); ++j) {
+    const Mat3<double>& R = literal.joint(JointIndex(j)).X_PJ.rotation;
+    const Mat3<double>& S = snapped.joint(JointIndex(j)).X_PJ.rotation;
+    EXPECT_TRUE(is_signed_permutation(S)) << literal.joint(JointIndex(j)).name << "\n" << S;
+    EXPECT_LE((R - S).cwiseAbs().maxCoeff(), 1e-9);
+    if (!is_signed_permutation(R)) ++off_by_rounding;
+    EXPECT_EQ(literal.joint(JointIndex(j)).X_PJ.translation, snapped.joint(JointIndex(j)).X_PJ.translation);
+  }
+  EXPECT_GT(off_by_rounding, 0) << "hyq's URDF no longer writes its quarter turns in decimal: the test checks nothing";
+  Data<double> a(literal), b(snapped);
+  std::mt19937_64 rng(5);
+  double worst = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const VecX<double> q = random_configuration<double>(literal, rng);
+    const MatX<double> Ma = crba<double>(literal, a, q), Mb = crba<double>(snapped, b, q);
+    worst = std::max(worst, (Ma - Mb).cwiseAbs().maxCoeff() / Ma.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(worst, 0.0);
+  char figure[32];
+  std::snprintf(figure, sizeof figure, "%.3g", worst);
+  RecordProperty("mass_matrix_change", figure);
+}
+
+TEST(LoadUrdf, SnapQuarterTurnsBeyondDecimalRoundingIsRefused) {
+  gen::LoadOptions options;
+  options.extras_file = kData + "/extras/quarter_turns_too_loose.yaml";
+  try {
+    gen::load_description(test::shared_robot("hyq/hyq_no_sensors.urdf"), options);
+    FAIL() << "no LoadError";
+  } catch (const gen::LoadError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.element(), "snap_quarter_turns");
+    EXPECT_NE(e.problem().find("outside [0, 1e-6]"), std::string::npos) << e.what();
+  }
 }
 
 TEST(LoadUrdf, FloatingBaseAddsAFreeRootBody) {

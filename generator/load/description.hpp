@@ -210,7 +210,10 @@ void add_collision_ssvs(const std::string& path, Description& d);
 
 /// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);
-/// The same, also reporting where each <link> and <joint> element starts.
-Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines);
+/// The same, also reporting where each <link> and <joint> element starts. Fixed rotations (joint
+/// and inertial origins) within `quarter_turn_tolerance` of a rotation by quarter turns become it
+/// exactly (the extras' `snap_quarter_turns`; 0: only entries within 1e-14 of 0 or +-1 are snapped).
+Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines,
+                      double quarter_turn_tolerance = 0);
 
 }  // namespace mbgen::gen

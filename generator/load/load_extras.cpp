@@ -1,5 +1,5 @@
 // The YAML extras file, mbgen's own schema (docs/extras.md): what URDF cannot say.
-//   robot, base, closures, independent, drives, ssv, scene
+//   robot, base, snap_quarter_turns, closures, independent, drives, ssv, scene
 // Also reads any extras file and tells the two schemas apart by their top-level keys.
 #include <fmt/format.h>
 
@@ -17,7 +17,7 @@ namespace {
 
 using namespace yaml;
 
-const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "independent", "robot", "scene", "ssv"};
+const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "independent", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
 const std::vector<std::string> kOutputs = {"center_of_mass",   "centroidal_momentum", "distances", "forward_dynamics",
@@ -371,6 +371,20 @@ ExtrasFile read_extras(const std::string& path) {
          (hint.empty() ? "" : hint + " ") + fmt::format("(known keys: {})", fmt::join(keys, ", ")));
   }
   return x;
+}
+
+double extras_quarter_turns(const ExtrasFile& x, const std::string& description) {
+  if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["snap_quarter_turns"]) return 0;
+  const YAML::Node n = x.root["snap_quarter_turns"];
+  if (is_mjcf_path(description))
+    fail(x.path, n, "snap_quarter_turns", "applies to a URDF's origins, and " + description + " is an MJCF",
+         "remove it: MJCF orientations snap entries within 1e-14 of 0 or +-1 (euler=\"0 0 90\" is exact)");
+  const double tolerance = to_number(x.path, n, "snap_quarter_turns");
+  // A rotation 1e-6 off a quarter turn is no decimal rounding of one: refuse to move the robot.
+  if (!(tolerance >= 0 && tolerance <= 1e-6))
+    fail(x.path, n, "snap_quarter_turns", fmt::format("{} is outside [0, 1e-6]", tolerance),
+         "give the rounding of the URDF's quarter turns, e.g. 1e-9 for rpy written as 1.57079632679");
+  return tolerance;
 }
 
 std::optional<BaseType> extras_base(const ExtrasFile& x) {

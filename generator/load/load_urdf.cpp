@@ -47,20 +47,35 @@ double snap_unit(double x) {
   return x;
 }
 
-SE3<double> to_se3(const urdf::Pose& pose) {
+/// R, or the rotation by quarter turns about the axes (a signed permutation matrix, determinant
+/// 1) that every entry of R is within `tolerance` of (the extras' `snap_quarter_turns`): a URDF that
+/// writes pi/2 as 1.57079632679 leaves 4.9e-12 where a 0 is meant, above snap_unit's 1e-14, and
+/// generated code carries every product with it (hyq: a quarter of its mass matrix's operations).
+/// The whole matrix or nothing, so that the result is a rotation exactly.
+Mat3<double> snap_quarter_turn(const Mat3<double>& R, double tolerance) {
+  if (!(tolerance > 0)) return R;
+  const Mat3<double> P = R.unaryExpr([](double x) { return std::round(x); });
+  if (!((R - P).cwiseAbs().maxCoeff() <= tolerance)) return R;
+  const Mat3<double> A = P.cwiseAbs();
+  if (!(A.rowwise().sum().array() == 1.0).all() || !(A.colwise().sum().array() == 1.0).all() || P.determinant() != 1.0) return R;
+  return P;
+}
+
+SE3<double> to_se3(const urdf::Pose& pose, double quarter_turn_tolerance) {
   SE3<double> X;
   double x, y, z, w;
   pose.rotation.getQuaternion(x, y, z, w);
-  X.rotation = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix().unaryExpr(&snap_unit);
+  X.rotation = snap_quarter_turn(Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix().unaryExpr(&snap_unit),
+                                 quarter_turn_tolerance);
   X.translation = Vec3<double>(pose.position.x, pose.position.y, pose.position.z);
   return X;
 }
 
-Inertia<double> to_inertia(const urdf::Link& link) {
+Inertia<double> to_inertia(const urdf::Link& link, double quarter_turn_tolerance) {
   Inertia<double> I;
   if (!link.inertial) return I;
   const urdf::Inertial& in = *link.inertial;
-  SE3<double> X_LC = to_se3(in.origin);
+  SE3<double> X_LC = to_se3(in.origin, quarter_turn_tolerance);
   Mat3<double> I_C;
   I_C << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   I.mass = in.mass;
@@ -185,6 +200,7 @@ struct Builder {
   const XmlIndex& xml;
   BaseType base;
   std::vector<std::string>& warnings;
+  double quarter_turn_tolerance;
   Model model;
   std::map<std::string, std::vector<urdf::JointConstSharedPtr>> children_of;  // in document order
 
@@ -203,7 +219,7 @@ struct Builder {
     if (!is_body_frame) {
       if (body != kWorldBody) {
         Body& b = model.mutable_body(body);
-        b.inertia = b.inertia + to_inertia(link).transformed(X_BL);
+        b.inertia = b.inertia + to_inertia(link, quarter_turn_tolerance).transformed(X_BL);
       }
     }
     model.add_frame(Frame{link_name, is_body_frame ? FrameKind::Body : FrameKind::Link, body, X_BL});
@@ -213,7 +229,7 @@ struct Builder {
   /// Attaches the joints below link `link_name`, whose frame sits at X_BL in body `body`.
   void attach_children(const std::string& link_name, BodyIndex body, const SE3<double>& X_BL) {
     for (const urdf::JointConstSharedPtr& joint : children_of[link_name]) {
-      const SE3<double> X_BJ = X_BL * to_se3(joint->parent_to_joint_origin_transform);
+      const SE3<double> X_BJ = X_BL * to_se3(joint->parent_to_joint_origin_transform, quarter_turn_tolerance);
       const urdf::Link& child = *urdf.getLink(joint->child_link_name);
       if (joint->type == urdf::Joint::FIXED) {
         model.add_frame(Frame{joint->name, FrameKind::Joint, body, X_BJ});
@@ -262,7 +278,7 @@ struct Builder {
       if (joint->mimic)
         warnings.push_back(fmt::format("joint '{}' mimics '{}': the coupling is ignored, it is loaded as an independent joint",
                                        joint->name, joint->mimic->joint_name));
-      BodyIndex child_body = model.add_body(body, j, child.name, to_inertia(child));
+      BodyIndex child_body = model.add_body(body, j, child.name, to_inertia(child, quarter_turn_tolerance));
       attach(child.name, child_body, SE3<double>::Identity(), true);
     }
   }
@@ -326,7 +342,7 @@ urdf::ModelInterfaceSharedPtr parse_indexed(const std::string& path, const XmlIn
 
 urdf::ModelInterfaceSharedPtr parse_urdf_file(const std::string& path) { return parse_indexed(path, read_and_index(path)); }
 
-Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines) {
+Model load_urdf_model(const std::string& path, BaseType base, ValueReport& report, SourceLines* lines, double quarter_turn_tolerance) {
   std::vector<std::string>& warnings = report.warnings;
   const XmlIndex xml = read_and_index(path);
   urdf::ModelInterfaceSharedPtr urdf = parse_indexed(path, xml);
@@ -342,7 +358,7 @@ Model load_urdf_model(const std::string& path, BaseType base, ValueReport& repor
         "default [0, 0] ({})",
         xml.joints_without_range.size(), fmt::join(xml.joints_without_range, ", ")));
 
-  Builder builder{path, *urdf, xml, base, warnings, Model{}, {}};
+  Builder builder{path, *urdf, xml, base, warnings, quarter_turn_tolerance, Model{}, {}};
   builder.model.name = urdf->getName();
   // The joint list, in document order, is the graph. A link with two parent joints is a loop
   // that URDF cannot express: say so instead of dropping one as urdfdom does.
@@ -397,7 +413,7 @@ Model load_urdf_model(const std::string& path, BaseType base, ValueReport& repor
     Joint free;
     free.name = "root_joint";
     free.type = JointType::Floating;
-    BodyIndex b = builder.model.add_body(kWorldBody, free, root, to_inertia(*urdf->getRoot()));
+    BodyIndex b = builder.model.add_body(kWorldBody, free, root, to_inertia(*urdf->getRoot(), quarter_turn_tolerance));
     builder.attach(root, b, SE3<double>::Identity(), true);
   } else {
     builder.attach(root, kWorldBody, SE3<double>::Identity(), false);
