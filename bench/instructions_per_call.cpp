@@ -1,5 +1,6 @@
-// mbgen_instructions ROBOT FUNCTION CALLS: calls ROBOT's generated FUNCTION (forward_dynamics,
-// inverse_dynamics or mass_matrix) CALLS times on one seeded state, for
+// mbgen_instructions ROBOT FUNCTION CALLS: calls ROBOT's (iiwa14, hyq, hyq_snapped or talos)
+// generated FUNCTION (forward_dynamics, inverse_dynamics or mass_matrix) CALLS times on one seeded
+// state, for
 // bench/instructions_per_call.sh, which runs it under callgrind twice (CALLS and 2 CALLS) so that
 // the difference divided by CALLS is the instruction count of one call alone, free of start-up and
 // loading. Instructions, unlike seconds, do not depend on what else the machine is doing.
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "hyq.hpp"
+#include "hyq_snapped.hpp"
 #include "iiwa14.hpp"
 #include "talos.hpp"
 
@@ -59,7 +61,7 @@ int run(const Functions& f, const std::string& function, long calls) {
 
 int main(int argc, char** argv) {
   if (argc != 4) {
-    std::fprintf(stderr, "usage: mbgen_instructions iiwa14|hyq|talos forward_dynamics|inverse_dynamics|mass_matrix CALLS\n");
+    std::fprintf(stderr, "usage: mbgen_instructions iiwa14|hyq|hyq_snapped|talos forward_dynamics|inverse_dynamics|mass_matrix CALLS\n");
     return 2;
   }
   const std::string robot = argv[1], function = argv[2];
@@ -68,8 +70,12 @@ int main(int argc, char** argv) {
                                       function, calls);
   if (robot == "hyq") return run({hyq::nq, hyq::nv, hyq::floating_base, &hyq::forward_dynamics, &hyq::inverse_dynamics, &hyq::mass_matrix},
                                       function, calls);
+  if (robot == "hyq_snapped")
+    return run({hyq_snapped::nq, hyq_snapped::nv, hyq_snapped::floating_base, &hyq_snapped::forward_dynamics, &hyq_snapped::inverse_dynamics,
+                &hyq_snapped::mass_matrix},
+               function, calls);
   if (robot == "talos") return run({talos::nq, talos::nv, talos::floating_base, &talos::forward_dynamics, &talos::inverse_dynamics, &talos::mass_matrix},
                                       function, calls);
-  std::fprintf(stderr, "mbgen_instructions: unknown robot '%s' (iiwa14, hyq or talos)\n", robot.c_str());
+  std::fprintf(stderr, "mbgen_instructions: unknown robot '%s' (iiwa14, hyq, hyq_snapped or talos)\n", robot.c_str());
   return 2;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Instructions per call of the generated forward dynamics (ABA), inverse dynamics (RNEA) and mass
-# matrix (CRBA) of iiwa14, hyq and talos, counted by valgrind's callgrind, beside the operation
-# count the generator prints in the function's doc comment. Repeatable whatever the machine's
+# matrix (CRBA) of iiwa14, hyq (also as hyq_snapped: its quarter turns exact) and talos, counted by
+# valgrind's callgrind, beside the operation count the generator prints in the function's doc comment. Repeatable whatever the machine's
 # load (instructions are counted, not timed).
 #
 #   bash bench/instructions_per_call.sh [BUILD_DIR]      (default: build; needs valgrind)
@@ -22,7 +22,7 @@ count() {  # instructions of a whole run: robot, function, calls
 printf '| function | robot | operations | instructions per call | instructions per operation |\n|---|---|---|---|---|\n'
 status=0
 for function in forward_dynamics inverse_dynamics mass_matrix; do
-  for robot in iiwa14 hyq talos; do
+  for robot in iiwa14 hyq hyq_snapped talos; do
     # The source mbgen_instructions compiles: the bench's own generation (bench/CMakeLists.txt).
     src="$build/bench/mbgen/$robot/${robot}_${function}.cpp"
     ops=$(sed -n 's|^// \([0-9]*\) operations.*|\1|p' "$src" | head -1)
