@@ -220,6 +220,14 @@ class GeneratedTest : public ::testing::Test {
       for (int r = 0; r < nv; ++r)
         for (int c = 0; c < ny; ++c) T_generated(r, c) = static_cast<double>(Tmap[static_cast<std::size_t>(r * ny + c)]);
       worst[0] = std::max(worst[0], relative_error(T_generated, T_expected));
+      // The contract BasicDifferentialIk's gather relies on: the row of independent coordinate i
+      // is the unit row e_i exactly, in both maps (y = v[independent_v_index] for v = T y).
+      for (int i = 0; i < ny; ++i)
+        for (int c = 0; c < ny; ++c) {
+          const int r = gen_ns::independent_v_index[i];
+          ASSERT_EQ(T_generated(r, c), i == c ? 1.0 : 0.0) << "generated T(" << r << ", " << c << ")";
+          ASSERT_EQ(T_expected(r, c), i == c ? 1.0 : 0.0) << "generic T(" << r << ", " << c << ")";
+        }
       worst[1] = std::max(worst[1], relative_error(widen(v_out), v_full));
       worst[2] = std::max(worst[2], (widen(g_out) - g).norm() / std::max(1.0, g.norm()));
       gen_ns::independent_velocities(v_out.data(), vy_back.data());

@@ -51,14 +51,13 @@ double snap_unit(double x) {
 /// 1) that every entry of R is within `tolerance` of (the extras' `snap_quarter_turns`): a URDF that
 /// writes pi/2 as 1.57079632679 leaves 4.9e-12 where a 0 is meant, above snap_unit's 1e-14, and
 /// generated code carries every product with it (hyq: a quarter of its mass matrix's operations).
-/// The whole matrix or nothing, so that the result is a rotation exactly.
+/// The whole matrix or nothing, so that the result is a rotation exactly: a rotation within
+/// tolerance <= 1e-6 (extras_quarter_turns' bound) of its entries rounded has one +-1 per row and
+/// column (two entries of a unit row cannot both round to +-1 within 0.3) and keeps its determinant.
 Mat3<double> snap_quarter_turn(const Mat3<double>& R, double tolerance) {
   if (!(tolerance > 0)) return R;
   const Mat3<double> P = R.unaryExpr([](double x) { return std::round(x); });
-  if (!((R - P).cwiseAbs().maxCoeff() <= tolerance)) return R;
-  const Mat3<double> A = P.cwiseAbs();
-  if (!(A.rowwise().sum().array() == 1.0).all() || !(A.colwise().sum().array() == 1.0).all() || P.determinant() != 1.0) return R;
-  return P;
+  return (R - P).cwiseAbs().maxCoeff() <= tolerance ? P : R;
 }
 
 SE3<double> to_se3(const urdf::Pose& pose, double quarter_turn_tolerance) {

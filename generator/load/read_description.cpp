@@ -40,16 +40,17 @@ Description read_description(const std::string& path, const LoadOptions& options
     extras = read_extras(*file);
     d.extras_file = *file;
   }
+  // Read (and, for an MJCF, refused with its line) before either loader runs.
+  const double quarter_turns = extras ? extras_quarter_turns(*extras, path) : 0.0;
   if (is_mjcf_path(path)) {
     // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
     if (!base && extras) base = extras_base(*extras);
-    if (extras) (void)extras_quarter_turns(*extras, path);  // refused for an MJCF, with its line
     load_mjcf(path, base, d, options.repair_inertia);
   } else {
     d.base = options.base.value_or(extras ? extras_base(*extras).value_or(BaseType::Fixed) : BaseType::Fixed);
     ValueReport report{d.warnings, d.notes, options.repair_inertia};
-    d.model = load_urdf_model(path, d.base, report, &d.urdf_lines, extras ? extras_quarter_turns(*extras, path) : 0.0);
+    d.model = load_urdf_model(path, d.base, report, &d.urdf_lines, quarter_turns);
     d.robot_name = d.model.name;
     add_collision_ssvs(path, d);
   }
