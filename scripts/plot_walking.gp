@@ -2,16 +2,17 @@
 #   gnuplot -e "dir='out'; walk='straight'; bound=0" scripts/plot_walking.gp
 # One PNG per walk, <dir>/walking_<walk>.png, the four configurations overlaid: the smallest
 # self-distance between the legs and between an arm and the rest, the vertical angular momentum
-# about the CoM, and the ground's yaw torque about the vertical through the ZMP.
+# about the CoM, the ground's yaw torque about the vertical through the ZMP, and how far the
+# full-body ZMP is from the pattern's (the pattern's CoM corrected for the configuration "both").
 set datafile separator ","
-set terminal pngcairo size 1000,1000 font ",10" noenhanced
+set terminal pngcairo size 1000,1200 font ",10" noenhanced
 set output sprintf("%s/walking_%s.png", dir, walk)
 set grid
 set key outside right top vertical
 configs = "plain avoidance momentum both"
 colors = "#1f77b4 #d62728 #2ca02c #9467bd"
 csv(c) = sprintf("%s/walk_%s_%s.csv", dir, walk, c)
-set multiplot layout 4,1 title sprintf("Lola walking (%s): IK at 1 kHz on the generated code", walk)
+set multiplot layout 5,1 title sprintf("Lola walking (%s): IK at 1 kHz on the generated code", walk)
 set xlabel "t [s]"
 set ylabel "legs: min distance [mm]"
 plot for [i=1:4] csv(word(configs, i)) using "t":(1000*column("d_legs")) with lines lw 2 lc rgb word(colors, i) title word(configs, i), \
@@ -23,4 +24,6 @@ set ylabel "k_z about CoM [kg m^2/s]"
 plot for [i=1:4] csv(word(configs, i)) using "t":"k_z" with lines lw 2 lc rgb word(colors, i) title word(configs, i)
 set ylabel "ground yaw torque [N m]"
 plot for [i=1:4] csv(word(configs, i)) using "t":"yaw_torque" with lines lw 2 lc rgb word(colors, i) title word(configs, i)
+set ylabel "full-body ZMP error [mm]"
+plot for [i=1:4] csv(word(configs, i)) using "t":(1000*column("zmp_error")) with lines lw 2 lc rgb word(colors, i) title word(configs, i)
 unset multiplot

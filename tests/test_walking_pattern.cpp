@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "examples/walking/walking_pattern.hpp"
 
@@ -75,6 +76,45 @@ TEST(WalkingPattern, SwingFeetMoveAsTheirVelocitiesSayAndLandOnTheirSteps) {
     EXPECT_NEAR(end.foot_yaw[f], last.yaw, 1e-12);
     EXPECT_EQ(end.foot_velocity[f].norm(), 0.0);
   }
+}
+
+// correct_com answers a ZMP error e by the CoM change dc the pendulum needs to cancel it,
+// dc - dc'' / w^2 = -e (central second differences), once the start has settled; dc is zero at
+// the start (the robot starts at rest there), the stated CoM velocity is the CoM's rate, and the
+// reference ZMP and feet do not move.
+TEST(WalkingPattern, TheCentreOfMassCorrectionCancelsAZmpError) {
+  PatternOptions o;
+  o.turn_per_step = 0.15;
+  const double dt = 1e-3;
+  const WalkingPattern before(kLeft, kRight, kCom, o, dt);
+  WalkingPattern after = before;
+  std::vector<Eigen::Vector2d> error(static_cast<std::size_t>(before.samples()));
+  for (int k = 0; k < before.samples(); ++k) {
+    const double t = before.sample(k).t;  // a smooth error at the step frequency, as a swing leg's
+    error[static_cast<std::size_t>(k)] = Eigen::Vector2d(0.1 * std::sin(2 * M_PI * 1.25 * t), 0.03 * std::cos(2 * M_PI * 1.25 * t + 0.3));
+  }
+  after.correct_com(error);
+  const double w2 = before.omega() * before.omega();
+  double worst = 0, worst_velocity = 0, largest = 0;
+  for (int k = 1; k + 1 < before.samples(); ++k) {
+    const auto dc = [&](int j) { return Eigen::Vector2d((after.sample(j).com - before.sample(j).com).head<2>()); };
+    const Eigen::Vector2d residual = dc(k) - (dc(k + 1) - 2 * dc(k) + dc(k - 1)) / (dt * dt) / w2 + error[static_cast<std::size_t>(k)];
+    if (before.settled(before.sample(k - 1).t) == 1) worst = std::max(worst, residual.norm());
+    largest = std::max(largest, dc(k).norm());
+    const Eigen::Vector2d rate = (dc(k + 1) - dc(k - 1)) / (2 * dt);
+    worst_velocity = std::max(worst_velocity, (rate - (after.sample(k).com_velocity - before.sample(k).com_velocity).head<2>()).norm());
+    EXPECT_EQ(after.sample(k).zmp, before.sample(k).zmp);
+    EXPECT_EQ(after.sample(k).foot[0], before.sample(k).foot[0]);
+  }
+  std::printf("  |dc - dc''/w^2 + e| <= %.1e m after the start (|e| <= 0.1 m, |dc| <= %.3f m); its velocity vs differences %.1e m/s\n",
+              worst, largest, worst_velocity);
+  EXPECT_LT(worst, 2e-6);  // 2e-5 of |e|: the piecewise-linear convolution and the differences on the 1 ms grid
+  EXPECT_GT(largest, 1e-3);  // the correction does move the CoM
+  EXPECT_LT(worst_velocity, 1e-12);
+  EXPECT_EQ(after.sample(0).com, before.sample(0).com);
+  EXPECT_EQ(before.settled(0.0), 0.0);
+  EXPECT_EQ(before.settled(0.8 * o.start_time), 1.0);
+  EXPECT_THROW(after.correct_com(std::vector<Eigen::Vector2d>(3)), std::invalid_argument);
 }
 
 TEST(WalkingPattern, BadOptionsAreRefused) {

@@ -107,6 +107,37 @@ class WalkingPattern {
   const std::vector<Footstep>& footsteps() const { return steps_; }
   double omega() const { return omega_; }
 
+  /// Moves the CoM so that the whole body, not only the pendulum, keeps the ZMP on its
+  /// reference: `zmp_error[k]` is the full-body ZMP minus the reference at sample k (x, y) of a
+  /// motion that tracked this pattern. The pendulum's ZMP responds to a CoM change dc as
+  /// dp = dc - dc'' / w^2, so dc = the bounded solution for -error (bounded_lipm) cancels the
+  /// error to first order; the references' ZMP is unchanged. Applied again on the corrected
+  /// motion's error it converges (Kajita et al. 2003, the second stage of their preview control;
+  /// Takenaka's iterations): each pass removes what the pendulum model missed in the last.
+  /// 0 at the start, rising (the quintic blend) to 1 at the end of the start's settling time
+  /// (0.8 start_time), 1 after: how much of the CoM correction applies at time t.
+  double settled(double t) const { return 1 - start_blend(t).value; }
+
+  void correct_com(const std::vector<Eigen::Vector2d>& zmp_error) {
+    const std::size_t n = samples_.size();
+    if (zmp_error.size() != n) throw std::invalid_argument("WalkingPattern::correct_com: one ZMP error per sample");
+    // The robot starts at rest where the pattern's CoM starts: the correction fades in over the
+    // settling time of the start (start_blend), and so does the error it answers, so that an
+    // error it may not cancel there does not pile up pass after pass.
+    std::vector<double> fade(n), ex(n), ey(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      fade[k] = settled(samples_[k].t);
+      ex[k] = -fade[k] * zmp_error[k].x(), ey[k] = -fade[k] * zmp_error[k].y();
+    }
+    std::vector<double> dx = bounded_lipm(ex), dy = bounded_lipm(ey);
+    for (std::size_t k = 0; k < n; ++k) dx[k] *= fade[k], dy[k] *= fade[k];
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t a = k > 0 ? k - 1 : 0, b = std::min(n - 1, k + 1);
+      samples_[k].com += Vec3<double>(dx[k], dy[k], 0);
+      samples_[k].com_velocity += Vec3<double>(dx[b] - dx[a], dy[b] - dy[a], 0) / (static_cast<double>(b - a) * dt_);
+    }
+  }
+
  private:
   /// Every sample: each foot at its current footstep or swinging to its next, the ZMP, then the CoM.
   void build(const Vec3<double>& com0) {
@@ -191,21 +222,25 @@ class WalkingPattern {
     // c = c_lipm + d (1 - b(t / settle)), and the ZMP moved to keep the pendulum exact,
     // p = p_lipm + d_t - d_t'' / w^2 (d_t the blended difference).
     const Vec3<double> d(com0.x() - samples_[0].com.x(), com0.y() - samples_[0].com.y(), 0);
-    const double settle = 0.8 * o.start_time;
     for (PatternSample& s : samples_) {
-      double blend = 1, rate = 0, curvature = 0;  // 1 - b and its derivatives
-      if (settle > 0 && s.t < settle) {
-        const double u = s.t / settle;
-        blend = 1 - detail::quintic(u);
-        rate = -detail::quintic_rate(u) / settle;
-        curvature = -60 * u * (1 - u) * (1 - 2 * u) / (settle * settle);
-      } else if (settle > 0) {
-        blend = 0;
-      }
-      s.com += d * blend;
-      s.com_velocity += d * rate;
-      s.zmp += d * blend - d * curvature / (omega_ * omega_);
+      const Blend b = start_blend(s.t);
+      s.com += d * b.value;
+      s.com_velocity += d * b.rate;
+      s.zmp += d * b.value - d * b.curvature / (omega_ * omega_);
     }
+  }
+
+  /// 1 - b(t / settle) with b the quintic blend, settle = 0.8 start_time, and its first two
+  /// derivatives: 1 at the start, 0 from `settle` on.
+  struct Blend {
+    double value = 0, rate = 0, curvature = 0;
+  };
+  Blend start_blend(double t) const {
+    const double settle = 0.8 * options_.start_time;
+    if (!(settle > 0)) return {};
+    if (t >= settle) return {};
+    const double u = t / settle;
+    return {1 - detail::quintic(u), -detail::quintic_rate(u) / settle, -60 * u * (1 - u) * (1 - 2 * u) / (settle * settle)};
   }
 
   /// The bounded LIPM solution c = (w/2) exp(-w|t|) * p on the grid: forward and backward
