@@ -117,6 +117,52 @@ TEST(WalkingPattern, TheCentreOfMassCorrectionCancelsAZmpError) {
   EXPECT_THROW(after.correct_com(std::vector<Eigen::Vector2d>(3)), std::invalid_argument);
 }
 
+// yaw_free_momentum: for the pendulum's own CoM the ground force points along c - p, so no
+// vertical angular momentum is needed (zero up to the differences at the ZMP's kinks); for a
+// corrected CoM its rate is the force's moment m ((p - c) x c'')_z about the CoM, less the
+// constant that brings it back to zero at the end; zero at the start.
+TEST(WalkingPattern, YawFreeMomentumBalancesTheGroundForcesMoment) {
+  PatternOptions o;
+  o.turn_per_step = 0.15;
+  const double dt = 1e-3, mass = 60.0;
+  WalkingPattern p(kLeft, kRight, kCom, o, dt);
+  const std::vector<double> pendulum = p.yaw_free_momentum(mass);
+  std::vector<Eigen::Vector2d> error(static_cast<std::size_t>(p.samples()));
+  for (int k = 0; k < p.samples(); ++k)
+    error[static_cast<std::size_t>(k)] = Eigen::Vector2d(0.1 * std::sin(2 * M_PI * 1.25 * p.sample(k).t), 0.03 * std::cos(2 * M_PI * 1.25 * p.sample(k).t));
+  p.correct_com(error);
+  const std::vector<double> k = p.yaw_free_momentum(mass);
+  const int n = p.samples();
+  double largest = 0, largest_pendulum = 0, worst_rate = 0, drift = 0;
+  for (int i = 0; i < n; ++i) largest = std::max(largest, std::abs(k[static_cast<std::size_t>(i)]));
+  for (double x : pendulum) largest_pendulum = std::max(largest_pendulum, std::abs(x));
+  const double begin = o.start_time, end = p.duration() - o.end_time;
+  const auto moment = [&](int i) {
+    const Vec3<double> cdd = (p.sample(i + 1).com - 2 * p.sample(i).com + p.sample(i - 1).com) / (dt * dt);
+    const Vec3<double> r = p.sample(i).zmp - p.sample(i).com;
+    return mass * (r.x() * cdd.y() - r.y() * cdd.x());
+  };
+  // Over the steps the rate is the moment less one constant (what brings k_z back to zero at the
+  // end), measured at the first sample and held to round-off at every other.
+  bool first = true;
+  for (int i = 2; i + 2 < n; ++i) {
+    const double t = p.sample(i).t;
+    if (t <= begin + 2 * dt || t >= end - 2 * dt) continue;
+    const double rate = (k[static_cast<std::size_t>(i + 1)] - k[static_cast<std::size_t>(i - 1)]) / (2 * dt);
+    const double trapezoid = (moment(i - 1) + 2 * moment(i) + moment(i + 1)) / 4;  // the rule's rate over two samples
+    if (first) drift = rate - trapezoid, first = false;
+    worst_rate = std::max(worst_rate, std::abs(rate - trapezoid - drift));
+  }
+  std::printf("  pendulum CoM: |k_z| <= %.1e; corrected: |k_z| <= %.3f kg m^2/s, its rate vs the force's moment %.1e N m "
+              "(less the constant %.1e N m)\n",
+              largest_pendulum, largest, worst_rate, drift);
+  EXPECT_LT(largest_pendulum, 1e-3 * largest);
+  EXPECT_GT(largest, 0.01);
+  EXPECT_LT(worst_rate, 1e-9 * mass);
+  EXPECT_EQ(k.front(), 0.0);
+  EXPECT_NEAR(k.back(), 0.0, 1e-12);
+}
+
 TEST(WalkingPattern, BadOptionsAreRefused) {
   PatternOptions o;
   o.double_support = o.step_time;

@@ -114,6 +114,34 @@ class WalkingPattern {
   /// error to first order; the references' ZMP is unchanged. Applied again on the corrected
   /// motion's error it converges (Kajita et al. 2003, the second stage of their preview control;
   /// Takenaka's iterations): each pass removes what the pendulum model missed in the last.
+  /// The vertical angular momentum about the CoM (per sample, kg m^2/s) for which the ground's
+  /// yaw torque about the ZMP vanishes, for a body of `mass` whose CoM moves as the pattern's and
+  /// whose centre of pressure is the pattern's ZMP. About the centre of pressure p the ground's
+  /// moment is vertical, tau_z, and about the CoM the angular momentum changes by it plus the
+  /// moment of the ground force f = m (c'' - g):
+  ///   k_z' = tau_z + ((p - c) x f)_z = tau_z + m ((p - c)_x c''_y - (p - c)_y c''_x),
+  /// so tau_z = 0 needs k_z(t) = m int ((p - c)_x c''_y - (p - c)_y c''_x) dt, from 0 at rest.
+  /// Zero for the uncorrected pattern whose force points along c - p (the pendulum's law, which
+  /// makes the bracket vanish); not zero once the CoM is corrected for the whole body
+  /// (correct_com), whose force does not. Trapezoidal rule over the samples, c'' by central
+  /// differences. The walk need not end with the integral at zero (Lola's straight walk: 0.05
+  /// of its 0.9 kg m^2/s peak), and a robot standing still has none: what is left is taken out
+  /// linearly over the steps, a constant yaw torque of (what is left) / (their duration), below
+  /// 0.02 N m there.
+  std::vector<double> yaw_free_momentum(double mass) const {
+    const std::size_t n = samples_.size();
+    std::vector<double> rate(n, 0.0), k(n, 0.0);
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const Vec3<double> cdd = (samples_[i + 1].com - 2 * samples_[i].com + samples_[i - 1].com) / (dt_ * dt_);
+      const Vec3<double> r = samples_[i].zmp - samples_[i].com;
+      rate[i] = mass * (r.x() * cdd.y() - r.y() * cdd.x());
+    }
+    for (std::size_t i = 1; i < n; ++i) k[i] = k[i - 1] + 0.5 * dt_ * (rate[i - 1] + rate[i]);
+    const double left = k[n - 1], begin = options_.start_time, end = duration_ - options_.end_time;
+    for (std::size_t i = 0; i < n; ++i) k[i] -= left * std::clamp((samples_[i].t - begin) / (end - begin), 0.0, 1.0);
+    return k;
+  }
+
   /// 0 at the start, rising (the quintic blend) to 1 at the end of the start's settling time
   /// (0.8 start_time), 1 after: how much of the CoM correction applies at time t.
   double settled(double t) const { return 1 - start_blend(t).value; }
