@@ -107,13 +107,6 @@ class WalkingPattern {
   const std::vector<Footstep>& footsteps() const { return steps_; }
   double omega() const { return omega_; }
 
-  /// Moves the CoM so that the whole body, not only the pendulum, keeps the ZMP on its
-  /// reference: `zmp_error[k]` is the full-body ZMP minus the reference at sample k (x, y) of a
-  /// motion that tracked this pattern. The pendulum's ZMP responds to a CoM change dc as
-  /// dp = dc - dc'' / w^2, so dc = the bounded solution for -error (bounded_lipm) cancels the
-  /// error to first order; the references' ZMP is unchanged. Applied again on the corrected
-  /// motion's error it converges (Kajita et al. 2003, the second stage of their preview control;
-  /// Takenaka's iterations): each pass removes what the pendulum model missed in the last.
   /// The vertical angular momentum about the CoM (per sample, kg m^2/s) for which the ground's
   /// yaw torque about the ZMP vanishes, for a body of `mass` whose CoM moves as the pattern's and
   /// whose centre of pressure is the pattern's ZMP. About the centre of pressure p the ground's
@@ -143,9 +136,17 @@ class WalkingPattern {
   }
 
   /// 0 at the start, rising (the quintic blend) to 1 at the end of the start's settling time
-  /// (0.8 start_time), 1 after: how much of the CoM correction applies at time t.
-  double settled(double t) const { return 1 - start_blend(t).value; }
+  /// (0.8 start_time), 1 after: how much of the CoM correction applies at time t (1 throughout
+  /// without a standing start).
+  double settled(double t) const { return options_.start_time > 0 ? 1 - start_blend(t).value : 1.0; }
 
+  /// Moves the CoM so that the whole body, not only the pendulum, keeps the ZMP on its
+  /// reference: `zmp_error[k]` is the full-body ZMP minus the reference at sample k (x, y) of a
+  /// motion that tracked this pattern. The pendulum's ZMP responds to a CoM change dc as
+  /// dp = dc - dc'' / w^2, so dc = the bounded solution for -error (bounded_lipm) cancels the
+  /// error to first order; the reference ZMP is unchanged. Applied again on the corrected
+  /// motion's error it converges (Kajita et al. 2003, the second stage of their preview control;
+  /// Takenaka's iterations): each pass removes what the pendulum model missed in the last.
   void correct_com(const std::vector<Eigen::Vector2d>& zmp_error) {
     const std::size_t n = samples_.size();
     if (zmp_error.size() != n) throw std::invalid_argument("WalkingPattern::correct_com: one ZMP error per sample");
@@ -259,13 +260,14 @@ class WalkingPattern {
   }
 
   /// 1 - b(t / settle) with b the quintic blend, settle = 0.8 start_time, and its first two
-  /// derivatives: 1 at the start, 0 from `settle` on.
+  /// derivatives: 1 at the start, 0 from `settle` on (1 throughout without a standing start: the
+  /// CoM's offset from the pendulum's is then kept, not blended out).
   struct Blend {
     double value = 0, rate = 0, curvature = 0;
   };
   Blend start_blend(double t) const {
     const double settle = 0.8 * options_.start_time;
-    if (!(settle > 0)) return {};
+    if (!(settle > 0)) return {1, 0, 0};
     if (t >= settle) return {};
     const double u = t / settle;
     return {1 - detail::quintic(u), -detail::quintic_rate(u) / settle, -60 * u * (1 - u) * (1 - 2 * u) / (settle * settle)};
