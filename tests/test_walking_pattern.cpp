@@ -161,6 +161,8 @@ TEST(WalkingPattern, YawFreeMomentumBalancesTheGroundForcesMoment) {
   EXPECT_LT(worst_rate, 1e-9 * mass);
   EXPECT_EQ(k.front(), 0.0);
   EXPECT_NEAR(k.back(), 0.0, 1e-12);
+  EXPECT_THROW(p.yaw_free_momentum(-1.0), std::invalid_argument);
+  EXPECT_THROW(p.yaw_free_momentum(std::nan("")), std::invalid_argument);
 }
 
 TEST(WalkingPattern, BadOptionsAreRefused) {

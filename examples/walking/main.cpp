@@ -38,6 +38,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include MBGEN_WALK_HEADER
@@ -76,6 +77,7 @@ struct Config {
   bool avoidance, momentum;
 };
 constexpr Config kConfigs[] = {{"plain", false, false}, {"avoidance", true, false}, {"momentum", false, true}, {"both", true, true}};
+constexpr int kBoth = 3;  ///< kConfigs' "both": the configuration the CoM is corrected for and --simulate runs
 
 struct Variant {
   const char* name;
@@ -542,8 +544,11 @@ int main(int argc, char** argv) {
     // LIPM pattern the full-body ZMP leaves the stance foot by up to 25 cm (fast steps), a motion
     // no controller can track on the ground. Each pass runs the IK along the pattern ("both")
     // and moves the CoM by the pendulum's answer to that error (WalkingPattern::correct_com).
+    // The last pass's run is the "both" run of the corrected pattern: kept, not run again.
+    RunResult both;
     for (int pass = 0;; ++pass) {
-      const RunResult r = run(d, q0, pattern, kConfigs[3]);
+      both = run(d, q0, pattern, kConfigs[kBoth]);
+      const RunResult& r = both;
       fmt::print("{}: pass {}: full-body ZMP within {:.1f} mm of the reference\n", variant.name, pass, 1e3 * r.peak_zmp);
       if (r.peak_zmp <= kZmpTolerance) break;
       if (pass == kZmpPasses) {
@@ -557,11 +562,11 @@ int main(int argc, char** argv) {
     std::vector<double> plain_error;
     double plain_yaw = 0;
     for (const Config& config : kConfigs) {
-      const RunResult r = run(d, q0, pattern, config);
+      const RunResult r = &config == &kConfigs[kBoth] ? std::move(both) : run(d, q0, pattern, config);
       write_csv(fmt::format("{}/walk_{}_{}.csv", out, variant.name, config.name), r);
       table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.3f} | {:.2f} | {:.1e} | {:.1f} |\n", variant.name, config.name, 1e3 * r.peak_d[kLegs],
                            1e3 * r.peak_d[kArms], r.peak_k, r.peak_yaw, r.peak_task, 1e3 * r.peak_zmp);
-      if (simulate_walk && std::string(config.name) == "both") {
+      if (simulate_walk && &config == &kConfigs[kBoth]) {
         const SimulationResult sr = simulate(d.model, r, pattern, config, kBandwidth);
         fmt::print("  simulated on the ground (RK4 {:.2f} ms; IK + actuator_forces at 1 kHz, joint PD {:.0f} Hz at {:.0f} kHz, all "
                    "generated): {} after {:.3f} s of {:.3f} (walking from {:.1f} s); base off its reference by {:.3f} m at most; {:.3f} s "

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "mbgen/spatial/types.hpp"
@@ -122,6 +123,8 @@ class WalkingPattern {
   /// linearly over the steps, a constant yaw torque of (what is left) / (their duration), below
   /// 0.02 N m there.
   std::vector<double> yaw_free_momentum(double mass) const {
+    if (!(mass > 0) || !std::isfinite(mass))
+      throw std::invalid_argument("WalkingPattern::yaw_free_momentum: the mass must be positive and finite, got " + std::to_string(mass));
     const std::size_t n = samples_.size();
     std::vector<double> rate(n, 0.0), k(n, 0.0);
     for (std::size_t i = 1; i + 1 < n; ++i) {
