@@ -302,7 +302,9 @@ TEST_P(LoopMapsTest, NonFiniteCoordinateOffTheLoopsIsNotConverged) {
     EXPECT_TRUE(std::isnan(result.residual));
     EXPECT_EQ(result.subsystem, -1);
     for (int i = 0; i < q.size(); ++i)
-      if (i != off_loop) EXPECT_EQ(q[i], given[i]);
+      if (i != off_loop) {
+        EXPECT_EQ(q[i], given[i]);
+      }
     VecX<double> v = VecX<double>::Zero(model.nv());
     EXPECT_EQ(close_loops<double>(model, data, q, v).status, ClosureStatus::NotConverged);
   }

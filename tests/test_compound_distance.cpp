@@ -191,12 +191,16 @@ TEST_P(CompoundDistanceTest, NearSetEqualsFullBelowTheThresholdAndBoundsTheRest)
         ASSERT_EQ(reported, d) << "pair " << k;
         ASSERT_LT(d, threshold) << "pair " << k;
         ASSERT_EQ(near.distances[k].shape_first, full.distances[k].shape_first);
-        if (jacobians) ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)) == full.jacobian.row(static_cast<int>(k))) << "pair " << k;
+        if (jacobians) {
+          ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)) == full.jacobian.row(static_cast<int>(k))) << "pair " << k;
+        }
       } else {
         ++far_pairs;
         ASSERT_GE(reported, threshold) << "pair " << k;
         excess = std::max(excess, reported - d);
-        if (jacobians) ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)).isZero(0.0)) << "pair " << k;
+        if (jacobians) {
+          ASSERT_TRUE(near.jacobian.row(static_cast<int>(k)).isZero(0.0)) << "pair " << k;
+        }
       }
     }
     ASSERT_EQ(i, near.num_near) << "the near list is not ascending";

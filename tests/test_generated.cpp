@@ -247,7 +247,9 @@ class GeneratedTest : public ::testing::Test {
         EXPECT_EQ(result.iterations, expected.iterations);
         EXPECT_LT((widen(closing) - generic).cwiseAbs().maxCoeff(), 1e-12);
       }
-      if (!gen_ns::has_loops) EXPECT_EQ(result.iterations, 0);
+      if (!gen_ns::has_loops) {
+        EXPECT_EQ(result.iterations, 0);
+      }
       // close_loops: q closed as closure_positions' is (not the same bits: closure_positions may end
       // with a simplified step, close_loops always with Newton's), in at most one step more or fewer;
       // v's dependent entries full_velocities' at its q (independent kept).

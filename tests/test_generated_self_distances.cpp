@@ -242,8 +242,9 @@ TEST_F(GeneratedSelfDistances, NearSetEqualsGeneric) {
     for (int k = 0; k < np; ++k) {
       const double generic = cd.distances[static_cast<std::size_t>(k)].result.distance;
       worst = std::max(worst, std::abs(d[k] - generic));
-      if (generated_near[static_cast<std::size_t>(k)] != generic_near[static_cast<std::size_t>(k)])
+      if (generated_near[static_cast<std::size_t>(k)] != generic_near[static_cast<std::size_t>(k)]) {
         EXPECT_LT(std::abs(d[k] - threshold), 1e-12) << "pair " << k << " near in one, far in the other";
+      }
     }
   }
   EXPECT_LT(worst, 1e-12);

@@ -59,10 +59,14 @@ TEST(GivensQr, DiagonalIsTheColumnNormAndBelowItExactZeros) {
       VecX<double> c(n * (n - 1) / 2), s(n * (n - 1) / 2);
       givens_qr_factor<double>(R, n, c, s);
       for (int i = 0; i < n; ++i) {
-        if (i < n - 1) EXPECT_GE(R(i, i), 0.0);  // the last column has no rotation: its entry keeps its sign
+        if (i < n - 1) {
+          EXPECT_GE(R(i, i), 0.0);  // the last column has no rotation: its entry keeps its sign
+        }
         for (int j = 0; j < i; ++j) EXPECT_EQ(R(i, j), 0.0) << i << "," << j;
       }
-      if (n > 1) EXPECT_NEAR(R(0, 0), A.col(0).norm(), 2e-15 * A.col(0).norm());
+      if (n > 1) {
+        EXPECT_NEAR(R(0, 0), A.col(0).norm(), 2e-15 * A.col(0).norm());
+      }
       for (int k = 0; k < c.size(); ++k) EXPECT_NEAR(c[k] * c[k] + s[k] * s[k], 1.0, 2e-15);
     }
   const auto first_pivot = [](std::initializer_list<double> column) {

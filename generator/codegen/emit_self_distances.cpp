@@ -185,6 +185,49 @@ std::string pair_block(const Model& model, const CollisionModel& scene, const Pl
   return out + "      ++m;\n      }\n    }\n  }\n";
 }
 
+/// SSV calls per noinline part of distances_impl. The calls are inlined, and g++'s time on one
+/// function grows faster than its size: Lola's 711 calls in one function took 60 s at -O3 (and
+/// 68 s for a Cortex-M7 at -O2), in parts of about 48 calls 31 s, for a full set 6 % slower
+/// (placed points read from memory instead of registers) and the same near set.
+constexpr int kSsvCallsPerPart = 48;
+
+int ssv_calls(const CollisionModel& scene, std::size_t k) {
+  const collision::CollisionPair& p = scene.pairs[k];
+  return static_cast<int>(scene.compounds[static_cast<std::size_t>(p.first)].shapes.size() *
+                          scene.compounds[static_cast<std::size_t>(p.second)].shapes.size());
+}
+
+/// The pair blocks, in parts of at most kSsvCallsPerPart SSV calls (a pair is never cut) when
+/// the scene has more calls than one part holds; else in distances_impl itself.
+struct PairCode {
+  std::string parts;  ///< the parts' definitions, or nothing
+  std::string body;   ///< distances_impl's statements after the placement: the blocks or the parts' calls
+};
+
+PairCode pair_code(const Model& model, const CollisionModel& scene, const Plan& plan, int total_calls) {
+  PairCode code;
+  const std::size_t np = scene.pairs.size();
+  if (total_calls <= kSsvCallsPerPart) {
+    for (std::size_t k = 0; k < np; ++k) code.body += pair_block(model, scene, plan, k);
+    return code;
+  }
+  for (std::size_t first = 0; first < np;) {
+    std::size_t last = first;
+    int calls = ssv_calls(scene, first);
+    while (last + 1 < np && calls + ssv_calls(scene, last + 1) <= kSsvCallsPerPart) calls += ssv_calls(scene, ++last);
+    const std::string name = fmt::format("pairs_{}_to_{}", first, last);
+    code.parts += fmt::format("// Pairs {} to {} of distances_impl ({} SSV calls).\n"
+                              "template <typename S, bool compact>\nMBGEN_GENERATED_NOINLINE void {}(const S* P, const S* J, S threshold, "
+                              "S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {{\n",
+                              first, last, calls, name);
+    for (std::size_t k = first; k <= last; ++k) code.parts += pair_block(model, scene, plan, k);
+    code.parts += "}\n\n";
+    code.body += fmt::format("  {}<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);\n", name);
+    first = last + 1;
+  }
+  return code;
+}
+
 std::string arguments(const std::string& scalar) {
   return fmt::format("const {0}* q, {0}* distance, {0}* normal, {0}* witness, {0}* jacobian", scalar);
 }
@@ -209,9 +252,7 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
   const TracedFunction traced = trace_placement(model, scene, plan);
   const std::size_t np = scene.pairs.size();
   int shape_pairs = 0;
-  for (const collision::CollisionPair& p : scene.pairs)
-    shape_pairs += static_cast<int>(scene.compounds[static_cast<std::size_t>(p.first)].shapes.size() *
-                                    scene.compounds[static_cast<std::size_t>(p.second)].shapes.size());
+  for (std::size_t k = 0; k < np; ++k) shape_pairs += ssv_calls(scene, k);
   const std::string cost = np == 0 ? "nothing (the scene keeps no pair)"
                                    : fmt::format("straight-line placement and Jacobian columns: {}; then at most {} SSV "
                                                  "distance calls ({} pair{}; bounding spheres skip the rest)",
@@ -238,6 +279,7 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
   }
 
   std::string body;
+  PairCode pairs;
   if (np == 0) {
     body = "  (void)q;\n  (void)threshold;\n  (void)compact;\n  (void)distance;\n  (void)near;\n  (void)normal;\n"
            "  (void)witness;\n  (void)jacobian;\n  if (num_near) *num_near = 0;\n";
@@ -248,7 +290,8 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
     for (std::size_t k = 0; k < plan.columns.size(); ++k) body += fmt::format("{}{}", k ? ", " : "", plan.columns[k]);
     body += "}, 6 each\n";
     body += emit_statements(traced, {0, ctx.inline_sincos});
-    for (std::size_t k = 0; k < np; ++k) body += pair_block(model, scene, plan, k);
+    pairs = pair_code(model, scene, plan, shape_pairs);
+    body += pairs.body;
     body += "  if (num_near) *num_near = m;\n";
   }
 
@@ -270,6 +313,8 @@ SelfDistanceCode emit_self_distances(const Model& model, const CollisionModel& s
        {"robot", ctx.robot},
        {"cost", cost},
        {"sincos", sincos_helper(ctx, np > 0 && uses_trig(traced))},
+       {"noinline", pairs.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
+       {"parts", pairs.parts},
        {"impl_parameters", impl_arguments()},
        {"full_parameters", arguments("S")},
        {"near_parameters", near_arguments("S")},

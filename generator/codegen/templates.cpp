@@ -188,6 +188,8 @@ std::vector<TemplateSpec> make_catalog() {
         {"impl_parameters", "the parameter list of distances_impl<S, compact>, the implementation both share (compact: the near set)"},
         {"full_parameters", "self_distances' parameter list with scalar S"},
         {"near_parameters", "self_distances_near's parameter list with scalar S"},
+        {"noinline", "noinline_macro.fmt rendered when the pairs are in parts, else nothing"},
+        {"parts", "the parts distances_impl calls (template functions pairs_<first>_to_<last><S, compact>) when the scene has many pairs, or nothing"},
         {"body", "the statements of distances_impl<S, compact>"},
         kEntryPoints}},
   };

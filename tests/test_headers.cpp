@@ -1,0 +1,1 @@
+// Builds the precompiled header the test files share (mbgen_test_headers, tests/CMakeLists.txt).
