@@ -141,7 +141,8 @@ void add_generate_command(CLI::App& app, int& status) {
       });
   cmd->add_option("--max-statements", options->max_statements,
                   "statements per part above which a function is split into functions of its own (default 20000): "
-                  "g++'s time on one function grows faster than its size, and a split costs a few loads and stores")
+                  "g++'s time on one function grows faster than its size, and a split costs a few loads and stores "
+                  "(self_distances is split by its own rule: its pairs in parts of at most 48 SSV calls)")
       ->check(CLI::Range(1, 1000000000));
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_generate(*options); });

@@ -185,10 +185,11 @@ std::string pair_block(const Model& model, const CollisionModel& scene, const Pl
   return out + "      ++m;\n      }\n    }\n  }\n";
 }
 
-/// SSV calls per noinline part of distances_impl. The calls are inlined, and g++'s time on one
-/// function grows faster than its size: Lola's 711 calls in one function took 60 s at -O3 (and
-/// 68 s for a Cortex-M7 at -O2), in parts of about 48 calls 31 s, for a full set 6 % slower
-/// (placed points read from memory instead of registers) and the same near set.
+/// SSV calls per noinline part of distances_impl (its own rule: --max-statements counts traced
+/// statements, and an inlined SSV call weighs many). g++'s time on one function grows faster than
+/// its size: Lola's 711 calls in one function took 60.7 s at -O3 (68 s for a Cortex-M7 at -O2),
+/// in parts of at most 48 calls 26.1 s (35 s), for a full set 6 % slower (placed points read from
+/// memory instead of registers) and a near set 1 % slower (docs/ssv.md).
 constexpr int kSsvCallsPerPart = 48;
 
 int ssv_calls(const CollisionModel& scene, std::size_t k) {
