@@ -71,7 +71,7 @@ template <typename S> struct Data {
   IndexedVector<BodyIndex, Motion<S>> c;   ///< velocity-product acceleration v x (S v_j), body frame
   IndexedVector<BodyIndex, Force<S>> f;    ///< net force transmitted by each joint, body frame
   IndexedVector<BodyIndex, InertiaMoments<S>> Y;  ///< composite inertia (CRBA) as mass moments about the body's origin, body frame
-  IndexedVector<BodyIndex, InertiaMoments<S>> composite;  ///< composite mass moments about the world origin (centroidal)
+  IndexedVector<BodyIndex, InertiaMoments<S>> composite;  ///< composite mass moments about the body's origin, body frame (centroidal)
   IndexedVector<BodyIndex, Mat6<S>> IA;    ///< articulated-body inertia, body frame
   IndexedVector<BodyIndex, Force<S>> pA;   ///< articulated bias force, body frame
   IndexedVector<BodyIndex, Mat6<S>> U;     ///< IA * S (first nv columns used)

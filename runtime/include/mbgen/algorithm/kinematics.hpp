@@ -19,7 +19,9 @@ template <typename S> void kinematics_pass(const Model& model, Data<S>& data, co
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
-    data.X_PB[i] = joint_placement<S>(joint, q + joint.idx_q);
+    // joint_placement in its two factors, X_J kept (the centroidal composites move through it).
+    data.X_J[i] = joint_motion_transform<S>(joint, q + joint.idx_q);
+    data.X_PB[i] = joint.X_PJ.template cast<S>() * data.X_J[i];
     data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
     if (v) {
       Motion<S> vj = joint_velocity<S>(joint, v + joint.idx_v);
@@ -33,7 +35,7 @@ template <typename S> void kinematics_pass(const Model& model, Data<S>& data, co
 }
 }  // namespace detail
 
-/// Body poses X_PB, X_WB for configuration q (size nq).
+/// Body poses X_J, X_PB, X_WB for configuration q (size nq).
 template <typename S> void forward_kinematics(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   detail::kinematics_pass<S>(model, data, q.data(), nullptr, nullptr);
 }

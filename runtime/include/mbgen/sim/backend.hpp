@@ -70,6 +70,7 @@
 #include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/algorithm/center_of_mass.hpp"
 #include "mbgen/algorithm/centroidal.hpp"
+#include "mbgen/algorithm/jacobian.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
 #include "mbgen/algorithm/contact_dynamics.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
@@ -194,7 +195,8 @@ template <typename S> class ModelBackend {
   /// kinematics (centroidal_momentum_matrix computes the joint Jacobians and frame placements).
   void task_kinematics(const S* q, S* X_WF, S* J, S* com, S* Ag) {
     const int nv = model_.nv();
-    const Mat6X<S>& A = mbgen::centroidal_momentum_matrix<S>(model_, data_, ConstMap<S>(q, nq()));
+    compute_joint_jacobians<S>(model_, data_, ConstMap<S>(q, nq()));  // poses, frames, data_.J: the frames' Jacobians
+    const Mat6X<S>& A = mbgen::detail::centroidal_momentum_matrix_from_poses<S>(model_, data_);
     for (std::size_t k = 0; k < frames_.size(); ++k) {
       const SE3<S>& X = data_.X_WF[frames_[k]];
       for (int r = 0; r < 3; ++r) {
