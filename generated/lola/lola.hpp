@@ -159,7 +159,7 @@ void center_of_mass(const double* q, double* com);
 /// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 /// in  q: [47] joint positions
 /// out Ag: [6 x 46, row-major] centroidal momentum matrix
-/// Cost: 6563 operations: 2910 additions/subtractions, 3570 multiplications, 3 divisions, 12 negations, 68 sin/cos, 0 square roots.
+/// Cost: 3845 operations: 1723 additions/subtractions, 2025 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
 /// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
@@ -251,12 +251,13 @@ inline constexpr const char* distance_pair_names[178][2] = {{"pelvis", "upper_ar
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 /// The near set: the same for the pairs closer than threshold only (generic twin:
 /// collision::compute_near_distances). The bodies' bounding spheres (one per body, around its
-/// shapes) decide first: a pair whose spheres are at least threshold apart gets no SSV call. Pass
+/// shapes) decide first: a pair whose spheres are at least threshold apart gets no SSV call, nor
+/// does a shape pair whose own spheres are (closest_shapes.hpp). Pass
 /// the avoidance's activation distance: a far pair cannot be active. The near pairs' rows are
 /// compact, in ascending pair order:
 /// in  q: [47] joint positions; threshold: m
 /// out distance: [178] every pair: exact when near, else a lower bound >= threshold (the bounding spheres'
-///     distance, or the exact one when the spheres were within threshold)
+///     distance, or the least of the computed shape pairs' distances and the skipped ones' bounds)
 /// out near: [178] near[i] = the pair of row i, i < *num_near
 /// out num_near: the number of near pairs
 /// out normal: [178 x 3], witness: [178 x 6], jacobian: [178 x 46, row-major]: rows 0 .. *num_near

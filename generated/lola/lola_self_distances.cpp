@@ -132,10 +132,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[0] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[0] = best.lower_bound();
       } else {
       store(best.result, 0, m, distance, normal, witness);
       if (near) near[m] = 0;
@@ -205,11 +205,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 6), S(0.19), at(P + 39), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
       if (best.worth(at(P + 6), S(0.19), at(P + 45), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[1] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[1] = best.lower_bound();
       } else {
       store(best.result, 1, m, distance, normal, witness);
       if (near) near[m] = 1;
@@ -279,10 +279,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[2] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[2] = best.lower_bound();
       } else {
       store(best.result, 2, m, distance, normal, witness);
       if (near) near[m] = 2;
@@ -352,11 +352,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 6), S(0.19), at(P + 69), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
       if (best.worth(at(P + 6), S(0.19), at(P + 75), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[3] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[3] = best.lower_bound();
       } else {
       store(best.result, 3, m, distance, normal, witness);
       if (near) near[m] = 3;
@@ -426,10 +426,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[4] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[4] = best.lower_bound();
       } else {
       store(best.result, 4, m, distance, normal, witness);
       if (near) near[m] = 4;
@@ -499,12 +499,12 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 6), S(0.19), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
       if (best.worth(at(P + 6), S(0.19), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
       if (best.worth(at(P + 6), S(0.19), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[5] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[5] = best.lower_bound();
       } else {
       store(best.result, 5, m, distance, normal, witness);
       if (near) near[m] = 5;
@@ -574,10 +574,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[6] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[6] = best.lower_bound();
       } else {
       store(best.result, 6, m, distance, normal, witness);
       if (near) near[m] = 6;
@@ -647,12 +647,12 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 6), S(0.19), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 6), S(0.19), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
       if (best.worth(at(P + 6), S(0.19), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[7] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[7] = best.lower_bound();
       } else {
       store(best.result, 7, m, distance, normal, witness);
       if (near) near[m] = 7;
@@ -722,11 +722,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 15), S(0.11), at(P + 39), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
       if (best.worth(at(P + 15), S(0.11), at(P + 45), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 42), S(0.05)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[8] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[8] = best.lower_bound();
       } else {
       store(best.result, 8, m, distance, normal, witness);
       if (near) near[m] = 8;
@@ -796,11 +796,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 15), S(0.11), at(P + 69), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
       if (best.worth(at(P + 15), S(0.11), at(P + 75), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 72), S(0.05)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[9] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[9] = best.lower_bound();
       } else {
       store(best.result, 9, m, distance, normal, witness);
       if (near) near[m] = 9;
@@ -870,10 +870,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[10] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[10] = best.lower_bound();
       } else {
       store(best.result, 10, m, distance, normal, witness);
       if (near) near[m] = 10;
@@ -943,12 +943,12 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
       if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.045)})), 0, 1);
       if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.045)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[11] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[11] = best.lower_bound();
       } else {
       store(best.result, 11, m, distance, normal, witness);
       if (near) near[m] = 11;
@@ -1018,10 +1018,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[12] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[12] = best.lower_bound();
       } else {
       store(best.result, 12, m, distance, normal, witness);
       if (near) near[m] = 12;
@@ -1091,11 +1091,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 84), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 84), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 81), S(0.06)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[13] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[13] = best.lower_bound();
       } else {
       store(best.result, 13, m, distance, normal, witness);
       if (near) near[m] = 13;
@@ -1165,11 +1165,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 93), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 93), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 90), S(0.082)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[14] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[14] = best.lower_bound();
       } else {
       store(best.result, 14, m, distance, normal, witness);
       if (near) near[m] = 14;
@@ -1239,11 +1239,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 105), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 105), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[15] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[15] = best.lower_bound();
       } else {
       store(best.result, 15, m, distance, normal, witness);
       if (near) near[m] = 15;
@@ -1313,11 +1313,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 114), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 114), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 111), S(0.03)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[16] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[16] = best.lower_bound();
       } else {
       store(best.result, 16, m, distance, normal, witness);
       if (near) near[m] = 16;
@@ -1387,15 +1387,15 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 126), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 132), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 129), S(0.012)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 138), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 135), S(0.012)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[17] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[17] = best.lower_bound();
       } else {
       store(best.result, 17, m, distance, normal, witness);
       if (near) near[m] = 17;
@@ -1465,11 +1465,11 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 150), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 150), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[18] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[18] = best.lower_bound();
       } else {
       store(best.result, 18, m, distance, normal, witness);
       if (near) near[m] = 18;
@@ -1539,15 +1539,15 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 165), S(0.025)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 171), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[19] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[19] = best.lower_bound();
       } else {
       store(best.result, 19, m, distance, normal, witness);
       if (near) near[m] = 19;
@@ -1622,15 +1622,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[20] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[20] = best.lower_bound();
       } else {
       store(best.result, 20, m, distance, normal, witness);
       if (near) near[m] = 20;
@@ -1700,13 +1700,13 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 0, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 1, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[21] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[21] = best.lower_bound();
       } else {
       store(best.result, 21, m, distance, normal, witness);
       if (near) near[m] = 21;
@@ -1776,11 +1776,11 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 279), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 279), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[22] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[22] = best.lower_bound();
       } else {
       store(best.result, 22, m, distance, normal, witness);
       if (near) near[m] = 22;
@@ -1850,11 +1850,11 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[23] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[23] = best.lower_bound();
       } else {
       store(best.result, 23, m, distance, normal, witness);
       if (near) near[m] = 23;
@@ -1924,11 +1924,11 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[24] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[24] = best.lower_bound();
       } else {
       store(best.result, 24, m, distance, normal, witness);
       if (near) near[m] = 24;
@@ -1998,15 +1998,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[25] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[25] = best.lower_bound();
       } else {
       store(best.result, 25, m, distance, normal, witness);
       if (near) near[m] = 25;
@@ -2076,11 +2076,11 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[26] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[26] = best.lower_bound();
       } else {
       store(best.result, 26, m, distance, normal, witness);
       if (near) near[m] = 26;
@@ -2150,15 +2150,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[27] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[27] = best.lower_bound();
       } else {
       store(best.result, 27, m, distance, normal, witness);
       if (near) near[m] = 27;
@@ -2228,15 +2228,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[28] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[28] = best.lower_bound();
       } else {
       store(best.result, 28, m, distance, normal, witness);
       if (near) near[m] = 28;
@@ -2306,15 +2306,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
       if (best.worth(at(P + 39), S(0.135), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
       if (best.worth(at(P + 45), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[29] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[29] = best.lower_bound();
       } else {
       store(best.result, 29, m, distance, normal, witness);
       if (near) near[m] = 29;
@@ -2384,13 +2384,13 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 39), S(0.135), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 45), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[30] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[30] = best.lower_bound();
       } else {
       store(best.result, 30, m, distance, normal, witness);
       if (near) near[m] = 30;
@@ -2460,11 +2460,11 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 39), S(0.135), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 45), S(0.05), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[31] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[31] = best.lower_bound();
       } else {
       store(best.result, 31, m, distance, normal, witness);
       if (near) near[m] = 31;
@@ -2539,10 +2539,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[32] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[32] = best.lower_bound();
       } else {
       store(best.result, 32, m, distance, normal, witness);
       if (near) near[m] = 32;
@@ -2612,10 +2612,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[33] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[33] = best.lower_bound();
       } else {
       store(best.result, 33, m, distance, normal, witness);
       if (near) near[m] = 33;
@@ -2685,10 +2685,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[34] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[34] = best.lower_bound();
       } else {
       store(best.result, 34, m, distance, normal, witness);
       if (near) near[m] = 34;
@@ -2758,12 +2758,12 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 1);
       if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[35] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[35] = best.lower_bound();
       } else {
       store(best.result, 35, m, distance, normal, witness);
       if (near) near[m] = 35;
@@ -2833,11 +2833,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 105), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 105), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[36] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[36] = best.lower_bound();
       } else {
       store(best.result, 36, m, distance, normal, witness);
       if (near) near[m] = 36;
@@ -2907,11 +2907,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 114), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 114), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 111), S(0.03)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[37] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[37] = best.lower_bound();
       } else {
       store(best.result, 37, m, distance, normal, witness);
       if (near) near[m] = 37;
@@ -2981,15 +2981,15 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 126), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 132), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 129), S(0.012)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 138), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 135), S(0.012)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[38] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[38] = best.lower_bound();
       } else {
       store(best.result, 38, m, distance, normal, witness);
       if (near) near[m] = 38;
@@ -3059,11 +3059,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 150), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 150), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[39] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[39] = best.lower_bound();
       } else {
       store(best.result, 39, m, distance, normal, witness);
       if (near) near[m] = 39;
@@ -3133,15 +3133,15 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 165), S(0.025)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 171), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[40] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[40] = best.lower_bound();
       } else {
       store(best.result, 40, m, distance, normal, witness);
       if (near) near[m] = 40;
@@ -3211,15 +3211,15 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[41] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[41] = best.lower_bound();
       } else {
       store(best.result, 41, m, distance, normal, witness);
       if (near) near[m] = 41;
@@ -3289,13 +3289,13 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 0, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 1, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[42] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[42] = best.lower_bound();
       } else {
       store(best.result, 42, m, distance, normal, witness);
       if (near) near[m] = 42;
@@ -3365,11 +3365,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 285), S(0.06)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 288), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 285), S(0.06)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 288), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 285), S(0.06)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[43] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[43] = best.lower_bound();
       } else {
       store(best.result, 43, m, distance, normal, witness);
       if (near) near[m] = 43;
@@ -3439,11 +3439,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 294), S(0.082)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 297), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 294), S(0.082)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 297), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 294), S(0.082)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[44] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[44] = best.lower_bound();
       } else {
       store(best.result, 44, m, distance, normal, witness);
       if (near) near[m] = 44;
@@ -3513,11 +3513,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[45] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[45] = best.lower_bound();
       } else {
       store(best.result, 45, m, distance, normal, witness);
       if (near) near[m] = 45;
@@ -3587,11 +3587,11 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[46] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[46] = best.lower_bound();
       } else {
       store(best.result, 46, m, distance, normal, witness);
       if (near) near[m] = 46;
@@ -3661,15 +3661,15 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[47] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[47] = best.lower_bound();
       } else {
       store(best.result, 47, m, distance, normal, witness);
       if (near) near[m] = 47;
@@ -3744,11 +3744,11 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[48] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[48] = best.lower_bound();
       } else {
       store(best.result, 48, m, distance, normal, witness);
       if (near) near[m] = 48;
@@ -3818,15 +3818,15 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[49] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[49] = best.lower_bound();
       } else {
       store(best.result, 49, m, distance, normal, witness);
       if (near) near[m] = 49;
@@ -3896,15 +3896,15 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[50] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[50] = best.lower_bound();
       } else {
       store(best.result, 50, m, distance, normal, witness);
       if (near) near[m] = 50;
@@ -3974,15 +3974,15 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
       if (best.worth(at(P + 69), S(0.135), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
       if (best.worth(at(P + 75), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[51] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[51] = best.lower_bound();
       } else {
       store(best.result, 51, m, distance, normal, witness);
       if (near) near[m] = 51;
@@ -4052,13 +4052,13 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 69), S(0.135), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 69), S(0.135), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 75), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 75), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[52] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[52] = best.lower_bound();
       } else {
       store(best.result, 52, m, distance, normal, witness);
       if (near) near[m] = 52;
@@ -4128,10 +4128,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, PointSsv<S>{at(P + 294), S(0.082)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[53] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[53] = best.lower_bound();
       } else {
       store(best.result, 53, m, distance, normal, witness);
       if (near) near[m] = 53;
@@ -4201,10 +4201,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[54] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[54] = best.lower_bound();
       } else {
       store(best.result, 54, m, distance, normal, witness);
       if (near) near[m] = 54;
@@ -4274,10 +4274,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, PointSsv<S>{at(P + 285), S(0.06)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[55] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[55] = best.lower_bound();
       } else {
       store(best.result, 55, m, distance, normal, witness);
       if (near) near[m] = 55;
@@ -4347,10 +4347,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, PointSsv<S>{at(P + 294), S(0.082)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[56] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[56] = best.lower_bound();
       } else {
       store(best.result, 56, m, distance, normal, witness);
       if (near) near[m] = 56;
@@ -4420,10 +4420,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[57] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[57] = best.lower_bound();
       } else {
       store(best.result, 57, m, distance, normal, witness);
       if (near) near[m] = 57;
@@ -4493,12 +4493,12 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[58] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[58] = best.lower_bound();
       } else {
       store(best.result, 58, m, distance, normal, witness);
       if (near) near[m] = 58;
@@ -4568,12 +4568,12 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[59] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[59] = best.lower_bound();
       } else {
       store(best.result, 59, m, distance, normal, witness);
       if (near) near[m] = 59;
@@ -4643,10 +4643,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 285), S(0.06)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[60] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[60] = best.lower_bound();
       } else {
       store(best.result, 60, m, distance, normal, witness);
       if (near) near[m] = 60;
@@ -4716,10 +4716,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 294), S(0.082)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[61] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[61] = best.lower_bound();
       } else {
       store(best.result, 61, m, distance, normal, witness);
       if (near) near[m] = 61;
@@ -4789,10 +4789,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[62] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[62] = best.lower_bound();
       } else {
       store(best.result, 62, m, distance, normal, witness);
       if (near) near[m] = 62;
@@ -4862,10 +4862,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[63] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[63] = best.lower_bound();
       } else {
       store(best.result, 63, m, distance, normal, witness);
       if (near) near[m] = 63;
@@ -4935,12 +4935,12 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[64] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[64] = best.lower_bound();
       } else {
       store(best.result, 64, m, distance, normal, witness);
       if (near) near[m] = 64;
@@ -5010,10 +5010,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[65] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[65] = best.lower_bound();
       } else {
       store(best.result, 65, m, distance, normal, witness);
       if (near) near[m] = 65;
@@ -5083,12 +5083,12 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[66] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[66] = best.lower_bound();
       } else {
       store(best.result, 66, m, distance, normal, witness);
       if (near) near[m] = 66;
@@ -5163,12 +5163,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[67] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[67] = best.lower_bound();
       } else {
       store(best.result, 67, m, distance, normal, witness);
       if (near) near[m] = 67;
@@ -5238,12 +5238,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[68] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[68] = best.lower_bound();
       } else {
       store(best.result, 68, m, distance, normal, witness);
       if (near) near[m] = 68;
@@ -5313,12 +5313,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
       if (best.worth(at(P + 105), S(0.225), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[69] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[69] = best.lower_bound();
       } else {
       store(best.result, 69, m, distance, normal, witness);
       if (near) near[m] = 69;
@@ -5388,11 +5388,11 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 105), S(0.225), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 105), S(0.225), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[70] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[70] = best.lower_bound();
       } else {
       store(best.result, 70, m, distance, normal, witness);
       if (near) near[m] = 70;
@@ -5462,10 +5462,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[71] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[71] = best.lower_bound();
       } else {
       store(best.result, 71, m, distance, normal, witness);
       if (near) near[m] = 71;
@@ -5535,10 +5535,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[72] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[72] = best.lower_bound();
       } else {
       store(best.result, 72, m, distance, normal, witness);
       if (near) near[m] = 72;
@@ -5608,12 +5608,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 165), S(0.025)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 171), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[73] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[73] = best.lower_bound();
       } else {
       store(best.result, 73, m, distance, normal, witness);
       if (near) near[m] = 73;
@@ -5683,12 +5683,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 213), S(0.025)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 219), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[74] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[74] = best.lower_bound();
       } else {
       store(best.result, 74, m, distance, normal, witness);
       if (near) near[m] = 74;
@@ -5758,10 +5758,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[75] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[75] = best.lower_bound();
       } else {
       store(best.result, 75, m, distance, normal, witness);
       if (near) near[m] = 75;
@@ -5831,10 +5831,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 315), S(0.03)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[76] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[76] = best.lower_bound();
       } else {
       store(best.result, 76, m, distance, normal, witness);
       if (near) near[m] = 76;
@@ -5904,12 +5904,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 333), S(0.012)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 339), S(0.012)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[77] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[77] = best.lower_bound();
       } else {
       store(best.result, 77, m, distance, normal, witness);
       if (near) near[m] = 77;
@@ -5979,10 +5979,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[78] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[78] = best.lower_bound();
       } else {
       store(best.result, 78, m, distance, normal, witness);
       if (near) near[m] = 78;
@@ -6052,12 +6052,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 369), S(0.025)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 375), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[79] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[79] = best.lower_bound();
       } else {
       store(best.result, 79, m, distance, normal, witness);
       if (near) near[m] = 79;
@@ -6127,12 +6127,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 393), S(0.01)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 399), S(0.01)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[80] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[80] = best.lower_bound();
       } else {
       store(best.result, 80, m, distance, normal, witness);
       if (near) near[m] = 80;
@@ -6202,12 +6202,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 417), S(0.025)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 423), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[81] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[81] = best.lower_bound();
       } else {
       store(best.result, 81, m, distance, normal, witness);
       if (near) near[m] = 81;
@@ -6277,12 +6277,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 441), S(0.01)}), 0, 1);
       if (best.worth(at(P + 114), S(0.03), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 447), S(0.01)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[82] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[82] = best.lower_bound();
       } else {
       store(best.result, 82, m, distance, normal, witness);
       if (near) near[m] = 82;
@@ -6352,11 +6352,11 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 114), S(0.03), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 114), S(0.03), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[83] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[83] = best.lower_bound();
       } else {
       store(best.result, 83, m, distance, normal, witness);
       if (near) near[m] = 83;
@@ -6426,12 +6426,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 132), S(0.012), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[84] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[84] = best.lower_bound();
       } else {
       store(best.result, 84, m, distance, normal, witness);
       if (near) near[m] = 84;
@@ -6501,12 +6501,12 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 0);
       if (best.worth(at(P + 132), S(0.012), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[85] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[85] = best.lower_bound();
       } else {
       store(best.result, 85, m, distance, normal, witness);
       if (near) near[m] = 85;
@@ -6581,8 +6581,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
       if (best.worth(at(P + 126), S(0.102), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
       if (best.worth(at(P + 132), S(0.012), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
@@ -6591,8 +6591,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       if (best.worth(at(P + 138), S(0.012), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[86] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[86] = best.lower_bound();
       } else {
       store(best.result, 86, m, distance, normal, witness);
       if (near) near[m] = 86;
@@ -6662,12 +6662,12 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 132), S(0.012), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[87] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[87] = best.lower_bound();
       } else {
       store(best.result, 87, m, distance, normal, witness);
       if (near) near[m] = 87;
@@ -6737,8 +6737,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
       if (best.worth(at(P + 126), S(0.102), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
       if (best.worth(at(P + 132), S(0.012), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
@@ -6747,8 +6747,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       if (best.worth(at(P + 138), S(0.012), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[88] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[88] = best.lower_bound();
       } else {
       store(best.result, 88, m, distance, normal, witness);
       if (near) near[m] = 88;
@@ -6818,8 +6818,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
       if (best.worth(at(P + 126), S(0.102), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
       if (best.worth(at(P + 132), S(0.012), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
@@ -6828,8 +6828,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       if (best.worth(at(P + 138), S(0.012), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[89] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[89] = best.lower_bound();
       } else {
       store(best.result, 89, m, distance, normal, witness);
       if (near) near[m] = 89;
@@ -6899,8 +6899,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
       if (best.worth(at(P + 126), S(0.102), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
       if (best.worth(at(P + 132), S(0.012), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -6909,8 +6909,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       if (best.worth(at(P + 138), S(0.012), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[90] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[90] = best.lower_bound();
       } else {
       store(best.result, 90, m, distance, normal, witness);
       if (near) near[m] = 90;
@@ -6980,8 +6980,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
       if (best.worth(at(P + 126), S(0.102), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
       if (best.worth(at(P + 132), S(0.012), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -6990,8 +6990,8 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       if (best.worth(at(P + 138), S(0.012), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[91] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[91] = best.lower_bound();
       } else {
       store(best.result, 91, m, distance, normal, witness);
       if (near) near[m] = 91;
@@ -7066,15 +7066,15 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 126), S(0.102), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 132), S(0.012), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 132), S(0.012), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
       if (best.worth(at(P + 138), S(0.012), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[92] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[92] = best.lower_bound();
       } else {
       store(best.result, 92, m, distance, normal, witness);
       if (near) near[m] = 92;
@@ -7144,12 +7144,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 126), S(0.102), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 132), S(0.012), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
       if (best.worth(at(P + 138), S(0.012), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[93] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[93] = best.lower_bound();
       } else {
       store(best.result, 93, m, distance, normal, witness);
       if (near) near[m] = 93;
@@ -7219,10 +7219,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[94] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[94] = best.lower_bound();
       } else {
       store(best.result, 94, m, distance, normal, witness);
       if (near) near[m] = 94;
@@ -7292,10 +7292,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[95] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[95] = best.lower_bound();
       } else {
       store(best.result, 95, m, distance, normal, witness);
       if (near) near[m] = 95;
@@ -7365,10 +7365,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[96] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[96] = best.lower_bound();
       } else {
       store(best.result, 96, m, distance, normal, witness);
       if (near) near[m] = 96;
@@ -7438,12 +7438,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
       if (best.worth(at(P + 150), S(0.24), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[97] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[97] = best.lower_bound();
       } else {
       store(best.result, 97, m, distance, normal, witness);
       if (near) near[m] = 97;
@@ -7513,10 +7513,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[98] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[98] = best.lower_bound();
       } else {
       store(best.result, 98, m, distance, normal, witness);
       if (near) near[m] = 98;
@@ -7586,12 +7586,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
       if (best.worth(at(P + 150), S(0.24), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[99] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[99] = best.lower_bound();
       } else {
       store(best.result, 99, m, distance, normal, witness);
       if (near) near[m] = 99;
@@ -7661,12 +7661,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
       if (best.worth(at(P + 150), S(0.24), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[100] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[100] = best.lower_bound();
       } else {
       store(best.result, 100, m, distance, normal, witness);
       if (near) near[m] = 100;
@@ -7736,12 +7736,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
       if (best.worth(at(P + 150), S(0.24), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[101] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[101] = best.lower_bound();
       } else {
       store(best.result, 101, m, distance, normal, witness);
       if (near) near[m] = 101;
@@ -7811,12 +7811,12 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
       if (best.worth(at(P + 150), S(0.24), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[102] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[102] = best.lower_bound();
       } else {
       store(best.result, 102, m, distance, normal, witness);
       if (near) near[m] = 102;
@@ -7886,11 +7886,11 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 150), S(0.24), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 150), S(0.24), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[103] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[103] = best.lower_bound();
       } else {
       store(best.result, 103, m, distance, normal, witness);
       if (near) near[m] = 103;
@@ -7960,10 +7960,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[104] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[104] = best.lower_bound();
       } else {
       store(best.result, 104, m, distance, normal, witness);
       if (near) near[m] = 104;
@@ -8033,8 +8033,8 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
@@ -8043,8 +8043,8 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       if (best.worth(at(P + 174), S(0.025), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 213), S(0.025)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 219), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[105] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[105] = best.lower_bound();
       } else {
       store(best.result, 105, m, distance, normal, witness);
       if (near) near[m] = 105;
@@ -8119,8 +8119,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 240), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 246), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 1, 0);
@@ -8129,8 +8129,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 237), S(0.01)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 243), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[106] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[106] = best.lower_bound();
       } else {
       store(best.result, 106, m, distance, normal, witness);
       if (near) near[m] = 106;
@@ -8200,12 +8200,12 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 168), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[107] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[107] = best.lower_bound();
       } else {
       store(best.result, 107, m, distance, normal, witness);
       if (near) near[m] = 107;
@@ -8275,12 +8275,12 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 0);
       if (best.worth(at(P + 168), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[108] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[108] = best.lower_bound();
       } else {
       store(best.result, 108, m, distance, normal, witness);
       if (near) near[m] = 108;
@@ -8350,8 +8350,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
@@ -8360,8 +8360,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[109] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[109] = best.lower_bound();
       } else {
       store(best.result, 109, m, distance, normal, witness);
       if (near) near[m] = 109;
@@ -8431,12 +8431,12 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 168), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[110] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[110] = best.lower_bound();
       } else {
       store(best.result, 110, m, distance, normal, witness);
       if (near) near[m] = 110;
@@ -8506,8 +8506,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
@@ -8516,8 +8516,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[111] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[111] = best.lower_bound();
       } else {
       store(best.result, 111, m, distance, normal, witness);
       if (near) near[m] = 111;
@@ -8587,8 +8587,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
@@ -8597,8 +8597,8 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[112] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[112] = best.lower_bound();
       } else {
       store(best.result, 112, m, distance, normal, witness);
       if (near) near[m] = 112;
@@ -8673,8 +8673,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -8683,8 +8683,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[113] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[113] = best.lower_bound();
       } else {
       store(best.result, 113, m, distance, normal, witness);
       if (near) near[m] = 113;
@@ -8754,8 +8754,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
       if (best.worth(at(P + 168), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -8764,8 +8764,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       if (best.worth(at(P + 174), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[114] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[114] = best.lower_bound();
       } else {
       store(best.result, 114, m, distance, normal, witness);
       if (near) near[m] = 114;
@@ -8835,15 +8835,15 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 168), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 168), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
       if (best.worth(at(P + 174), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[115] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[115] = best.lower_bound();
       } else {
       store(best.result, 115, m, distance, normal, witness);
       if (near) near[m] = 115;
@@ -8913,12 +8913,12 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 168), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
       if (best.worth(at(P + 174), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[116] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[116] = best.lower_bound();
       } else {
       store(best.result, 116, m, distance, normal, witness);
       if (near) near[m] = 116;
@@ -8988,8 +8988,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
@@ -8998,8 +8998,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 213), S(0.025)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 219), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[117] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[117] = best.lower_bound();
       } else {
       store(best.result, 117, m, distance, normal, witness);
       if (near) near[m] = 117;
@@ -9069,8 +9069,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 240), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 246), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 1, 0);
@@ -9079,8 +9079,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 237), S(0.01)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 243), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[118] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[118] = best.lower_bound();
       } else {
       store(best.result, 118, m, distance, normal, witness);
       if (near) near[m] = 118;
@@ -9150,12 +9150,12 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 192), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[119] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[119] = best.lower_bound();
       } else {
       store(best.result, 119, m, distance, normal, witness);
       if (near) near[m] = 119;
@@ -9230,12 +9230,12 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 0);
       if (best.worth(at(P + 192), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[120] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[120] = best.lower_bound();
       } else {
       store(best.result, 120, m, distance, normal, witness);
       if (near) near[m] = 120;
@@ -9305,8 +9305,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
@@ -9315,8 +9315,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[121] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[121] = best.lower_bound();
       } else {
       store(best.result, 121, m, distance, normal, witness);
       if (near) near[m] = 121;
@@ -9386,12 +9386,12 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 192), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[122] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[122] = best.lower_bound();
       } else {
       store(best.result, 122, m, distance, normal, witness);
       if (near) near[m] = 122;
@@ -9461,8 +9461,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
@@ -9471,8 +9471,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[123] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[123] = best.lower_bound();
       } else {
       store(best.result, 123, m, distance, normal, witness);
       if (near) near[m] = 123;
@@ -9542,8 +9542,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
@@ -9552,8 +9552,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[124] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[124] = best.lower_bound();
       } else {
       store(best.result, 124, m, distance, normal, witness);
       if (near) near[m] = 124;
@@ -9623,8 +9623,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -9633,8 +9633,8 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[125] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[125] = best.lower_bound();
       } else {
       store(best.result, 125, m, distance, normal, witness);
       if (near) near[m] = 125;
@@ -9709,8 +9709,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
       if (best.worth(at(P + 192), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -9719,8 +9719,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       if (best.worth(at(P + 198), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[126] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[126] = best.lower_bound();
       } else {
       store(best.result, 126, m, distance, normal, witness);
       if (near) near[m] = 126;
@@ -9790,15 +9790,15 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 192), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 192), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
       if (best.worth(at(P + 198), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[127] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[127] = best.lower_bound();
       } else {
       store(best.result, 127, m, distance, normal, witness);
       if (near) near[m] = 127;
@@ -9868,12 +9868,12 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 192), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
       if (best.worth(at(P + 198), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[128] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[128] = best.lower_bound();
       } else {
       store(best.result, 128, m, distance, normal, witness);
       if (near) near[m] = 128;
@@ -9943,12 +9943,12 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 216), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[129] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[129] = best.lower_bound();
       } else {
       store(best.result, 129, m, distance, normal, witness);
       if (near) near[m] = 129;
@@ -10018,12 +10018,12 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 0);
       if (best.worth(at(P + 216), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[130] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[130] = best.lower_bound();
       } else {
       store(best.result, 130, m, distance, normal, witness);
       if (near) near[m] = 130;
@@ -10093,8 +10093,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
       if (best.worth(at(P + 216), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
@@ -10103,8 +10103,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       if (best.worth(at(P + 222), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[131] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[131] = best.lower_bound();
       } else {
       store(best.result, 131, m, distance, normal, witness);
       if (near) near[m] = 131;
@@ -10174,12 +10174,12 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 216), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[132] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[132] = best.lower_bound();
       } else {
       store(best.result, 132, m, distance, normal, witness);
       if (near) near[m] = 132;
@@ -10249,8 +10249,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
       if (best.worth(at(P + 216), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
@@ -10259,8 +10259,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       if (best.worth(at(P + 222), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[133] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[133] = best.lower_bound();
       } else {
       store(best.result, 133, m, distance, normal, witness);
       if (near) near[m] = 133;
@@ -10335,8 +10335,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
       if (best.worth(at(P + 216), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
@@ -10345,8 +10345,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       if (best.worth(at(P + 222), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[134] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[134] = best.lower_bound();
       } else {
       store(best.result, 134, m, distance, normal, witness);
       if (near) near[m] = 134;
@@ -10416,8 +10416,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
       if (best.worth(at(P + 216), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -10426,8 +10426,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       if (best.worth(at(P + 222), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[135] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[135] = best.lower_bound();
       } else {
       store(best.result, 135, m, distance, normal, witness);
       if (near) near[m] = 135;
@@ -10497,8 +10497,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
       if (best.worth(at(P + 216), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -10507,8 +10507,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       if (best.worth(at(P + 222), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[136] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[136] = best.lower_bound();
       } else {
       store(best.result, 136, m, distance, normal, witness);
       if (near) near[m] = 136;
@@ -10578,15 +10578,15 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 216), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 216), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
       if (best.worth(at(P + 222), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[137] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[137] = best.lower_bound();
       } else {
       store(best.result, 137, m, distance, normal, witness);
       if (near) near[m] = 137;
@@ -10656,12 +10656,12 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 216), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
       if (best.worth(at(P + 222), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[138] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[138] = best.lower_bound();
       } else {
       store(best.result, 138, m, distance, normal, witness);
       if (near) near[m] = 138;
@@ -10731,12 +10731,12 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 240), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[139] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[139] = best.lower_bound();
       } else {
       store(best.result, 139, m, distance, normal, witness);
       if (near) near[m] = 139;
@@ -10806,12 +10806,12 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 0);
       if (best.worth(at(P + 240), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[140] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[140] = best.lower_bound();
       } else {
       store(best.result, 140, m, distance, normal, witness);
       if (near) near[m] = 140;
@@ -10886,8 +10886,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
       if (best.worth(at(P + 240), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
@@ -10896,8 +10896,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       if (best.worth(at(P + 246), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[141] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[141] = best.lower_bound();
       } else {
       store(best.result, 141, m, distance, normal, witness);
       if (near) near[m] = 141;
@@ -10967,12 +10967,12 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 240), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[142] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[142] = best.lower_bound();
       } else {
       store(best.result, 142, m, distance, normal, witness);
       if (near) near[m] = 142;
@@ -11042,8 +11042,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
       if (best.worth(at(P + 240), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
@@ -11052,8 +11052,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       if (best.worth(at(P + 246), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[143] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[143] = best.lower_bound();
       } else {
       store(best.result, 143, m, distance, normal, witness);
       if (near) near[m] = 143;
@@ -11123,8 +11123,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
       if (best.worth(at(P + 240), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
@@ -11133,8 +11133,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       if (best.worth(at(P + 246), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[144] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[144] = best.lower_bound();
       } else {
       store(best.result, 144, m, distance, normal, witness);
       if (near) near[m] = 144;
@@ -11204,8 +11204,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
       if (best.worth(at(P + 240), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -11214,8 +11214,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       if (best.worth(at(P + 246), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[145] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[145] = best.lower_bound();
       } else {
       store(best.result, 145, m, distance, normal, witness);
       if (near) near[m] = 145;
@@ -11285,8 +11285,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
       if (best.worth(at(P + 240), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -11295,8 +11295,8 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       if (best.worth(at(P + 246), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[146] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[146] = best.lower_bound();
       } else {
       store(best.result, 146, m, distance, normal, witness);
       if (near) near[m] = 146;
@@ -11371,15 +11371,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 240), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 240), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
       if (best.worth(at(P + 246), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[147] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[147] = best.lower_bound();
       } else {
       store(best.result, 147, m, distance, normal, witness);
       if (near) near[m] = 147;
@@ -11449,12 +11449,12 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 240), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
       if (best.worth(at(P + 246), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[148] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[148] = best.lower_bound();
       } else {
       store(best.result, 148, m, distance, normal, witness);
       if (near) near[m] = 148;
@@ -11524,11 +11524,11 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[149] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[149] = best.lower_bound();
       } else {
       store(best.result, 149, m, distance, normal, witness);
       if (near) near[m] = 149;
@@ -11598,11 +11598,11 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[150] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[150] = best.lower_bound();
       } else {
       store(best.result, 150, m, distance, normal, witness);
       if (near) near[m] = 150;
@@ -11672,15 +11672,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[151] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[151] = best.lower_bound();
       } else {
       store(best.result, 151, m, distance, normal, witness);
       if (near) near[m] = 151;
@@ -11750,11 +11750,11 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[152] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[152] = best.lower_bound();
       } else {
       store(best.result, 152, m, distance, normal, witness);
       if (near) near[m] = 152;
@@ -11824,15 +11824,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[153] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[153] = best.lower_bound();
       } else {
       store(best.result, 153, m, distance, normal, witness);
       if (near) near[m] = 153;
@@ -11902,15 +11902,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[154] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[154] = best.lower_bound();
       } else {
       store(best.result, 154, m, distance, normal, witness);
       if (near) near[m] = 154;
@@ -11980,15 +11980,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[155] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[155] = best.lower_bound();
       } else {
       store(best.result, 155, m, distance, normal, witness);
       if (near) near[m] = 155;
@@ -12058,15 +12058,15 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[156] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[156] = best.lower_bound();
       } else {
       store(best.result, 156, m, distance, normal, witness);
       if (near) near[m] = 156;
@@ -12141,13 +12141,13 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[157] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[157] = best.lower_bound();
       } else {
       store(best.result, 157, m, distance, normal, witness);
       if (near) near[m] = 157;
@@ -12217,11 +12217,11 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
       if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[158] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[158] = best.lower_bound();
       } else {
       store(best.result, 158, m, distance, normal, witness);
       if (near) near[m] = 158;
@@ -12291,10 +12291,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[159] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[159] = best.lower_bound();
       } else {
       store(best.result, 159, m, distance, normal, witness);
       if (near) near[m] = 159;
@@ -12364,12 +12364,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
       if (best.worth(at(P + 279), S(0.05), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[160] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[160] = best.lower_bound();
       } else {
       store(best.result, 160, m, distance, normal, witness);
       if (near) near[m] = 160;
@@ -12439,10 +12439,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[161] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[161] = best.lower_bound();
       } else {
       store(best.result, 161, m, distance, normal, witness);
       if (near) near[m] = 161;
@@ -12512,12 +12512,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
       if (best.worth(at(P + 279), S(0.05), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[162] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[162] = best.lower_bound();
       } else {
       store(best.result, 162, m, distance, normal, witness);
       if (near) near[m] = 162;
@@ -12587,12 +12587,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
       if (best.worth(at(P + 279), S(0.05), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[163] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[163] = best.lower_bound();
       } else {
       store(best.result, 163, m, distance, normal, witness);
       if (near) near[m] = 163;
@@ -12662,12 +12662,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
       if (best.worth(at(P + 279), S(0.05), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[164] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[164] = best.lower_bound();
       } else {
       store(best.result, 164, m, distance, normal, witness);
       if (near) near[m] = 164;
@@ -12737,12 +12737,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
       if (best.worth(at(P + 279), S(0.05), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[165] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[165] = best.lower_bound();
       } else {
       store(best.result, 165, m, distance, normal, witness);
       if (near) near[m] = 165;
@@ -12812,11 +12812,11 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 279), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
       if (best.worth(at(P + 279), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (compact && best.result.distance >= threshold) {
-        distance[166] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[166] = best.lower_bound();
       } else {
       store(best.result, 166, m, distance, normal, witness);
       if (near) near[m] = 166;
@@ -12886,10 +12886,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[167] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[167] = best.lower_bound();
       } else {
       store(best.result, 167, m, distance, normal, witness);
       if (near) near[m] = 167;
@@ -12959,12 +12959,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 309), S(0.225), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 309), S(0.225), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 1);
       if (best.worth(at(P + 309), S(0.225), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[168] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[168] = best.lower_bound();
       } else {
       store(best.result, 168, m, distance, normal, witness);
       if (near) near[m] = 168;
@@ -13034,12 +13034,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 309), S(0.225), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 309), S(0.225), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 1);
       if (best.worth(at(P + 309), S(0.225), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[169] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[169] = best.lower_bound();
       } else {
       store(best.result, 169, m, distance, normal, witness);
       if (near) near[m] = 169;
@@ -13109,10 +13109,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[170] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[170] = best.lower_bound();
       } else {
       store(best.result, 170, m, distance, normal, witness);
       if (near) near[m] = 170;
@@ -13182,12 +13182,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 318), S(0.03), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
       if (best.worth(at(P + 318), S(0.03), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 369), S(0.025)}), 0, 1);
       if (best.worth(at(P + 318), S(0.03), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 375), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[171] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[171] = best.lower_bound();
       } else {
       store(best.result, 171, m, distance, normal, witness);
       if (near) near[m] = 171;
@@ -13257,12 +13257,12 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 318), S(0.03), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 318), S(0.03), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 417), S(0.025)}), 0, 1);
       if (best.worth(at(P + 318), S(0.03), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 423), S(0.025)}), 0, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[172] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[172] = best.lower_bound();
       } else {
       store(best.result, 172, m, distance, normal, witness);
       if (near) near[m] = 172;
@@ -13332,10 +13332,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
+      ClosestShapes<S> best(compact, threshold);
       best.take(ssv_distance(LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (compact && best.result.distance >= threshold) {
-        distance[173] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[173] = best.lower_bound();
       } else {
       store(best.result, 173, m, distance, normal, witness);
       if (near) near[m] = 173;
@@ -13410,8 +13410,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 1);
       if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 2);
       if (best.worth(at(P + 372), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -13420,8 +13420,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       if (best.worth(at(P + 378), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 378), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 378), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[174] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[174] = best.lower_bound();
       } else {
       store(best.result, 174, m, distance, normal, witness);
       if (near) near[m] = 174;
@@ -13491,8 +13491,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 1);
       if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 2);
       if (best.worth(at(P + 372), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -13501,8 +13501,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       if (best.worth(at(P + 378), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 378), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 378), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[175] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[175] = best.lower_bound();
       } else {
       store(best.result, 175, m, distance, normal, witness);
       if (near) near[m] = 175;
@@ -13572,8 +13572,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
       if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 1);
       if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 2);
       if (best.worth(at(P + 396), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
@@ -13582,8 +13582,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       if (best.worth(at(P + 402), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
       if (best.worth(at(P + 402), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
       if (best.worth(at(P + 402), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[176] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[176] = best.lower_bound();
       } else {
       store(best.result, 176, m, distance, normal, witness);
       if (near) near[m] = 176;
@@ -13653,8 +13653,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
     if (!far) {
-      ClosestShapes<S> best;
-      best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
+      ClosestShapes<S> best(compact, threshold);
+      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
       if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 1);
       if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 2);
       if (best.worth(at(P + 396), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
@@ -13663,8 +13663,8 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       if (best.worth(at(P + 402), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
       if (best.worth(at(P + 402), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
       if (best.worth(at(P + 402), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
-      if (compact && best.result.distance >= threshold) {
-        distance[177] = best.result.distance;
+      if (compact && !best.within_limit()) {
+        distance[177] = best.lower_bound();
       } else {
       store(best.result, 177, m, distance, normal, witness);
       if (near) near[m] = 177;

@@ -147,19 +147,23 @@ std::string pair_block(const Model& model, const CollisionModel& scene, const Pl
   out += fmt::format("    bool far = false;\n    if (compact) {{\n      const S bound = {};\n"
                      "      if (bound >= threshold) {{\n        distance[{}] = bound;\n        far = true;\n      }}\n    }}\n"
                      "    if (!far) {{\n", bound, k);
-  out += "      ClosestShapes<S> best;\n";
+  // The near set's threshold is the shape pairs' limit too (ClosestShapes: a shape pair whose
+  // spheres are that far apart is skipped); the full set computes at least the first pair. A
+  // single shape pair has no spheres of its own: its compounds' spheres were the test.
+  out += "      ClosestShapes<S> best(compact, threshold);\n";
+  const bool single = a.shapes.size() * b.shapes.size() == 1;
   for (std::size_t i = 0; i < a.shapes.size(); ++i)
     for (std::size_t j = 0; j < b.shapes.size(); ++j) {
       const std::string call = fmt::format("best.take({}, {}, {});", shape_call(a.shapes[i], pa[i], b.shapes[j], pb[j]), i, j);
-      if (i == 0 && j == 0) {
-        out += "      " + call + "\n";  // the first pair is always computed (ClosestShapes::worth)
+      if (single) {
+        out += "      " + call + "\n";
       } else {
         out += fmt::format("      if (best.worth(at(P + {}), {}, at(P + {}), {})) {}\n", pa[i].bound,
                            literal(a.shapes[i].bound_radius), pb[j].bound, literal(b.shapes[j].bound_radius), call);
       }
     }
   // Near only if the distance itself is below the threshold: the rows are the expensive part.
-  out += fmt::format("      if (compact && best.result.distance >= threshold) {{\n        distance[{}] = best.result.distance;\n"
+  out += fmt::format("      if (compact && !best.within_limit()) {{\n        distance[{}] = best.lower_bound();\n"
                      "      }} else {{\n", k);
   out += fmt::format("      store(best.result, {}, m, distance, normal, witness);\n", k);
   out += fmt::format("      if (near) near[m] = {};\n", k);
