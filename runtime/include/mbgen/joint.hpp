@@ -61,11 +61,6 @@ template <typename S> SE3<S> joint_motion_transform(const Joint& joint, const S*
   return X;
 }
 
-/// Pose of the child body in the parent body.
-template <typename S> SE3<S> joint_placement(const Joint& joint, const S* q_j) {
-  return joint.X_PJ.cast<S>() * joint_motion_transform<S>(joint, q_j);
-}
-
 /// S * v_j: spatial velocity of the child relative to the parent, in the child frame.
 template <typename S> Motion<S> joint_velocity(const Joint& joint, const S* v_j) {
   Motion<S> m;

@@ -19,7 +19,7 @@ template <typename S> void kinematics_pass(const Model& model, Data<S>& data, co
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
-    // joint_placement in its two factors, X_J kept (the centroidal composites move through it).
+    // The pose in the parent, X_PB = X_PJ X_J, with X_J kept: the centroidal composites move through it.
     data.X_J[i] = joint_motion_transform<S>(joint, q + joint.idx_q);
     data.X_PB[i] = joint.X_PJ.template cast<S>() * data.X_J[i];
     data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
