@@ -160,6 +160,40 @@ TEST(CollisionScene, LolaHonoursExcludesAndIsDeterministic) {
   }
 }
 
+/// The ROS capsule idiom (a cylinder and a sphere of its radius at each end): the spheres lie in
+/// the cylinder's line SSV and are left out of the compound, each listed with its container.
+/// Lola's drive rods and housings (10 links) and franka's panda (every link but the hand's).
+TEST(CollisionScene, SpheresAtTheEndsOfACylinderAreLeftOut) {
+  const gen::Description lola = load_lola();
+  gen::CollisionSceneOptions options;
+  options.samples = 0;
+  const gen::CollisionScene scene = gen::build_collision_scene(lola, options);
+  ASSERT_EQ(scene.dropped_shapes.size(), 20u);
+  for (const gen::DroppedShape& s : scene.dropped_shapes) {
+    const bool end_sphere = s.source.find("<collision> 2 of link '" + s.compound + "'") != std::string::npos ||
+                            s.source.find("<collision> 3 of link '" + s.compound + "'") != std::string::npos;
+    EXPECT_TRUE(end_sphere) << s.source;
+    EXPECT_NE(s.container_source.find("<collision> 1 of link '" + s.compound + "'"), std::string::npos) << s.container_source;
+    EXPECT_LE(s.protrusion, 1e-12) << s.source;
+  }
+  int shape_pairs = 0;
+  for (const collision::Compound& c : scene.model.compounds) {
+    if (c.name.find("_rod_") != std::string::npos || c.name.find("_housing_") != std::string::npos) {
+      ASSERT_EQ(c.shapes.size(), 1u) << c.name;
+      EXPECT_EQ(c.shapes[0].kind, collision::Shape::Kind::Line) << c.name;
+    }
+  }
+  const gen::CollisionScene pruned = gen::build_collision_scene(lola, gen::collision_scene_options(lola));
+  for (const collision::CollisionPair& p : pruned.model.pairs)
+    shape_pairs += static_cast<int>(pruned.model.compounds[static_cast<std::size_t>(p.first)].shapes.size() *
+                                    pruned.model.compounds[static_cast<std::size_t>(p.second)].shapes.size());
+  EXPECT_EQ(pruned.model.pairs.size(), 178u);
+  EXPECT_EQ(shape_pairs, 247) << "Lola's 178 pairs held 711 shape pairs with the spheres";
+
+  const gen::Description panda = load(shared_robot("panda/panda_collision.urdf"));
+  EXPECT_EQ(gen::build_collision_scene(panda, options).dropped_shapes.size(), 22u);
+}
+
 }  // namespace
 }  // namespace mbgen::test
 

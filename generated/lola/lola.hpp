@@ -247,7 +247,7 @@ inline constexpr const char* distance_pair_names[178][2] = {{"pelvis", "upper_ar
 ///     (point2 - point1 = distance * normal)
 /// out jacobian: [178 x 46, row-major] row k = d distance[k] / d v = n^T (J_p2 - J_p1), the witness points
 ///     moving with their bodies; non-smooth where the closest features switch
-/// Cost: straight-line placement and Jacobian columns: 2063 operations: 924 additions/subtractions, 1059 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
+/// Cost: straight-line placement and Jacobian columns: 1973 operations: 864 additions/subtractions, 1029 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 247 SSV distance calls (178 pairs; bounding spheres skip the rest).
 void self_distances(const double* q, double* distance, double* normal, double* witness, double* jacobian);
 /// The near set: the same for the pairs closer than threshold only (generic twin:
 /// collision::compute_near_distances). The bodies' bounding spheres (one per body, around its

@@ -119,13 +119,13 @@ template <typename S> void store(const SsvDistance<S>& r, int k, int m, S* dista
   }
 }
 
-// Pairs 0 to 19 of distances_impl (45 SSV calls).
+// Pairs 0 to 26 of distances_impl (47 SSV calls).
 template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+MBGEN_GENERATED_NOINLINE void pairs_0_to_26(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
   {  // pair 0: pelvis (1 shapes) - upper_arm_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 30), S(0.15500000000000005));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 27), S(0.15500000000000005));
       if (bound >= threshold) {
         distance[0] = bound;
         far = true;
@@ -198,7 +198,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 1: pelvis (1 shapes) - forearm_l (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 48), S(0.16500000000000004));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 45), S(0.16500000000000004));
       if (bound >= threshold) {
         distance[1] = bound;
         far = true;
@@ -206,8 +206,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 6), S(0.19), at(P + 39), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
-      if (best.worth(at(P + 6), S(0.19), at(P + 45), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
+      if (best.worth(at(P + 6), S(0.19), at(P + 36), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}), 0, 0);
+      if (best.worth(at(P + 6), S(0.19), at(P + 42), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
       if (compact && !best.within_limit()) {
         distance[1] = best.lower_bound();
       } else {
@@ -272,7 +272,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 2: pelvis (1 shapes) - upper_arm_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 60), S(0.15500000000000005));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 54), S(0.15500000000000005));
       if (bound >= threshold) {
         distance[2] = bound;
         far = true;
@@ -280,7 +280,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 48), at(P + 51), S(0.045)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[2] = best.lower_bound();
       } else {
@@ -345,7 +345,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 3: pelvis (1 shapes) - forearm_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 78), S(0.16500000000000004));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 72), S(0.16500000000000004));
       if (bound >= threshold) {
         distance[3] = bound;
         far = true;
@@ -353,8 +353,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 6), S(0.19), at(P + 69), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
-      if (best.worth(at(P + 6), S(0.19), at(P + 75), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
+      if (best.worth(at(P + 6), S(0.19), at(P + 63), S(0.135))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}), 0, 0);
+      if (best.worth(at(P + 6), S(0.19), at(P + 69), S(0.05))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
       if (compact && !best.within_limit()) {
         distance[3] = best.lower_bound();
       } else {
@@ -419,7 +419,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 4: pelvis (1 shapes) - knee_nut_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 117), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 111), S(0.03));
       if (bound >= threshold) {
         distance[4] = bound;
         far = true;
@@ -427,7 +427,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[4] = best.lower_bound();
       } else {
@@ -489,10 +489,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-  {  // pair 5: pelvis (1 shapes) - knee_rod_l (3 shapes)
+  {  // pair 5: pelvis (1 shapes) - knee_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 141), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 123), S(0.102));
       if (bound >= threshold) {
         distance[5] = bound;
         far = true;
@@ -500,9 +500,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 6), S(0.19), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 6), S(0.19), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
-      if (best.worth(at(P + 6), S(0.19), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[5] = best.lower_bound();
       } else {
@@ -567,7 +565,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 6: pelvis (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[6] = bound;
         far = true;
@@ -575,7 +573,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[6] = best.lower_bound();
       } else {
@@ -637,10 +635,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-  {  // pair 7: pelvis (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 7: pelvis (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 9), S(0.19), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[7] = bound;
         far = true;
@@ -648,9 +646,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 6), S(0.19), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 6), S(0.19), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 1);
-      if (best.worth(at(P + 6), S(0.19), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 0), at(P + 3), S(0.1)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 0), at(P + 3), S(0.1)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[7] = best.lower_bound();
       } else {
@@ -715,7 +711,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 8: head (1 shapes) - forearm_l (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 18), S(0.11000000000000001), at(P + 48), S(0.16500000000000004));
+      const S bound = sphere_lower_bound(at(P + 18), S(0.11000000000000001), at(P + 45), S(0.16500000000000004));
       if (bound >= threshold) {
         distance[8] = bound;
         far = true;
@@ -723,8 +719,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 15), S(0.11), at(P + 39), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}), 0, 0);
-      if (best.worth(at(P + 15), S(0.11), at(P + 45), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 42), S(0.05)}), 0, 1);
+      if (best.worth(at(P + 15), S(0.11), at(P + 36), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}), 0, 0);
+      if (best.worth(at(P + 15), S(0.11), at(P + 42), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 39), S(0.05)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[8] = best.lower_bound();
       } else {
@@ -789,7 +785,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 9: head (1 shapes) - forearm_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 18), S(0.11000000000000001), at(P + 78), S(0.16500000000000004));
+      const S bound = sphere_lower_bound(at(P + 18), S(0.11000000000000001), at(P + 72), S(0.16500000000000004));
       if (bound >= threshold) {
         distance[9] = bound;
         far = true;
@@ -797,8 +793,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 15), S(0.11), at(P + 69), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}), 0, 0);
-      if (best.worth(at(P + 15), S(0.11), at(P + 75), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 72), S(0.05)}), 0, 1);
+      if (best.worth(at(P + 15), S(0.11), at(P + 63), S(0.135))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}), 0, 0);
+      if (best.worth(at(P + 15), S(0.11), at(P + 69), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 12), S(0.11)}, PointSsv<S>{at(P + 66), S(0.05)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[9] = best.lower_bound();
       } else {
@@ -863,7 +859,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 10: upper_arm_l (1 shapes) - thigh_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 30), S(0.15500000000000005), at(P + 108), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 27), S(0.15500000000000005), at(P + 102), S(0.225));
       if (bound >= threshold) {
         distance[10] = bound;
         far = true;
@@ -871,7 +867,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[10] = best.lower_bound();
       } else {
@@ -933,10 +929,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-  {  // pair 11: upper_arm_l (1 shapes) - knee_rod_l (3 shapes)
+  {  // pair 11: upper_arm_l (1 shapes) - knee_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 30), S(0.15500000000000005), at(P + 141), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 27), S(0.15500000000000005), at(P + 123), S(0.102));
       if (bound >= threshold) {
         distance[11] = bound;
         far = true;
@@ -944,9 +940,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.045)})), 0, 1);
-      if (best.worth(at(P + 27), S(0.15500000000000003), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 21), at(P + 24), S(0.045)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[11] = best.lower_bound();
       } else {
@@ -1011,7 +1005,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 12: upper_arm_l (1 shapes) - shank_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 30), S(0.15500000000000005), at(P + 153), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 27), S(0.15500000000000005), at(P + 135), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[12] = bound;
         far = true;
@@ -1019,7 +1013,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 21), at(P + 24), S(0.045)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[12] = best.lower_bound();
       } else {
@@ -1084,7 +1078,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 13: forearm_l (2 shapes) - hip_yaw_link_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 87), S(0.060000000000000005));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 81), S(0.060000000000000005));
       if (bound >= threshold) {
         distance[13] = bound;
         far = true;
@@ -1092,8 +1086,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 84), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 84), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 81), S(0.06)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 78), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 75), S(0.06)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 78), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, PointSsv<S>{at(P + 75), S(0.06)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[13] = best.lower_bound();
       } else {
@@ -1158,7 +1152,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 14: forearm_l (2 shapes) - hip_roll_link_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 96), S(0.082));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 90), S(0.082));
       if (bound >= threshold) {
         distance[14] = bound;
         far = true;
@@ -1166,8 +1160,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 93), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 93), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 90), S(0.082)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 87), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 84), S(0.082)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 87), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, PointSsv<S>{at(P + 84), S(0.082)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[14] = best.lower_bound();
       } else {
@@ -1232,7 +1226,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 15: forearm_l (2 shapes) - thigh_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 108), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 102), S(0.225));
       if (bound >= threshold) {
         distance[15] = bound;
         far = true;
@@ -1240,8 +1234,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 105), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 105), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 99), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 99), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[15] = best.lower_bound();
       } else {
@@ -1306,7 +1300,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 16: forearm_l (2 shapes) - knee_nut_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 117), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 111), S(0.03));
       if (bound >= threshold) {
         distance[16] = bound;
         far = true;
@@ -1314,8 +1308,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 114), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 114), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 111), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 108), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 108), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, PointSsv<S>{at(P + 105), S(0.03)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[16] = best.lower_bound();
       } else {
@@ -1377,10 +1371,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-  {  // pair 17: forearm_l (2 shapes) - knee_rod_l (3 shapes)
+  {  // pair 17: forearm_l (2 shapes) - knee_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 141), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 123), S(0.102));
       if (bound >= threshold) {
         distance[17] = bound;
         far = true;
@@ -1388,12 +1382,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 126), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 132), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 129), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 138), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 135), S(0.012)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 120), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 120), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[17] = best.lower_bound();
       } else {
@@ -1458,7 +1448,7 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
   {  // pair 18: forearm_l (2 shapes) - shank_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 153), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 135), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[18] = bound;
         far = true;
@@ -1466,8 +1456,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 150), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 150), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 132), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 132), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[18] = best.lower_bound();
       } else {
@@ -1529,10 +1519,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-  {  // pair 19: forearm_l (2 shapes) - ankle_act_lat_housing_l (3 shapes)
+  {  // pair 19: forearm_l (2 shapes) - ankle_act_lat_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 177), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 147), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[19] = bound;
         far = true;
@@ -1540,12 +1530,8 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 165), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 171), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 144), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 144), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[19] = best.lower_bound();
       } else {
@@ -1607,15 +1593,10 @@ MBGEN_GENERATED_NOINLINE void pairs_0_to_19(const S* P, const S* J, S threshold,
       }
     }
   }
-}
-
-// Pairs 20 to 31 of distances_impl (48 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 20: forearm_l (2 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 20: forearm_l (2 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[20] = bound;
         far = true;
@@ -1623,12 +1604,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 168), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 168), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[20] = best.lower_bound();
       } else {
@@ -1693,7 +1670,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 21: forearm_l (2 shapes) - foot_body_l (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 270), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 204), S(0.135));
       if (bound >= threshold) {
         distance[21] = bound;
         far = true;
@@ -1701,10 +1678,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 1, 1);
+      if (best.worth(at(P + 36), S(0.135), at(P + 192), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 201), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 42), S(0.05), at(P + 192), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 201), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}), 1, 1);
       if (compact && !best.within_limit()) {
         distance[21] = best.lower_bound();
       } else {
@@ -1769,7 +1746,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 22: forearm_l (2 shapes) - toe_link_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 282), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 216), S(0.05));
       if (bound >= threshold) {
         distance[22] = bound;
         far = true;
@@ -1777,8 +1754,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 279), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 279), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 213), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 213), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[22] = best.lower_bound();
       } else {
@@ -1843,7 +1820,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 23: forearm_l (2 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[23] = bound;
         far = true;
@@ -1851,8 +1828,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 243), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 243), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[23] = best.lower_bound();
       } else {
@@ -1917,7 +1894,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 24: forearm_l (2 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[24] = bound;
         far = true;
@@ -1925,8 +1902,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 252), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 30), at(P + 33), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 252), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, PointSsv<S>{at(P + 249), S(0.03)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[24] = best.lower_bound();
       } else {
@@ -1988,10 +1965,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 25: forearm_l (2 shapes) - knee_rod_r (3 shapes)
+  {  // pair 25: forearm_l (2 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[25] = bound;
         far = true;
@@ -1999,12 +1976,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 264), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 264), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[25] = best.lower_bound();
       } else {
@@ -2069,7 +2042,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 26: forearm_l (2 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[26] = bound;
         far = true;
@@ -2077,8 +2050,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 276), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 276), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[26] = best.lower_bound();
       } else {
@@ -2140,10 +2113,15 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 27: forearm_l (2 shapes) - ankle_act_lat_housing_r (3 shapes)
+}
+
+// Pairs 27 to 50 of distances_impl (48 SSV calls).
+template <typename S, bool compact>
+MBGEN_GENERATED_NOINLINE void pairs_27_to_50(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+  {  // pair 27: forearm_l (2 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[27] = bound;
         far = true;
@@ -2151,12 +2129,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[27] = best.lower_bound();
       } else {
@@ -2218,10 +2192,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 28: forearm_l (2 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 28: forearm_l (2 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[28] = bound;
         far = true;
@@ -2229,12 +2203,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[28] = best.lower_bound();
       } else {
@@ -2296,10 +2266,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 29: forearm_l (2 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 29: forearm_l (2 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[29] = bound;
         far = true;
@@ -2307,12 +2277,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 39), S(0.135), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 33), at(P + 36), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 45), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
+      if (best.worth(at(P + 36), S(0.135), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[29] = best.lower_bound();
       } else {
@@ -2377,7 +2343,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 30: forearm_l (2 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[30] = bound;
         far = true;
@@ -2385,10 +2351,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 39), S(0.135), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 45), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
+      if (best.worth(at(P + 36), S(0.135), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 42), S(0.05), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 1, 1);
       if (compact && !best.within_limit()) {
         distance[30] = best.lower_bound();
       } else {
@@ -2453,7 +2419,7 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
   {  // pair 31: forearm_l (2 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 48), S(0.16500000000000004), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 45), S(0.16500000000000004), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[31] = bound;
         far = true;
@@ -2461,8 +2427,8 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 39), S(0.135), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 33), at(P + 36), S(0.04)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 45), S(0.05), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 42), S(0.05)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
+      if (best.worth(at(P + 36), S(0.135), at(P + 357), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 30), at(P + 33), S(0.04)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
+      if (best.worth(at(P + 42), S(0.05), at(P + 357), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 39), S(0.05)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[31] = best.lower_bound();
       } else {
@@ -2524,15 +2490,10 @@ MBGEN_GENERATED_NOINLINE void pairs_20_to_31(const S* P, const S* J, S threshold
       }
     }
   }
-}
-
-// Pairs 32 to 47 of distances_impl (48 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
   {  // pair 32: upper_arm_r (1 shapes) - thigh_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 60), S(0.15500000000000005), at(P + 108), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 54), S(0.15500000000000005), at(P + 102), S(0.225));
       if (bound >= threshold) {
         distance[32] = bound;
         far = true;
@@ -2540,7 +2501,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 48), at(P + 51), S(0.045)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[32] = best.lower_bound();
       } else {
@@ -2605,7 +2566,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 33: upper_arm_r (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 60), S(0.15500000000000005), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 54), S(0.15500000000000005), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[33] = bound;
         far = true;
@@ -2613,7 +2574,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 48), at(P + 51), S(0.045)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[33] = best.lower_bound();
       } else {
@@ -2678,7 +2639,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 34: upper_arm_r (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 60), S(0.15500000000000005), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 54), S(0.15500000000000005), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[34] = bound;
         far = true;
@@ -2686,7 +2647,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 48), at(P + 51), S(0.045)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[34] = best.lower_bound();
       } else {
@@ -2748,10 +2709,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 35: upper_arm_r (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 35: upper_arm_r (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 60), S(0.15500000000000005), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 54), S(0.15500000000000005), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[35] = bound;
         far = true;
@@ -2759,9 +2720,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 51), at(P + 54), S(0.045)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 1);
-      if (best.worth(at(P + 57), S(0.15500000000000003), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 51), at(P + 54), S(0.045)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 48), at(P + 51), S(0.045)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[35] = best.lower_bound();
       } else {
@@ -2826,7 +2785,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 36: forearm_r (2 shapes) - thigh_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 108), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 102), S(0.225));
       if (bound >= threshold) {
         distance[36] = bound;
         far = true;
@@ -2834,8 +2793,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 105), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 105), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 99), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 99), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[36] = best.lower_bound();
       } else {
@@ -2900,7 +2859,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 37: forearm_r (2 shapes) - knee_nut_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 117), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 111), S(0.03));
       if (bound >= threshold) {
         distance[37] = bound;
         far = true;
@@ -2908,8 +2867,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 114), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 114), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 111), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 108), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 108), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, PointSsv<S>{at(P + 105), S(0.03)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[37] = best.lower_bound();
       } else {
@@ -2971,10 +2930,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 38: forearm_r (2 shapes) - knee_rod_l (3 shapes)
+  {  // pair 38: forearm_r (2 shapes) - knee_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 141), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 123), S(0.102));
       if (bound >= threshold) {
         distance[38] = bound;
         far = true;
@@ -2982,12 +2941,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 126), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 132), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 138), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 126), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 132), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 129), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 138), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 135), S(0.012)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 120), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 120), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[38] = best.lower_bound();
       } else {
@@ -3052,7 +3007,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 39: forearm_r (2 shapes) - shank_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 153), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 135), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[39] = bound;
         far = true;
@@ -3060,8 +3015,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 150), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 150), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 132), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 132), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[39] = best.lower_bound();
       } else {
@@ -3123,10 +3078,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 40: forearm_r (2 shapes) - ankle_act_lat_housing_l (3 shapes)
+  {  // pair 40: forearm_r (2 shapes) - ankle_act_lat_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 177), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 147), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[40] = bound;
         far = true;
@@ -3134,12 +3089,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 165), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 171), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 144), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 144), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[40] = best.lower_bound();
       } else {
@@ -3201,10 +3152,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 41: forearm_r (2 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 41: forearm_r (2 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[41] = bound;
         far = true;
@@ -3212,12 +3163,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 168), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 168), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[41] = best.lower_bound();
       } else {
@@ -3282,7 +3229,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 42: forearm_r (2 shapes) - foot_body_l (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 270), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 204), S(0.135));
       if (bound >= threshold) {
         distance[42] = bound;
         far = true;
@@ -3290,10 +3237,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 258), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 267), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}), 1, 1);
+      if (best.worth(at(P + 63), S(0.135), at(P + 192), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 201), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 69), S(0.05), at(P + 192), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 201), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}), 1, 1);
       if (compact && !best.within_limit()) {
         distance[42] = best.lower_bound();
       } else {
@@ -3358,7 +3305,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 43: forearm_r (2 shapes) - hip_yaw_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 291), S(0.060000000000000005));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 225), S(0.060000000000000005));
       if (bound >= threshold) {
         distance[43] = bound;
         far = true;
@@ -3366,8 +3313,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 288), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 285), S(0.06)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 288), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 285), S(0.06)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 222), S(0.06))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.06)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 222), S(0.06))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, PointSsv<S>{at(P + 219), S(0.06)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[43] = best.lower_bound();
       } else {
@@ -3432,7 +3379,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 44: forearm_r (2 shapes) - hip_roll_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 300), S(0.082));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 234), S(0.082));
       if (bound >= threshold) {
         distance[44] = bound;
         far = true;
@@ -3440,8 +3387,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 297), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 294), S(0.082)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 297), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 294), S(0.082)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 231), S(0.082))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 228), S(0.082)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 231), S(0.082))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, PointSsv<S>{at(P + 228), S(0.082)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[44] = best.lower_bound();
       } else {
@@ -3506,7 +3453,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 45: forearm_r (2 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[45] = bound;
         far = true;
@@ -3514,8 +3461,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 243), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 243), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[45] = best.lower_bound();
       } else {
@@ -3580,7 +3527,7 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
   {  // pair 46: forearm_r (2 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[46] = bound;
         far = true;
@@ -3588,8 +3535,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 252), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 57), at(P + 60), S(0.04)})), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 252), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, PointSsv<S>{at(P + 249), S(0.03)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[46] = best.lower_bound();
       } else {
@@ -3651,10 +3598,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 47: forearm_r (2 shapes) - knee_rod_r (3 shapes)
+  {  // pair 47: forearm_r (2 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[47] = bound;
         far = true;
@@ -3662,12 +3609,8 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 264), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 264), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[47] = best.lower_bound();
       } else {
@@ -3729,15 +3672,10 @@ MBGEN_GENERATED_NOINLINE void pairs_32_to_47(const S* P, const S* J, S threshold
       }
     }
   }
-}
-
-// Pairs 48 to 66 of distances_impl (46 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
   {  // pair 48: forearm_r (2 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[48] = bound;
         far = true;
@@ -3745,8 +3683,8 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 276), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 276), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[48] = best.lower_bound();
       } else {
@@ -3808,10 +3746,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 49: forearm_r (2 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 49: forearm_r (2 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[49] = bound;
         far = true;
@@ -3819,12 +3757,8 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[49] = best.lower_bound();
       } else {
@@ -3886,10 +3820,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 50: forearm_r (2 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 50: forearm_r (2 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[50] = bound;
         far = true;
@@ -3897,12 +3831,8 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[50] = best.lower_bound();
       } else {
@@ -3964,10 +3894,15 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 51: forearm_r (2 shapes) - ankle_act_med_rod_r (3 shapes)
+}
+
+// Pairs 51 to 91 of distances_impl (47 SSV calls).
+template <typename S, bool compact>
+MBGEN_GENERATED_NOINLINE void pairs_51_to_91(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+  {  // pair 51: forearm_r (2 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[51] = bound;
         far = true;
@@ -3975,12 +3910,8 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 1);
-      if (best.worth(at(P + 69), S(0.135), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 63), at(P + 66), S(0.04)})), 0, 2);
-      if (best.worth(at(P + 75), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
+      if (best.worth(at(P + 63), S(0.135), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[51] = best.lower_bound();
       } else {
@@ -4045,7 +3976,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 52: forearm_r (2 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 78), S(0.16500000000000004), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 72), S(0.16500000000000004), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[52] = bound;
         far = true;
@@ -4053,10 +3984,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 69), S(0.135), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 69), S(0.135), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 63), at(P + 66), S(0.04)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 75), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 75), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 72), S(0.05)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
+      if (best.worth(at(P + 63), S(0.135), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 63), S(0.135), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 57), at(P + 60), S(0.04)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 69), S(0.05), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 69), S(0.05), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 66), S(0.05)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 1, 1);
       if (compact && !best.within_limit()) {
         distance[52] = best.lower_bound();
       } else {
@@ -4121,7 +4052,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 53: hip_yaw_link_l (1 shapes) - hip_roll_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 87), S(0.060000000000000005), at(P + 300), S(0.082));
+      const S bound = sphere_lower_bound(at(P + 81), S(0.060000000000000005), at(P + 234), S(0.082));
       if (bound >= threshold) {
         distance[53] = bound;
         far = true;
@@ -4129,7 +4060,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, PointSsv<S>{at(P + 294), S(0.082)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 75), S(0.06)}, PointSsv<S>{at(P + 228), S(0.082)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[53] = best.lower_bound();
       } else {
@@ -4194,7 +4125,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 54: hip_yaw_link_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 87), S(0.060000000000000005), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 81), S(0.060000000000000005), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[54] = bound;
         far = true;
@@ -4202,7 +4133,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 81), S(0.06)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 75), S(0.06)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[54] = best.lower_bound();
       } else {
@@ -4267,7 +4198,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 55: hip_roll_link_l (1 shapes) - hip_yaw_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 96), S(0.082), at(P + 291), S(0.060000000000000005));
+      const S bound = sphere_lower_bound(at(P + 90), S(0.082), at(P + 225), S(0.060000000000000005));
       if (bound >= threshold) {
         distance[55] = bound;
         far = true;
@@ -4275,7 +4206,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, PointSsv<S>{at(P + 285), S(0.06)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 84), S(0.082)}, PointSsv<S>{at(P + 219), S(0.06)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[55] = best.lower_bound();
       } else {
@@ -4340,7 +4271,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 56: hip_roll_link_l (1 shapes) - hip_roll_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 96), S(0.082), at(P + 300), S(0.082));
+      const S bound = sphere_lower_bound(at(P + 90), S(0.082), at(P + 234), S(0.082));
       if (bound >= threshold) {
         distance[56] = bound;
         far = true;
@@ -4348,7 +4279,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, PointSsv<S>{at(P + 294), S(0.082)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 84), S(0.082)}, PointSsv<S>{at(P + 228), S(0.082)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[56] = best.lower_bound();
       } else {
@@ -4413,7 +4344,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 57: hip_roll_link_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 96), S(0.082), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 90), S(0.082), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[57] = bound;
         far = true;
@@ -4421,7 +4352,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 90), S(0.082)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 84), S(0.082)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[57] = best.lower_bound();
       } else {
@@ -4483,10 +4414,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 58: thigh_l (1 shapes) - ankle_act_lat_housing_l (3 shapes)
+  {  // pair 58: thigh_l (1 shapes) - ankle_act_lat_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 177), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 147), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[58] = bound;
         far = true;
@@ -4494,9 +4425,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 168), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 174), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[58] = best.lower_bound();
       } else {
@@ -4558,10 +4487,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 59: thigh_l (1 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 59: thigh_l (1 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[59] = bound;
         far = true;
@@ -4569,9 +4498,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[59] = best.lower_bound();
       } else {
@@ -4636,7 +4563,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 60: thigh_l (1 shapes) - hip_yaw_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 291), S(0.060000000000000005));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 225), S(0.060000000000000005));
       if (bound >= threshold) {
         distance[60] = bound;
         far = true;
@@ -4644,7 +4571,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 285), S(0.06)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.06)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[60] = best.lower_bound();
       } else {
@@ -4709,7 +4636,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 61: thigh_l (1 shapes) - hip_roll_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 300), S(0.082));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 234), S(0.082));
       if (bound >= threshold) {
         distance[61] = bound;
         far = true;
@@ -4717,7 +4644,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 294), S(0.082)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 228), S(0.082)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[61] = best.lower_bound();
       } else {
@@ -4782,7 +4709,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 62: thigh_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[62] = bound;
         far = true;
@@ -4790,7 +4717,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[62] = best.lower_bound();
       } else {
@@ -4855,7 +4782,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 63: thigh_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[63] = bound;
         far = true;
@@ -4863,7 +4790,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 93), at(P + 96), S(0.065)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[63] = best.lower_bound();
       } else {
@@ -4925,10 +4852,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 64: thigh_l (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 64: thigh_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[64] = bound;
         far = true;
@@ -4936,9 +4863,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[64] = best.lower_bound();
       } else {
@@ -5003,7 +4928,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
   {  // pair 65: thigh_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[65] = bound;
         far = true;
@@ -5011,7 +4936,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[65] = best.lower_bound();
       } else {
@@ -5073,10 +4998,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 66: thigh_l (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 66: thigh_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[66] = bound;
         far = true;
@@ -5084,9 +5009,7 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[66] = best.lower_bound();
       } else {
@@ -5148,15 +5071,10 @@ MBGEN_GENERATED_NOINLINE void pairs_48_to_66(const S* P, const S* J, S threshold
       }
     }
   }
-}
-
-// Pairs 67 to 85 of distances_impl (45 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 67: thigh_l (1 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 67: thigh_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[67] = bound;
         far = true;
@@ -5164,9 +5082,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[67] = best.lower_bound();
       } else {
@@ -5228,10 +5144,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 68: thigh_l (1 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 68: thigh_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[68] = bound;
         far = true;
@@ -5239,9 +5155,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[68] = best.lower_bound();
       } else {
@@ -5303,10 +5217,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 69: thigh_l (1 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 69: thigh_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[69] = bound;
         far = true;
@@ -5314,9 +5228,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 105), S(0.225), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 99), at(P + 102), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[69] = best.lower_bound();
       } else {
@@ -5381,7 +5293,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 70: thigh_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[70] = bound;
         far = true;
@@ -5389,8 +5301,8 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 105), S(0.225), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 105), S(0.225), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 99), S(0.225), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 99), S(0.225), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[70] = best.lower_bound();
       } else {
@@ -5455,7 +5367,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 71: thigh_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 108), S(0.225), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 102), S(0.225), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[71] = bound;
         far = true;
@@ -5463,7 +5375,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 99), at(P + 102), S(0.065)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 93), at(P + 96), S(0.065)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[71] = best.lower_bound();
       } else {
@@ -5528,7 +5440,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 72: knee_nut_l (1 shapes) - shank_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 153), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 135), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[72] = bound;
         far = true;
@@ -5536,7 +5448,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[72] = best.lower_bound();
       } else {
@@ -5598,10 +5510,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 73: knee_nut_l (1 shapes) - ankle_act_lat_housing_l (3 shapes)
+  {  // pair 73: knee_nut_l (1 shapes) - ankle_act_lat_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 177), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 147), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[73] = bound;
         far = true;
@@ -5609,9 +5521,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 162), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 168), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 165), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 174), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 171), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[73] = best.lower_bound();
       } else {
@@ -5673,10 +5583,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 74: knee_nut_l (1 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 74: knee_nut_l (1 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[74] = bound;
         far = true;
@@ -5684,9 +5594,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 213), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 219), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[74] = best.lower_bound();
       } else {
@@ -5751,7 +5659,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 75: knee_nut_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[75] = bound;
         far = true;
@@ -5759,7 +5667,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[75] = best.lower_bound();
       } else {
@@ -5824,7 +5732,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 76: knee_nut_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[76] = bound;
         far = true;
@@ -5832,7 +5740,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 315), S(0.03)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, PointSsv<S>{at(P + 249), S(0.03)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[76] = best.lower_bound();
       } else {
@@ -5894,10 +5802,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 77: knee_nut_l (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 77: knee_nut_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[77] = bound;
         far = true;
@@ -5905,9 +5813,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 333), S(0.012)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 339), S(0.012)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[77] = best.lower_bound();
       } else {
@@ -5972,7 +5878,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 78: knee_nut_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[78] = bound;
         far = true;
@@ -5980,7 +5886,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[78] = best.lower_bound();
       } else {
@@ -6042,10 +5948,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 79: knee_nut_l (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 79: knee_nut_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[79] = bound;
         far = true;
@@ -6053,9 +5959,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 369), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 375), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[79] = best.lower_bound();
       } else {
@@ -6117,10 +6021,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 80: knee_nut_l (1 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 80: knee_nut_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[80] = bound;
         far = true;
@@ -6128,9 +6032,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 393), S(0.01)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 399), S(0.01)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[80] = best.lower_bound();
       } else {
@@ -6192,10 +6094,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 81: knee_nut_l (1 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 81: knee_nut_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[81] = bound;
         far = true;
@@ -6203,9 +6105,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 417), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 423), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[81] = best.lower_bound();
       } else {
@@ -6267,10 +6167,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 82: knee_nut_l (1 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 82: knee_nut_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[82] = bound;
         far = true;
@@ -6278,9 +6178,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 441), S(0.01)}), 0, 1);
-      if (best.worth(at(P + 114), S(0.03), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, PointSsv<S>{at(P + 447), S(0.01)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[82] = best.lower_bound();
       } else {
@@ -6345,7 +6243,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
   {  // pair 83: knee_nut_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 117), S(0.03), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 111), S(0.03), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[83] = bound;
         far = true;
@@ -6353,8 +6251,8 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 114), S(0.03), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 114), S(0.03), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 111), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 108), S(0.03), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 108), S(0.03), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 105), S(0.03)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[83] = best.lower_bound();
       } else {
@@ -6416,10 +6314,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 84: knee_rod_l (3 shapes) - thigh_r (1 shapes)
+  {  // pair 84: knee_rod_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[84] = bound;
         far = true;
@@ -6427,9 +6325,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[84] = best.lower_bound();
       } else {
@@ -6491,10 +6387,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 85: knee_rod_l (3 shapes) - knee_nut_r (1 shapes)
+  {  // pair 85: knee_rod_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[85] = bound;
         far = true;
@@ -6502,9 +6398,7 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 114), at(P + 117), S(0.012)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[85] = best.lower_bound();
       } else {
@@ -6566,15 +6460,10 @@ MBGEN_GENERATED_NOINLINE void pairs_67_to_85(const S* P, const S* J, S threshold
       }
     }
   }
-}
-
-// Pairs 86 to 91 of distances_impl (48 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 86: knee_rod_l (3 shapes) - knee_rod_r (3 shapes)
+  {  // pair 86: knee_rod_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[86] = bound;
         far = true;
@@ -6582,15 +6471,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
-      if (best.worth(at(P + 126), S(0.102), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
-      if (best.worth(at(P + 132), S(0.012), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (best.worth(at(P + 138), S(0.012), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[86] = best.lower_bound();
       } else {
@@ -6652,10 +6533,10 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 87: knee_rod_l (3 shapes) - shank_r (1 shapes)
+  {  // pair 87: knee_rod_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[87] = bound;
         far = true;
@@ -6663,9 +6544,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[87] = best.lower_bound();
       } else {
@@ -6727,10 +6606,10 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 88: knee_rod_l (3 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 88: knee_rod_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[88] = bound;
         far = true;
@@ -6738,15 +6617,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
-      if (best.worth(at(P + 126), S(0.102), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
-      if (best.worth(at(P + 132), S(0.012), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 138), S(0.012), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[88] = best.lower_bound();
       } else {
@@ -6808,10 +6679,10 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 89: knee_rod_l (3 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 89: knee_rod_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[89] = bound;
         far = true;
@@ -6819,15 +6690,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
-      if (best.worth(at(P + 126), S(0.102), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
-      if (best.worth(at(P + 132), S(0.012), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 393), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 399), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 138), S(0.012), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[89] = best.lower_bound();
       } else {
@@ -6889,10 +6752,10 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 90: knee_rod_l (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 90: knee_rod_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[90] = bound;
         far = true;
@@ -6900,15 +6763,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
-      if (best.worth(at(P + 126), S(0.102), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
-      if (best.worth(at(P + 132), S(0.012), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 138), S(0.012), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[90] = best.lower_bound();
       } else {
@@ -6970,10 +6825,10 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
       }
     }
   }
-  {  // pair 91: knee_rod_l (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 91: knee_rod_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[91] = bound;
         far = true;
@@ -6981,15 +6836,7 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 1);
-      if (best.worth(at(P + 126), S(0.102), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 120), at(P + 123), S(0.012)})), 0, 2);
-      if (best.worth(at(P + 132), S(0.012), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 138), S(0.012), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[91] = best.lower_bound();
       } else {
@@ -7053,13 +6900,13 @@ MBGEN_GENERATED_NOINLINE void pairs_86_to_91(const S* P, const S* J, S threshold
   }
 }
 
-// Pairs 92 to 105 of distances_impl (40 SSV calls).
+// Pairs 92 to 135 of distances_impl (48 SSV calls).
 template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 92: knee_rod_l (3 shapes) - foot_body_r (2 shapes)
+MBGEN_GENERATED_NOINLINE void pairs_92_to_135(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+  {  // pair 92: knee_rod_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[92] = bound;
         far = true;
@@ -7067,12 +6914,8 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 126), S(0.102), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 132), S(0.012), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (best.worth(at(P + 138), S(0.012), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
+      if (best.worth(at(P + 120), S(0.102), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 120), S(0.102), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[92] = best.lower_bound();
       } else {
@@ -7134,10 +6977,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 93: knee_rod_l (3 shapes) - toe_link_r (1 shapes)
+  {  // pair 93: knee_rod_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 141), S(0.102), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 123), S(0.102), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[93] = bound;
         far = true;
@@ -7145,9 +6988,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 126), S(0.102), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 120), at(P + 123), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 132), S(0.012), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 129), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (best.worth(at(P + 138), S(0.012), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 135), S(0.012)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 114), at(P + 117), S(0.012)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[93] = best.lower_bound();
       } else {
@@ -7212,7 +7053,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 94: shank_l (1 shapes) - toe_link_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 282), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 216), S(0.05));
       if (bound >= threshold) {
         distance[94] = bound;
         far = true;
@@ -7220,7 +7061,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[94] = best.lower_bound();
       } else {
@@ -7285,7 +7126,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 95: shank_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[95] = bound;
         far = true;
@@ -7293,7 +7134,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[95] = best.lower_bound();
       } else {
@@ -7358,7 +7199,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 96: shank_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[96] = bound;
         far = true;
@@ -7366,7 +7207,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 126), at(P + 129), S(0.075)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[96] = best.lower_bound();
       } else {
@@ -7428,10 +7269,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 97: shank_l (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 97: shank_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[97] = bound;
         far = true;
@@ -7439,9 +7280,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
-      if (best.worth(at(P + 150), S(0.24), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[97] = best.lower_bound();
       } else {
@@ -7506,7 +7345,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 98: shank_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[98] = bound;
         far = true;
@@ -7514,7 +7353,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[98] = best.lower_bound();
       } else {
@@ -7576,10 +7415,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 99: shank_l (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 99: shank_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[99] = bound;
         far = true;
@@ -7587,9 +7426,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
-      if (best.worth(at(P + 150), S(0.24), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[99] = best.lower_bound();
       } else {
@@ -7651,10 +7488,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 100: shank_l (1 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 100: shank_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[100] = bound;
         far = true;
@@ -7662,9 +7499,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
-      if (best.worth(at(P + 150), S(0.24), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[100] = best.lower_bound();
       } else {
@@ -7726,10 +7561,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 101: shank_l (1 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 101: shank_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[101] = bound;
         far = true;
@@ -7737,9 +7572,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
-      if (best.worth(at(P + 150), S(0.24), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[101] = best.lower_bound();
       } else {
@@ -7801,10 +7634,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 102: shank_l (1 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 102: shank_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[102] = bound;
         far = true;
@@ -7812,9 +7645,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 1);
-      if (best.worth(at(P + 150), S(0.24), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 144), at(P + 147), S(0.075)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[102] = best.lower_bound();
       } else {
@@ -7879,7 +7710,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 103: shank_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[103] = bound;
         far = true;
@@ -7887,8 +7718,8 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 150), S(0.24), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 150), S(0.24), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 132), S(0.24), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 132), S(0.24), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[103] = best.lower_bound();
       } else {
@@ -7953,7 +7784,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
   {  // pair 104: shank_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 153), S(0.24000000000000002), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 135), S(0.24000000000000002), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[104] = bound;
         far = true;
@@ -7961,7 +7792,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 144), at(P + 147), S(0.075)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 126), at(P + 129), S(0.075)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[104] = best.lower_bound();
       } else {
@@ -8023,10 +7854,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-  {  // pair 105: ankle_act_lat_housing_l (3 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 105: ankle_act_lat_housing_l (1 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[105] = bound;
         far = true;
@@ -8034,15 +7865,7 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 213), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 219), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[105] = best.lower_bound();
       } else {
@@ -8104,15 +7927,10 @@ MBGEN_GENERATED_NOINLINE void pairs_92_to_105(const S* P, const S* J, S threshol
       }
     }
   }
-}
-
-// Pairs 106 to 112 of distances_impl (45 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 106: ankle_act_lat_housing_l (3 shapes) - ankle_act_med_rod_l (3 shapes)
+  {  // pair 106: ankle_act_lat_housing_l (1 shapes) - ankle_act_med_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 249), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 183), S(0.07));
       if (bound >= threshold) {
         distance[106] = bound;
         far = true;
@@ -8120,15 +7938,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 240), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 246), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 237), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 243), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 237), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 243), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[106] = best.lower_bound();
       } else {
@@ -8190,10 +8000,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 107: ankle_act_lat_housing_l (3 shapes) - thigh_r (1 shapes)
+  {  // pair 107: ankle_act_lat_housing_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[107] = bound;
         far = true;
@@ -8201,9 +8011,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[107] = best.lower_bound();
       } else {
@@ -8265,10 +8073,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 108: ankle_act_lat_housing_l (3 shapes) - knee_nut_r (1 shapes)
+  {  // pair 108: ankle_act_lat_housing_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[108] = bound;
         far = true;
@@ -8276,9 +8084,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 138), at(P + 141), S(0.025)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[108] = best.lower_bound();
       } else {
@@ -8340,10 +8146,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 109: ankle_act_lat_housing_l (3 shapes) - knee_rod_r (3 shapes)
+  {  // pair 109: ankle_act_lat_housing_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[109] = bound;
         far = true;
@@ -8351,15 +8157,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[109] = best.lower_bound();
       } else {
@@ -8421,10 +8219,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 110: ankle_act_lat_housing_l (3 shapes) - shank_r (1 shapes)
+  {  // pair 110: ankle_act_lat_housing_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[110] = bound;
         far = true;
@@ -8432,9 +8230,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[110] = best.lower_bound();
       } else {
@@ -8496,10 +8292,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 111: ankle_act_lat_housing_l (3 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 111: ankle_act_lat_housing_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[111] = bound;
         far = true;
@@ -8507,15 +8303,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[111] = best.lower_bound();
       } else {
@@ -8577,10 +8365,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 112: ankle_act_lat_housing_l (3 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 112: ankle_act_lat_housing_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[112] = bound;
         far = true;
@@ -8588,15 +8376,7 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[112] = best.lower_bound();
       } else {
@@ -8658,15 +8438,10 @@ MBGEN_GENERATED_NOINLINE void pairs_106_to_112(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 113 to 119 of distances_impl (48 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 113: ankle_act_lat_housing_l (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 113: ankle_act_lat_housing_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[113] = bound;
         far = true;
@@ -8674,15 +8449,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[113] = best.lower_bound();
       } else {
@@ -8744,10 +8511,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 114: ankle_act_lat_housing_l (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 114: ankle_act_lat_housing_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[114] = bound;
         far = true;
@@ -8755,15 +8522,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 156), at(P + 159), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 168), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 174), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[114] = best.lower_bound();
       } else {
@@ -8825,10 +8584,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 115: ankle_act_lat_housing_l (3 shapes) - foot_body_r (2 shapes)
+  {  // pair 115: ankle_act_lat_housing_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[115] = bound;
         far = true;
@@ -8836,12 +8595,8 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 168), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (best.worth(at(P + 174), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
+      if (best.worth(at(P + 144), S(0.11499999999999999), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 144), S(0.11499999999999999), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[115] = best.lower_bound();
       } else {
@@ -8903,10 +8658,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 116: ankle_act_lat_housing_l (3 shapes) - toe_link_r (1 shapes)
+  {  // pair 116: ankle_act_lat_housing_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 177), S(0.11500000000000002), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 147), S(0.11499999999999999), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[116] = bound;
         far = true;
@@ -8914,9 +8669,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 162), S(0.11499999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 156), at(P + 159), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 168), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 165), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (best.worth(at(P + 174), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 171), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 138), at(P + 141), S(0.025)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[116] = best.lower_bound();
       } else {
@@ -8978,10 +8731,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 117: ankle_act_lat_rod_l (3 shapes) - ankle_act_med_housing_l (3 shapes)
+  {  // pair 117: ankle_act_lat_rod_l (1 shapes) - ankle_act_med_housing_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 225), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 171), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[117] = bound;
         far = true;
@@ -8989,15 +8742,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 216), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 222), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 213), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 219), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 210), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 216), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 213), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 222), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 219), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[117] = best.lower_bound();
       } else {
@@ -9059,10 +8804,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 118: ankle_act_lat_rod_l (3 shapes) - ankle_act_med_rod_l (3 shapes)
+  {  // pair 118: ankle_act_lat_rod_l (1 shapes) - ankle_act_med_rod_l (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 249), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 183), S(0.07));
       if (bound >= threshold) {
         distance[118] = bound;
         far = true;
@@ -9070,15 +8815,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 240), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 246), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 237), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 243), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 234), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 240), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 237), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 246), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 243), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[118] = best.lower_bound();
       } else {
@@ -9140,10 +8877,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 119: ankle_act_lat_rod_l (3 shapes) - thigh_r (1 shapes)
+  {  // pair 119: ankle_act_lat_rod_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[119] = bound;
         far = true;
@@ -9151,9 +8888,7 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[119] = best.lower_bound();
       } else {
@@ -9215,15 +8950,10 @@ MBGEN_GENERATED_NOINLINE void pairs_113_to_119(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 120 to 125 of distances_impl (42 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 120: ankle_act_lat_rod_l (3 shapes) - knee_nut_r (1 shapes)
+  {  // pair 120: ankle_act_lat_rod_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[120] = bound;
         far = true;
@@ -9231,9 +8961,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 150), at(P + 153), S(0.01)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[120] = best.lower_bound();
       } else {
@@ -9295,10 +9023,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 121: ankle_act_lat_rod_l (3 shapes) - knee_rod_r (3 shapes)
+  {  // pair 121: ankle_act_lat_rod_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[121] = bound;
         far = true;
@@ -9306,15 +9034,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[121] = best.lower_bound();
       } else {
@@ -9376,10 +9096,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 122: ankle_act_lat_rod_l (3 shapes) - shank_r (1 shapes)
+  {  // pair 122: ankle_act_lat_rod_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[122] = bound;
         far = true;
@@ -9387,9 +9107,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[122] = best.lower_bound();
       } else {
@@ -9451,10 +9169,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 123: ankle_act_lat_rod_l (3 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 123: ankle_act_lat_rod_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[123] = bound;
         far = true;
@@ -9462,15 +9180,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[123] = best.lower_bound();
       } else {
@@ -9532,10 +9242,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 124: ankle_act_lat_rod_l (3 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 124: ankle_act_lat_rod_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[124] = bound;
         far = true;
@@ -9543,15 +9253,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[124] = best.lower_bound();
       } else {
@@ -9613,10 +9315,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 125: ankle_act_lat_rod_l (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 125: ankle_act_lat_rod_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[125] = bound;
         far = true;
@@ -9624,15 +9326,7 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[125] = best.lower_bound();
       } else {
@@ -9694,15 +9388,10 @@ MBGEN_GENERATED_NOINLINE void pairs_120_to_125(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 126 to 133 of distances_impl (45 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 126: ankle_act_lat_rod_l (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 126: ankle_act_lat_rod_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[126] = bound;
         far = true;
@@ -9710,15 +9399,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 180), at(P + 183), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 192), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 198), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[126] = best.lower_bound();
       } else {
@@ -9780,10 +9461,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 127: ankle_act_lat_rod_l (3 shapes) - foot_body_r (2 shapes)
+  {  // pair 127: ankle_act_lat_rod_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[127] = bound;
         far = true;
@@ -9791,12 +9472,8 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 192), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (best.worth(at(P + 198), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
+      if (best.worth(at(P + 156), S(0.06999999999999999), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 156), S(0.06999999999999999), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[127] = best.lower_bound();
       } else {
@@ -9858,10 +9535,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 128: ankle_act_lat_rod_l (3 shapes) - toe_link_r (1 shapes)
+  {  // pair 128: ankle_act_lat_rod_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 201), S(0.07), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 159), S(0.07), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[128] = bound;
         far = true;
@@ -9869,9 +9546,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 186), S(0.06999999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 180), at(P + 183), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 192), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 189), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (best.worth(at(P + 198), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 195), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 150), at(P + 153), S(0.01)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[128] = best.lower_bound();
       } else {
@@ -9933,10 +9608,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 129: ankle_act_med_housing_l (3 shapes) - thigh_r (1 shapes)
+  {  // pair 129: ankle_act_med_housing_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[129] = bound;
         far = true;
@@ -9944,9 +9619,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[129] = best.lower_bound();
       } else {
@@ -10008,10 +9681,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 130: ankle_act_med_housing_l (3 shapes) - knee_nut_r (1 shapes)
+  {  // pair 130: ankle_act_med_housing_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[130] = bound;
         far = true;
@@ -10019,9 +9692,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 162), at(P + 165), S(0.025)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[130] = best.lower_bound();
       } else {
@@ -10083,10 +9754,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 131: ankle_act_med_housing_l (3 shapes) - knee_rod_r (3 shapes)
+  {  // pair 131: ankle_act_med_housing_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[131] = bound;
         far = true;
@@ -10094,15 +9765,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 216), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (best.worth(at(P + 222), S(0.025), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[131] = best.lower_bound();
       } else {
@@ -10164,10 +9827,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 132: ankle_act_med_housing_l (3 shapes) - shank_r (1 shapes)
+  {  // pair 132: ankle_act_med_housing_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[132] = bound;
         far = true;
@@ -10175,9 +9838,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[132] = best.lower_bound();
       } else {
@@ -10239,10 +9900,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 133: ankle_act_med_housing_l (3 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 133: ankle_act_med_housing_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[133] = bound;
         far = true;
@@ -10250,15 +9911,7 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 216), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 222), S(0.025), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[133] = best.lower_bound();
       } else {
@@ -10320,15 +9973,10 @@ MBGEN_GENERATED_NOINLINE void pairs_126_to_133(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 134 to 140 of distances_impl (42 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 134: ankle_act_med_housing_l (3 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 134: ankle_act_med_housing_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[134] = bound;
         far = true;
@@ -10336,15 +9984,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 216), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 222), S(0.025), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[134] = best.lower_bound();
       } else {
@@ -10406,10 +10046,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 135: ankle_act_med_housing_l (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 135: ankle_act_med_housing_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[135] = bound;
         far = true;
@@ -10417,15 +10057,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 216), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 222), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[135] = best.lower_bound();
       } else {
@@ -10487,10 +10119,15 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 136: ankle_act_med_housing_l (3 shapes) - ankle_act_med_rod_r (3 shapes)
+}
+
+// Pairs 136 to 168 of distances_impl (48 SSV calls).
+template <typename S, bool compact>
+MBGEN_GENERATED_NOINLINE void pairs_136_to_168(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+  {  // pair 136: ankle_act_med_housing_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[136] = bound;
         far = true;
@@ -10498,15 +10135,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 204), at(P + 207), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 216), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 222), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[136] = best.lower_bound();
       } else {
@@ -10568,10 +10197,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 137: ankle_act_med_housing_l (3 shapes) - foot_body_r (2 shapes)
+  {  // pair 137: ankle_act_med_housing_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[137] = bound;
         far = true;
@@ -10579,12 +10208,8 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 216), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (best.worth(at(P + 222), S(0.025), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
+      if (best.worth(at(P + 168), S(0.11499999999999999), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 168), S(0.11499999999999999), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[137] = best.lower_bound();
       } else {
@@ -10646,10 +10271,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 138: ankle_act_med_housing_l (3 shapes) - toe_link_r (1 shapes)
+  {  // pair 138: ankle_act_med_housing_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 225), S(0.11500000000000002), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 171), S(0.11499999999999999), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[138] = bound;
         far = true;
@@ -10657,9 +10282,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 210), S(0.11499999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 204), at(P + 207), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 216), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 213), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (best.worth(at(P + 222), S(0.025), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 219), S(0.025)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 162), at(P + 165), S(0.025)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[138] = best.lower_bound();
       } else {
@@ -10721,10 +10344,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 139: ankle_act_med_rod_l (3 shapes) - thigh_r (1 shapes)
+  {  // pair 139: ankle_act_med_rod_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[139] = bound;
         far = true;
@@ -10732,9 +10355,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 309), S(0.225))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[139] = best.lower_bound();
       } else {
@@ -10796,10 +10417,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 140: ankle_act_med_rod_l (3 shapes) - knee_nut_r (1 shapes)
+  {  // pair 140: ankle_act_med_rod_l (1 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[140] = bound;
         far = true;
@@ -10807,9 +10428,7 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 318), S(0.03))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 315), S(0.03)}), 2, 0);
+      best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 174), at(P + 177), S(0.01)})), 0, 0);
       if (compact && !best.within_limit()) {
         distance[140] = best.lower_bound();
       } else {
@@ -10871,15 +10490,10 @@ MBGEN_GENERATED_NOINLINE void pairs_134_to_140(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 141 to 146 of distances_impl (48 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 141: ankle_act_med_rod_l (3 shapes) - knee_rod_r (3 shapes)
+  {  // pair 141: ankle_act_med_rod_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[141] = bound;
         far = true;
@@ -10887,15 +10501,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 240), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 1, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 1, 2);
-      if (best.worth(at(P + 246), S(0.01), at(P + 330), S(0.102))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 336), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 333), S(0.012)}), 2, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 342), S(0.012))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 339), S(0.012)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[141] = best.lower_bound();
       } else {
@@ -10957,10 +10563,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 142: ankle_act_med_rod_l (3 shapes) - shank_r (1 shapes)
+  {  // pair 142: ankle_act_med_rod_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[142] = bound;
         far = true;
@@ -10968,9 +10574,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 354), S(0.24))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[142] = best.lower_bound();
       } else {
@@ -11032,10 +10636,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 143: ankle_act_med_rod_l (3 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 143: ankle_act_med_rod_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[143] = bound;
         far = true;
@@ -11043,15 +10647,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 240), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 246), S(0.01), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 369), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 375), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[143] = best.lower_bound();
       } else {
@@ -11113,10 +10709,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 144: ankle_act_med_rod_l (3 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 144: ankle_act_med_rod_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[144] = bound;
         far = true;
@@ -11124,15 +10720,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 240), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 246), S(0.01), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 396), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 393), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 402), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 399), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[144] = best.lower_bound();
       } else {
@@ -11194,10 +10782,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 145: ankle_act_med_rod_l (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 145: ankle_act_med_rod_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[145] = bound;
         far = true;
@@ -11205,15 +10793,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 240), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 246), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[145] = best.lower_bound();
       } else {
@@ -11275,10 +10855,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 146: ankle_act_med_rod_l (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 146: ankle_act_med_rod_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[146] = bound;
         far = true;
@@ -11286,15 +10866,7 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 228), at(P + 231), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 240), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 246), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[146] = best.lower_bound();
       } else {
@@ -11356,15 +10928,10 @@ MBGEN_GENERATED_NOINLINE void pairs_141_to_146(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 147 to 156 of distances_impl (45 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 147: ankle_act_med_rod_l (3 shapes) - foot_body_r (2 shapes)
+  {  // pair 147: ankle_act_med_rod_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[147] = bound;
         far = true;
@@ -11372,12 +10939,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 240), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
-      if (best.worth(at(P + 246), S(0.01), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 2, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 2, 1);
+      if (best.worth(at(P + 180), S(0.06999999999999999), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 180), S(0.06999999999999999), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[147] = best.lower_bound();
       } else {
@@ -11439,10 +11002,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 148: ankle_act_med_rod_l (3 shapes) - toe_link_r (1 shapes)
+  {  // pair 148: ankle_act_med_rod_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 249), S(0.07), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 183), S(0.07), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[148] = bound;
         far = true;
@@ -11450,9 +11013,7 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 234), S(0.06999999999999999), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 228), at(P + 231), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 240), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 237), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
-      if (best.worth(at(P + 246), S(0.01), at(P + 483), S(0.05))) best.take(ssv_distance(PointSsv<S>{at(P + 243), S(0.01)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 2, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 174), at(P + 177), S(0.01)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[148] = best.lower_bound();
       } else {
@@ -11517,7 +11078,7 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
   {  // pair 149: foot_body_l (2 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[149] = bound;
         far = true;
@@ -11525,8 +11086,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 309), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 1, 0);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 243), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 243), S(0.225))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[149] = best.lower_bound();
       } else {
@@ -11591,7 +11152,7 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
   {  // pair 150: foot_body_l (2 shapes) - knee_nut_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 321), S(0.03));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 255), S(0.03));
       if (bound >= threshold) {
         distance[150] = bound;
         far = true;
@@ -11599,8 +11160,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 318), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 0);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 252), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 186), at(P + 189), S(0.03)})), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 252), S(0.03))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 195), at(P + 198), S(0.03)})), 1, 0);
       if (compact && !best.within_limit()) {
         distance[150] = best.lower_bound();
       } else {
@@ -11662,10 +11223,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 151: foot_body_l (2 shapes) - knee_rod_r (3 shapes)
+  {  // pair 151: foot_body_l (2 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[151] = bound;
         far = true;
@@ -11673,12 +11234,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 264), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 264), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[151] = best.lower_bound();
       } else {
@@ -11743,7 +11300,7 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
   {  // pair 152: foot_body_l (2 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[152] = bound;
         far = true;
@@ -11751,8 +11308,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 354), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 1, 0);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 276), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 276), S(0.24))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[152] = best.lower_bound();
       } else {
@@ -11814,10 +11371,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 153: foot_body_l (2 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 153: foot_body_l (2 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[153] = bound;
         far = true;
@@ -11825,12 +11382,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 288), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[153] = best.lower_bound();
       } else {
@@ -11892,10 +11445,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 154: foot_body_l (2 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 154: foot_body_l (2 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[154] = bound;
         far = true;
@@ -11903,12 +11456,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 300), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 300), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[154] = best.lower_bound();
       } else {
@@ -11970,10 +11519,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 155: foot_body_l (2 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 155: foot_body_l (2 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[155] = bound;
         far = true;
@@ -11981,12 +11530,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 312), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[155] = best.lower_bound();
       } else {
@@ -12048,10 +11593,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 156: foot_body_l (2 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 156: foot_body_l (2 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[156] = bound;
         far = true;
@@ -12059,12 +11604,8 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 1);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 252), at(P + 255), S(0.03)})), 0, 2);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 261), at(P + 264), S(0.03)})), 1, 2);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 324), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[156] = best.lower_bound();
       } else {
@@ -12126,15 +11667,10 @@ MBGEN_GENERATED_NOINLINE void pairs_147_to_156(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 157 to 173 of distances_impl (40 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
   {  // pair 157: foot_body_l (2 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[157] = bound;
         far = true;
@@ -12142,10 +11678,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 1, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 1, 1);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 1, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 1, 1);
       if (compact && !best.within_limit()) {
         distance[157] = best.lower_bound();
       } else {
@@ -12210,7 +11746,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 158: foot_body_l (2 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 270), S(0.135), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 204), S(0.135), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[158] = bound;
         far = true;
@@ -12218,8 +11754,8 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 258), S(0.10500000000000001), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 252), at(P + 255), S(0.03)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
-      if (best.worth(at(P + 267), S(0.10500000000000001), at(P + 483), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 261), at(P + 264), S(0.03)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 1, 0);
+      if (best.worth(at(P + 192), S(0.10500000000000001), at(P + 357), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 186), at(P + 189), S(0.03)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
+      if (best.worth(at(P + 201), S(0.10500000000000001), at(P + 357), S(0.05))) best.take(ssv_distance(LineSsv<S>{at(P + 195), at(P + 198), S(0.03)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 1, 0);
       if (compact && !best.within_limit()) {
         distance[158] = best.lower_bound();
       } else {
@@ -12284,7 +11820,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 159: toe_link_l (1 shapes) - thigh_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 312), S(0.225));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 246), S(0.225));
       if (bound >= threshold) {
         distance[159] = bound;
         far = true;
@@ -12292,7 +11828,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[159] = best.lower_bound();
       } else {
@@ -12354,10 +11890,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 160: toe_link_l (1 shapes) - knee_rod_r (3 shapes)
+  {  // pair 160: toe_link_l (1 shapes) - knee_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 345), S(0.102));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 267), S(0.102));
       if (bound >= threshold) {
         distance[160] = bound;
         far = true;
@@ -12365,9 +11901,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 330), S(0.102))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 324), at(P + 327), S(0.012)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 336), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 333), S(0.012)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
-      if (best.worth(at(P + 279), S(0.05), at(P + 342), S(0.012))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 339), S(0.012)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 258), at(P + 261), S(0.012)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[160] = best.lower_bound();
       } else {
@@ -12432,7 +11966,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 161: toe_link_l (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[161] = bound;
         far = true;
@@ -12440,7 +11974,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[161] = best.lower_bound();
       } else {
@@ -12502,10 +12036,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 162: toe_link_l (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 162: toe_link_l (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[162] = bound;
         far = true;
@@ -12513,9 +12047,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
-      if (best.worth(at(P + 279), S(0.05), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[162] = best.lower_bound();
       } else {
@@ -12577,10 +12109,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 163: toe_link_l (1 shapes) - ankle_act_lat_rod_r (3 shapes)
+  {  // pair 163: toe_link_l (1 shapes) - ankle_act_lat_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 405), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 303), S(0.07));
       if (bound >= threshold) {
         distance[163] = bound;
         far = true;
@@ -12588,9 +12120,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 390), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 396), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
-      if (best.worth(at(P + 279), S(0.05), at(P + 402), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[163] = best.lower_bound();
       } else {
@@ -12652,10 +12182,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 164: toe_link_l (1 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 164: toe_link_l (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[164] = bound;
         far = true;
@@ -12663,9 +12193,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
-      if (best.worth(at(P + 279), S(0.05), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[164] = best.lower_bound();
       } else {
@@ -12727,10 +12255,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 165: toe_link_l (1 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 165: toe_link_l (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[165] = bound;
         far = true;
@@ -12738,9 +12266,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 1);
-      if (best.worth(at(P + 279), S(0.05), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 273), at(P + 276), S(0.02)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[165] = best.lower_bound();
       } else {
@@ -12805,7 +12331,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 166: toe_link_l (1 shapes) - foot_body_r (2 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 474), S(0.135));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 348), S(0.135));
       if (bound >= threshold) {
         distance[166] = bound;
         far = true;
@@ -12813,8 +12339,8 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 279), S(0.05), at(P + 462), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 456), at(P + 459), S(0.03)}), 0, 0);
-      if (best.worth(at(P + 279), S(0.05), at(P + 471), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 465), at(P + 468), S(0.03)}), 0, 1);
+      if (best.worth(at(P + 213), S(0.05), at(P + 336), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 330), at(P + 333), S(0.03)}), 0, 0);
+      if (best.worth(at(P + 213), S(0.05), at(P + 345), S(0.10500000000000001))) best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 339), at(P + 342), S(0.03)}), 0, 1);
       if (compact && !best.within_limit()) {
         distance[166] = best.lower_bound();
       } else {
@@ -12879,7 +12405,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 167: toe_link_l (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 282), S(0.05), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 216), S(0.05), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[167] = bound;
         far = true;
@@ -12887,7 +12413,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 273), at(P + 276), S(0.02)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 207), at(P + 210), S(0.02)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[167] = best.lower_bound();
       } else {
@@ -12949,10 +12475,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 168: thigh_r (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 168: thigh_r (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 312), S(0.225), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 246), S(0.225), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[168] = bound;
         far = true;
@@ -12960,9 +12486,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 309), S(0.225), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 309), S(0.225), at(P + 372), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 309), S(0.225), at(P + 378), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[168] = best.lower_bound();
       } else {
@@ -13024,10 +12548,15 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 169: thigh_r (1 shapes) - ankle_act_med_housing_r (3 shapes)
+}
+
+// Pairs 169 to 177 of distances_impl (9 SSV calls).
+template <typename S, bool compact>
+MBGEN_GENERATED_NOINLINE void pairs_169_to_177(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
+  {  // pair 169: thigh_r (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 312), S(0.225), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 246), S(0.225), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[169] = bound;
         far = true;
@@ -13035,9 +12564,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 309), S(0.225), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 303), at(P + 306), S(0.065)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 309), S(0.225), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 1);
-      if (best.worth(at(P + 309), S(0.225), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 303), at(P + 306), S(0.065)})), 0, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 237), at(P + 240), S(0.065)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[169] = best.lower_bound();
       } else {
@@ -13102,7 +12629,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 170: knee_nut_r (1 shapes) - shank_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 321), S(0.03), at(P + 357), S(0.24000000000000002));
+      const S bound = sphere_lower_bound(at(P + 255), S(0.03), at(P + 279), S(0.24000000000000002));
       if (bound >= threshold) {
         distance[170] = bound;
         far = true;
@@ -13110,7 +12637,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}), 0, 0);
+      best.take(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[170] = best.lower_bound();
       } else {
@@ -13172,10 +12699,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 171: knee_nut_r (1 shapes) - ankle_act_lat_housing_r (3 shapes)
+  {  // pair 171: knee_nut_r (1 shapes) - ankle_act_lat_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 321), S(0.03), at(P + 381), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 255), S(0.03), at(P + 291), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[171] = bound;
         far = true;
@@ -13183,9 +12710,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 318), S(0.03), at(P + 366), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 318), S(0.03), at(P + 372), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 369), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 318), S(0.03), at(P + 378), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 375), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[171] = best.lower_bound();
       } else {
@@ -13247,10 +12772,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 172: knee_nut_r (1 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 172: knee_nut_r (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 321), S(0.03), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 255), S(0.03), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[172] = bound;
         far = true;
@@ -13258,9 +12783,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 318), S(0.03), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 318), S(0.03), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 417), S(0.025)}), 0, 1);
-      if (best.worth(at(P + 318), S(0.03), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 315), S(0.03)}, PointSsv<S>{at(P + 423), S(0.025)}), 0, 2);
+      best.take(ssv_distance(PointSsv<S>{at(P + 249), S(0.03)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[172] = best.lower_bound();
       } else {
@@ -13325,7 +12848,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
   {  // pair 173: shank_r (1 shapes) - toe_link_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 357), S(0.24000000000000002), at(P + 486), S(0.05));
+      const S bound = sphere_lower_bound(at(P + 279), S(0.24000000000000002), at(P + 360), S(0.05));
       if (bound >= threshold) {
         distance[173] = bound;
         far = true;
@@ -13333,7 +12856,7 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      best.take(ssv_distance(LineSsv<S>{at(P + 348), at(P + 351), S(0.075)}, LineSsv<S>{at(P + 477), at(P + 480), S(0.02)}), 0, 0);
+      best.take(ssv_distance(LineSsv<S>{at(P + 270), at(P + 273), S(0.075)}, LineSsv<S>{at(P + 351), at(P + 354), S(0.02)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[173] = best.lower_bound();
       } else {
@@ -13395,15 +12918,10 @@ MBGEN_GENERATED_NOINLINE void pairs_157_to_173(const S* P, const S* J, S thresho
       }
     }
   }
-}
-
-// Pairs 174 to 177 of distances_impl (36 SSV calls).
-template <typename S, bool compact>
-MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S threshold, S* distance, int* near, S* normal, S* witness, S* jacobian, int& m) {
-  {  // pair 174: ankle_act_lat_housing_r (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 174: ankle_act_lat_housing_r (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 381), S(0.11500000000000002), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 291), S(0.11499999999999999), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[174] = bound;
         far = true;
@@ -13411,15 +12929,7 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 372), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 372), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 372), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 378), S(0.025), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 378), S(0.025), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 378), S(0.025), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[174] = best.lower_bound();
       } else {
@@ -13481,10 +12991,10 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 175: ankle_act_lat_housing_r (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 175: ankle_act_lat_housing_r (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 381), S(0.11500000000000002), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 291), S(0.11499999999999999), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[175] = bound;
         far = true;
@@ -13492,15 +13002,7 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 360), at(P + 363), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 1);
-      if (best.worth(at(P + 366), S(0.11499999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 360), at(P + 363), S(0.025)})), 0, 2);
-      if (best.worth(at(P + 372), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 372), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 372), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 369), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 378), S(0.025), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 378), S(0.025), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 378), S(0.025), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 375), S(0.025)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 282), at(P + 285), S(0.025)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[175] = best.lower_bound();
       } else {
@@ -13562,10 +13064,10 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 176: ankle_act_lat_rod_r (3 shapes) - ankle_act_med_housing_r (3 shapes)
+  {  // pair 176: ankle_act_lat_rod_r (1 shapes) - ankle_act_med_housing_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 405), S(0.07), at(P + 429), S(0.11500000000000002));
+      const S bound = sphere_lower_bound(at(P + 303), S(0.07), at(P + 315), S(0.11499999999999999));
       if (bound >= threshold) {
         distance[176] = bound;
         far = true;
@@ -13573,15 +13075,7 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 0, 0);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 420), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 417), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 426), S(0.025))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 423), S(0.025)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 396), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 1, 0);
-      if (best.worth(at(P + 396), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 1, 1);
-      if (best.worth(at(P + 396), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 1, 2);
-      if (best.worth(at(P + 402), S(0.01), at(P + 414), S(0.11499999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 408), at(P + 411), S(0.025)}), 2, 0);
-      if (best.worth(at(P + 402), S(0.01), at(P + 420), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 417), S(0.025)}), 2, 1);
-      if (best.worth(at(P + 402), S(0.01), at(P + 426), S(0.025))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 423), S(0.025)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}, LineSsv<S>{at(P + 306), at(P + 309), S(0.025)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[176] = best.lower_bound();
       } else {
@@ -13643,10 +13137,10 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
       }
     }
   }
-  {  // pair 177: ankle_act_lat_rod_r (3 shapes) - ankle_act_med_rod_r (3 shapes)
+  {  // pair 177: ankle_act_lat_rod_r (1 shapes) - ankle_act_med_rod_r (1 shapes)
     bool far = false;
     if (compact) {
-      const S bound = sphere_lower_bound(at(P + 405), S(0.07), at(P + 453), S(0.07));
+      const S bound = sphere_lower_bound(at(P + 303), S(0.07), at(P + 327), S(0.07));
       if (bound >= threshold) {
         distance[177] = bound;
         far = true;
@@ -13654,15 +13148,7 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
     }
     if (!far) {
       ClosestShapes<S> best(compact, threshold);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(LineSsv<S>{at(P + 384), at(P + 387), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 0, 0);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 444), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 441), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 1);
-      if (best.worth(at(P + 390), S(0.06999999999999999), at(P + 450), S(0.01))) best.take(reversed(ssv_distance(PointSsv<S>{at(P + 447), S(0.01)}, LineSsv<S>{at(P + 384), at(P + 387), S(0.01)})), 0, 2);
-      if (best.worth(at(P + 396), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 1, 0);
-      if (best.worth(at(P + 396), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 1, 1);
-      if (best.worth(at(P + 396), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 393), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 1, 2);
-      if (best.worth(at(P + 402), S(0.01), at(P + 438), S(0.06999999999999999))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, LineSsv<S>{at(P + 432), at(P + 435), S(0.01)}), 2, 0);
-      if (best.worth(at(P + 402), S(0.01), at(P + 444), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 441), S(0.01)}), 2, 1);
-      if (best.worth(at(P + 402), S(0.01), at(P + 450), S(0.01))) best.take(ssv_distance(PointSsv<S>{at(P + 399), S(0.01)}, PointSsv<S>{at(P + 447), S(0.01)}), 2, 2);
+      best.take(ssv_distance(LineSsv<S>{at(P + 294), at(P + 297), S(0.01)}, LineSsv<S>{at(P + 318), at(P + 321), S(0.01)}), 0, 0);
       if (compact && !best.within_limit()) {
         distance[177] = best.lower_bound();
       } else {
@@ -13730,11 +13216,11 @@ MBGEN_GENERATED_NOINLINE void pairs_174_to_177(const S* P, const S* J, S thresho
 // closer than threshold get rows 0, 1, ... in order and their index in near; the others only
 // distance[k], a lower bound (the bounding spheres' distance when they are threshold apart, which
 // spares the SSV calls; else the exact distance).
-// Cost: straight-line placement and Jacobian columns: 2063 operations: 924 additions/subtractions, 1059 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 711 SSV distance calls (178 pairs; bounding spheres skip the rest).
+// Cost: straight-line placement and Jacobian columns: 1973 operations: 864 additions/subtractions, 1029 multiplications, 0 divisions, 12 negations, 68 sin/cos, 0 square roots; then at most 247 SSV distance calls (178 pairs; bounding spheres skip the rest).
 template <typename S, bool compact>
 void distances_impl(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* jacobian) {
   int m = 0;  // rows written: the near pairs so far (every pair when !compact)
-  S P[489];  // shapes' points placed in the world
+  S P[363];  // shapes' points placed in the world
   S J[276];  // world joint-Jacobian columns {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45}, 6 each
   const S _angle[36] = {q[7], q[8], q[9], q[10], q[11], q[12], q[13], q[14], q[15], q[16], q[17], q[18], q[19], q[21], q[22], q[23], q[24], q[26], q[27], q[29], q[30], q[31], q[32], q[33], q[34], q[36], q[37], q[38], q[39], q[41], q[42], q[44], q[45], q[46], S(0), S(0)};
   S _sin[36], _cos[36];
@@ -14954,90 +14440,54 @@ void distances_impl(const S* q, S threshold, S* distance, int* near, int* num_ne
   P[9] = _t1200;
   P[10] = _t1201;
   P[11] = _t1202;
+  P[39] = _t825;
+  P[40] = _t826;
+  P[41] = _t827;
   P[42] = _t825;
   P[43] = _t826;
   P[44] = _t827;
-  P[45] = _t825;
-  P[46] = _t826;
-  P[47] = _t827;
-  P[72] = _t831;
-  P[73] = _t832;
-  P[74] = _t833;
-  P[75] = _t831;
-  P[76] = _t832;
-  P[77] = _t833;
+  P[66] = _t831;
+  P[67] = _t832;
+  P[68] = _t833;
+  P[69] = _t831;
+  P[70] = _t832;
+  P[71] = _t833;
+  P[84] = _t306;
+  P[85] = _t307;
+  P[86] = _t308;
+  P[87] = _t306;
+  P[88] = _t307;
+  P[89] = _t308;
   P[90] = _t306;
   P[91] = _t307;
   P[92] = _t308;
-  P[93] = _t306;
-  P[94] = _t307;
-  P[95] = _t308;
-  P[96] = _t306;
-  P[97] = _t307;
-  P[98] = _t308;
+  P[105] = _t337;
+  P[106] = _t338;
+  P[107] = _t339;
+  P[108] = _t337;
+  P[109] = _t338;
+  P[110] = _t339;
   P[111] = _t337;
   P[112] = _t338;
   P[113] = _t339;
-  P[114] = _t337;
-  P[115] = _t338;
-  P[116] = _t339;
-  P[117] = _t337;
-  P[118] = _t338;
-  P[119] = _t339;
-  P[129] = _t337;
-  P[130] = _t338;
-  P[131] = _t339;
-  P[132] = _t337;
-  P[133] = _t338;
-  P[134] = _t339;
-  P[189] = _t431;
-  P[190] = _t432;
-  P[191] = _t433;
-  P[192] = _t431;
-  P[193] = _t432;
-  P[194] = _t433;
-  P[237] = _t477;
-  P[238] = _t478;
-  P[239] = _t479;
-  P[240] = _t477;
-  P[241] = _t478;
-  P[242] = _t479;
-  P[294] = _t585;
-  P[295] = _t586;
-  P[296] = _t587;
-  P[297] = _t585;
-  P[298] = _t586;
-  P[299] = _t587;
-  P[300] = _t585;
-  P[301] = _t586;
-  P[302] = _t587;
-  P[315] = _t616;
-  P[316] = _t617;
-  P[317] = _t618;
-  P[318] = _t616;
-  P[319] = _t617;
-  P[320] = _t618;
-  P[321] = _t616;
-  P[322] = _t617;
-  P[323] = _t618;
-  P[333] = _t616;
-  P[334] = _t617;
-  P[335] = _t618;
-  P[336] = _t616;
-  P[337] = _t617;
-  P[338] = _t618;
-  P[393] = _t710;
-  P[394] = _t711;
-  P[395] = _t712;
-  P[396] = _t710;
-  P[397] = _t711;
-  P[398] = _t712;
-  P[441] = _t756;
-  P[442] = _t757;
-  P[443] = _t758;
-  P[444] = _t756;
-  P[445] = _t757;
-  P[446] = _t758;
+  P[228] = _t585;
+  P[229] = _t586;
+  P[230] = _t587;
+  P[231] = _t585;
+  P[232] = _t586;
+  P[233] = _t587;
+  P[234] = _t585;
+  P[235] = _t586;
+  P[236] = _t587;
+  P[249] = _t616;
+  P[250] = _t617;
+  P[251] = _t618;
+  P[252] = _t616;
+  P[253] = _t617;
+  P[254] = _t618;
+  P[255] = _t616;
+  P[256] = _t617;
+  P[257] = _t618;
   J[0] = _t11;
   J[1] = _t17;
   J[2] = _t24;
@@ -15365,1156 +14815,966 @@ void distances_impl(const S* q, S threshold, S* distance, int* near, int* num_ne
   P[25] = _t1237;
   const S _t1238 = _t179 + _t1235;
   P[26] = _t1238;
-  const S _t1239 = _t167 * S(-0.15);
-  const S _t1240 = _t170 * S(-0.15);
-  const S _t1241 = _t173 * S(-0.15);
+  const S _t1239 = _t167 * S(-0.15000000000000002);
+  const S _t1240 = _t170 * S(-0.15000000000000002);
+  const S _t1241 = _t173 * S(-0.15000000000000002);
   const S _t1242 = _t177 + _t1239;
   P[27] = _t1242;
   const S _t1243 = _t178 + _t1240;
   P[28] = _t1243;
   const S _t1244 = _t179 + _t1241;
   P[29] = _t1244;
-  const S _t1245 = _t167 * S(-0.15000000000000002);
-  const S _t1246 = _t170 * S(-0.15000000000000002);
-  const S _t1247 = _t173 * S(-0.15000000000000002);
-  const S _t1248 = _t177 + _t1245;
+  const S _t1245 = _t182 * S(-0.03);
+  const S _t1246 = _t185 * S(-0.03);
+  const S _t1247 = _t188 * S(-0.03);
+  const S _t1248 = _t192 + _t1245;
   P[30] = _t1248;
-  const S _t1249 = _t178 + _t1246;
+  const S _t1249 = _t193 + _t1246;
   P[31] = _t1249;
-  const S _t1250 = _t179 + _t1247;
+  const S _t1250 = _t194 + _t1247;
   P[32] = _t1250;
-  const S _t1251 = _t182 * S(-0.03);
-  const S _t1252 = _t185 * S(-0.03);
-  const S _t1253 = _t188 * S(-0.03);
+  const S _t1251 = _t182 * S(-0.22);
+  const S _t1252 = _t185 * S(-0.22);
+  const S _t1253 = _t188 * S(-0.22);
   const S _t1254 = _t192 + _t1251;
   P[33] = _t1254;
   const S _t1255 = _t193 + _t1252;
   P[34] = _t1255;
   const S _t1256 = _t194 + _t1253;
   P[35] = _t1256;
-  const S _t1257 = _t182 * S(-0.22);
-  const S _t1258 = _t185 * S(-0.22);
-  const S _t1259 = _t188 * S(-0.22);
+  const S _t1257 = _t182 * S(-0.125);
+  const S _t1258 = _t185 * S(-0.125);
+  const S _t1259 = _t188 * S(-0.125);
   const S _t1260 = _t192 + _t1257;
   P[36] = _t1260;
   const S _t1261 = _t193 + _t1258;
   P[37] = _t1261;
   const S _t1262 = _t194 + _t1259;
   P[38] = _t1262;
-  const S _t1263 = _t182 * S(-0.125);
-  const S _t1264 = _t185 * S(-0.125);
-  const S _t1265 = _t188 * S(-0.125);
+  const S _t1263 = _t182 * S(-0.155);
+  const S _t1264 = _t185 * S(-0.155);
+  const S _t1265 = _t188 * S(-0.155);
   const S _t1266 = _t192 + _t1263;
-  P[39] = _t1266;
+  P[45] = _t1266;
   const S _t1267 = _t193 + _t1264;
-  P[40] = _t1267;
+  P[46] = _t1267;
   const S _t1268 = _t194 + _t1265;
-  P[41] = _t1268;
-  const S _t1269 = _t182 * S(-0.155);
-  const S _t1270 = _t185 * S(-0.155);
-  const S _t1271 = _t188 * S(-0.155);
-  const S _t1272 = _t192 + _t1269;
+  P[47] = _t1268;
+  const S _t1269 = _t233 * S(-0.04);
+  const S _t1270 = _t236 * S(-0.04);
+  const S _t1271 = _t239 * S(-0.04);
+  const S _t1272 = _t243 + _t1269;
   P[48] = _t1272;
-  const S _t1273 = _t193 + _t1270;
+  const S _t1273 = _t244 + _t1270;
   P[49] = _t1273;
-  const S _t1274 = _t194 + _t1271;
+  const S _t1274 = _t245 + _t1271;
   P[50] = _t1274;
-  const S _t1275 = _t233 * S(-0.04);
-  const S _t1276 = _t236 * S(-0.04);
-  const S _t1277 = _t239 * S(-0.04);
+  const S _t1275 = _t233 * S(-0.26);
+  const S _t1276 = _t236 * S(-0.26);
+  const S _t1277 = _t239 * S(-0.26);
   const S _t1278 = _t243 + _t1275;
   P[51] = _t1278;
   const S _t1279 = _t244 + _t1276;
   P[52] = _t1279;
   const S _t1280 = _t245 + _t1277;
   P[53] = _t1280;
-  const S _t1281 = _t233 * S(-0.26);
-  const S _t1282 = _t236 * S(-0.26);
-  const S _t1283 = _t239 * S(-0.26);
+  const S _t1281 = _t233 * S(-0.15000000000000002);
+  const S _t1282 = _t236 * S(-0.15000000000000002);
+  const S _t1283 = _t239 * S(-0.15000000000000002);
   const S _t1284 = _t243 + _t1281;
   P[54] = _t1284;
   const S _t1285 = _t244 + _t1282;
   P[55] = _t1285;
   const S _t1286 = _t245 + _t1283;
   P[56] = _t1286;
-  const S _t1287 = _t233 * S(-0.15);
-  const S _t1288 = _t236 * S(-0.15);
-  const S _t1289 = _t239 * S(-0.15);
-  const S _t1290 = _t243 + _t1287;
+  const S _t1287 = _t248 * S(-0.03);
+  const S _t1288 = _t251 * S(-0.03);
+  const S _t1289 = _t254 * S(-0.03);
+  const S _t1290 = _t258 + _t1287;
   P[57] = _t1290;
-  const S _t1291 = _t244 + _t1288;
+  const S _t1291 = _t259 + _t1288;
   P[58] = _t1291;
-  const S _t1292 = _t245 + _t1289;
+  const S _t1292 = _t260 + _t1289;
   P[59] = _t1292;
-  const S _t1293 = _t233 * S(-0.15000000000000002);
-  const S _t1294 = _t236 * S(-0.15000000000000002);
-  const S _t1295 = _t239 * S(-0.15000000000000002);
-  const S _t1296 = _t243 + _t1293;
+  const S _t1293 = _t248 * S(-0.22);
+  const S _t1294 = _t251 * S(-0.22);
+  const S _t1295 = _t254 * S(-0.22);
+  const S _t1296 = _t258 + _t1293;
   P[60] = _t1296;
-  const S _t1297 = _t244 + _t1294;
+  const S _t1297 = _t259 + _t1294;
   P[61] = _t1297;
-  const S _t1298 = _t245 + _t1295;
+  const S _t1298 = _t260 + _t1295;
   P[62] = _t1298;
-  const S _t1299 = _t248 * S(-0.03);
-  const S _t1300 = _t251 * S(-0.03);
-  const S _t1301 = _t254 * S(-0.03);
+  const S _t1299 = _t248 * S(-0.125);
+  const S _t1300 = _t251 * S(-0.125);
+  const S _t1301 = _t254 * S(-0.125);
   const S _t1302 = _t258 + _t1299;
   P[63] = _t1302;
   const S _t1303 = _t259 + _t1300;
   P[64] = _t1303;
   const S _t1304 = _t260 + _t1301;
   P[65] = _t1304;
-  const S _t1305 = _t248 * S(-0.22);
-  const S _t1306 = _t251 * S(-0.22);
-  const S _t1307 = _t254 * S(-0.22);
+  const S _t1305 = _t248 * S(-0.155);
+  const S _t1306 = _t251 * S(-0.155);
+  const S _t1307 = _t254 * S(-0.155);
   const S _t1308 = _t258 + _t1305;
-  P[66] = _t1308;
+  P[72] = _t1308;
   const S _t1309 = _t259 + _t1306;
-  P[67] = _t1309;
+  P[73] = _t1309;
   const S _t1310 = _t260 + _t1307;
-  P[68] = _t1310;
-  const S _t1311 = _t248 * S(-0.125);
-  const S _t1312 = _t251 * S(-0.125);
-  const S _t1313 = _t254 * S(-0.125);
-  const S _t1314 = _t258 + _t1311;
-  P[69] = _t1314;
-  const S _t1315 = _t259 + _t1312;
-  P[70] = _t1315;
-  const S _t1316 = _t260 + _t1313;
-  P[71] = _t1316;
-  const S _t1317 = _t248 * S(-0.155);
-  const S _t1318 = _t251 * S(-0.155);
-  const S _t1319 = _t254 * S(-0.155);
-  const S _t1320 = _t258 + _t1317;
-  P[78] = _t1320;
-  const S _t1321 = _t259 + _t1318;
-  P[79] = _t1321;
-  const S _t1322 = _t260 + _t1319;
-  P[80] = _t1322;
-  const S _t1323 = _t15 * S(-0.04);
-  const S _t1324 = _t22 * S(-0.04);
-  const S _t1325 = _t29 * S(-0.04);
-  const S _t1326 = _t282 + _t1323;
-  P[81] = _t1326;
-  P[84] = _t1326;
-  const S _t1327 = _t283 + _t1324;
-  P[82] = _t1327;
-  P[85] = _t1327;
-  const S _t1328 = _t284 + _t1325;
-  P[83] = _t1328;
-  P[86] = _t1328;
-  const S _t1329 = _t15 * S(-0.04000000000000001);
-  const S _t1330 = _t22 * S(-0.04000000000000001);
-  const S _t1331 = _t29 * S(-0.04000000000000001);
-  const S _t1332 = _t282 + _t1329;
-  P[87] = _t1332;
-  const S _t1333 = _t283 + _t1330;
-  P[88] = _t1333;
-  const S _t1334 = _t284 + _t1331;
-  P[89] = _t1334;
-  const S _t1335 = _t320 * S(-0.06);
-  const S _t1336 = _t323 * S(-0.06);
-  const S _t1337 = _t326 * S(-0.06);
+  P[74] = _t1310;
+  const S _t1311 = _t15 * S(-0.04);
+  const S _t1312 = _t22 * S(-0.04);
+  const S _t1313 = _t29 * S(-0.04);
+  const S _t1314 = _t282 + _t1311;
+  P[75] = _t1314;
+  P[78] = _t1314;
+  const S _t1315 = _t283 + _t1312;
+  P[76] = _t1315;
+  P[79] = _t1315;
+  const S _t1316 = _t284 + _t1313;
+  P[77] = _t1316;
+  P[80] = _t1316;
+  const S _t1317 = _t15 * S(-0.04000000000000001);
+  const S _t1318 = _t22 * S(-0.04000000000000001);
+  const S _t1319 = _t29 * S(-0.04000000000000001);
+  const S _t1320 = _t282 + _t1317;
+  P[81] = _t1320;
+  const S _t1321 = _t283 + _t1318;
+  P[82] = _t1321;
+  const S _t1322 = _t284 + _t1319;
+  P[83] = _t1322;
+  const S _t1323 = _t320 * S(-0.06);
+  const S _t1324 = _t323 * S(-0.06);
+  const S _t1325 = _t326 * S(-0.06);
+  const S _t1326 = _t306 + _t1323;
+  P[93] = _t1326;
+  const S _t1327 = _t307 + _t1324;
+  P[94] = _t1327;
+  const S _t1328 = _t308 + _t1325;
+  P[95] = _t1328;
+  const S _t1329 = _t320 * S(-0.38);
+  const S _t1330 = _t323 * S(-0.38);
+  const S _t1331 = _t326 * S(-0.38);
+  const S _t1332 = _t306 + _t1329;
+  P[96] = _t1332;
+  const S _t1333 = _t307 + _t1330;
+  P[97] = _t1333;
+  const S _t1334 = _t308 + _t1331;
+  P[98] = _t1334;
+  const S _t1335 = _t320 * S(-0.22);
+  const S _t1336 = _t323 * S(-0.22);
+  const S _t1337 = _t326 * S(-0.22);
   const S _t1338 = _t306 + _t1335;
   P[99] = _t1338;
+  P[102] = _t1338;
   const S _t1339 = _t307 + _t1336;
   P[100] = _t1339;
+  P[103] = _t1339;
   const S _t1340 = _t308 + _t1337;
   P[101] = _t1340;
-  const S _t1341 = _t320 * S(-0.38);
-  const S _t1342 = _t323 * S(-0.38);
-  const S _t1343 = _t326 * S(-0.38);
-  const S _t1344 = _t306 + _t1341;
-  P[102] = _t1344;
-  const S _t1345 = _t307 + _t1342;
-  P[103] = _t1345;
-  const S _t1346 = _t308 + _t1343;
-  P[104] = _t1346;
-  const S _t1347 = _t320 * S(-0.22);
-  const S _t1348 = _t323 * S(-0.22);
-  const S _t1349 = _t326 * S(-0.22);
-  const S _t1350 = _t306 + _t1347;
-  P[105] = _t1350;
-  P[108] = _t1350;
-  const S _t1351 = _t307 + _t1348;
-  P[106] = _t1351;
-  P[109] = _t1351;
-  const S _t1352 = _t308 + _t1349;
-  P[107] = _t1352;
-  P[110] = _t1352;
-  const S _t1353 = _t342 * S(1.86140796399193e-14);
-  const S _t1354 = _t345 * S(1.86140796399193e-14);
-  const S _t1355 = _t348 * S(1.86140796399193e-14);
-  const S _t1356 = _t337 + _t1353;
-  P[120] = _t1356;
-  const S _t1357 = _t338 + _t1354;
-  P[121] = _t1357;
+  P[104] = _t1340;
+  const S _t1341 = _t342 * S(1.86140796399193e-14);
+  const S _t1342 = _t345 * S(1.86140796399193e-14);
+  const S _t1343 = _t348 * S(1.86140796399193e-14);
+  const S _t1344 = _t337 + _t1341;
+  P[114] = _t1344;
+  const S _t1345 = _t338 + _t1342;
+  P[115] = _t1345;
+  const S _t1346 = _t339 + _t1343;
+  P[116] = _t1346;
+  const S _t1347 = _t351 * S(-0.18);
+  const S _t1348 = _t342 * S(-1.86140796399193e-14);
+  const S _t1349 = _t1347 + _t1348;
+  const S _t1350 = _t354 * S(-0.18);
+  const S _t1351 = _t345 * S(-1.86140796399193e-14);
+  const S _t1352 = _t1350 + _t1351;
+  const S _t1353 = _t357 * S(-0.18);
+  const S _t1354 = _t348 * S(-1.86140796399193e-14);
+  const S _t1355 = _t1353 + _t1354;
+  const S _t1356 = _t337 + _t1349;
+  P[117] = _t1356;
+  const S _t1357 = _t338 + _t1352;
+  P[118] = _t1357;
   const S _t1358 = _t339 + _t1355;
-  P[122] = _t1358;
-  const S _t1359 = _t351 * S(-0.18);
-  const S _t1360 = _t342 * S(-1.86140796399193e-14);
-  const S _t1361 = _t1359 + _t1360;
-  const S _t1362 = _t354 * S(-0.18);
-  const S _t1363 = _t345 * S(-1.86140796399193e-14);
-  const S _t1364 = _t1362 + _t1363;
-  const S _t1365 = _t357 * S(-0.18);
-  const S _t1366 = _t348 * S(-1.86140796399193e-14);
+  P[119] = _t1358;
+  const S _t1359 = _t351 * S(-0.09);
+  const S _t1360 = _t354 * S(-0.09);
+  const S _t1361 = _t357 * S(-0.09);
+  const S _t1362 = _t337 + _t1359;
+  P[120] = _t1362;
+  P[123] = _t1362;
+  const S _t1363 = _t338 + _t1360;
+  P[121] = _t1363;
+  P[124] = _t1363;
+  const S _t1364 = _t339 + _t1361;
+  P[122] = _t1364;
+  P[125] = _t1364;
+  const S _t1365 = S(-0.05) * _t369;
+  const S _t1366 = _t360 * S(-0.015);
   const S _t1367 = _t1365 + _t1366;
-  const S _t1368 = _t337 + _t1361;
-  P[123] = _t1368;
-  const S _t1369 = _t338 + _t1364;
-  P[124] = _t1369;
-  const S _t1370 = _t339 + _t1367;
-  P[125] = _t1370;
-  const S _t1371 = _t351 * S(-0.09);
-  const S _t1372 = _t354 * S(-0.09);
-  const S _t1373 = _t357 * S(-0.09);
-  const S _t1374 = _t337 + _t1371;
+  const S _t1368 = S(-0.05) * _t372;
+  const S _t1369 = _t363 * S(-0.015);
+  const S _t1370 = _t1368 + _t1369;
+  const S _t1371 = S(-0.05) * _t375;
+  const S _t1372 = _t366 * S(-0.015);
+  const S _t1373 = _t1371 + _t1372;
+  const S _t1374 = _t379 + _t1367;
   P[126] = _t1374;
-  P[141] = _t1374;
-  const S _t1375 = _t338 + _t1372;
+  const S _t1375 = _t380 + _t1370;
   P[127] = _t1375;
-  P[142] = _t1375;
-  const S _t1376 = _t339 + _t1373;
+  const S _t1376 = _t381 + _t1373;
   P[128] = _t1376;
-  P[143] = _t1376;
-  const S _t1377 = _t337 + _t1359;
-  P[135] = _t1377;
-  P[138] = _t1377;
-  const S _t1378 = _t338 + _t1362;
-  P[136] = _t1378;
-  P[139] = _t1378;
-  const S _t1379 = _t339 + _t1365;
-  P[137] = _t1379;
-  P[140] = _t1379;
-  const S _t1380 = S(-0.05) * _t369;
-  const S _t1381 = _t360 * S(-0.015);
-  const S _t1382 = _t1380 + _t1381;
-  const S _t1383 = S(-0.05) * _t372;
-  const S _t1384 = _t363 * S(-0.015);
-  const S _t1385 = _t1383 + _t1384;
-  const S _t1386 = S(-0.05) * _t375;
-  const S _t1387 = _t366 * S(-0.015);
-  const S _t1388 = _t1386 + _t1387;
-  const S _t1389 = _t379 + _t1382;
-  P[144] = _t1389;
-  const S _t1390 = _t380 + _t1385;
-  P[145] = _t1390;
-  const S _t1391 = _t381 + _t1388;
-  P[146] = _t1391;
-  const S _t1392 = _t369 * S(-0.38);
-  const S _t1393 = _t1381 + _t1392;
-  const S _t1394 = _t372 * S(-0.38);
-  const S _t1395 = _t1384 + _t1394;
-  const S _t1396 = _t375 * S(-0.38);
-  const S _t1397 = _t1387 + _t1396;
-  const S _t1398 = _t379 + _t1393;
-  P[147] = _t1398;
-  const S _t1399 = _t380 + _t1395;
-  P[148] = _t1399;
-  const S _t1400 = _t381 + _t1397;
-  P[149] = _t1400;
-  const S _t1401 = _t369 * S(-0.215);
-  const S _t1402 = _t1381 + _t1401;
-  const S _t1403 = _t372 * S(-0.215);
-  const S _t1404 = _t1384 + _t1403;
-  const S _t1405 = _t375 * S(-0.215);
-  const S _t1406 = _t1387 + _t1405;
-  const S _t1407 = _t379 + _t1402;
-  P[150] = _t1407;
-  const S _t1408 = _t380 + _t1404;
-  P[151] = _t1408;
-  const S _t1409 = _t381 + _t1406;
-  P[152] = _t1409;
-  const S _t1410 = _t369 * S(-0.21499999999999997);
-  const S _t1411 = _t360 * S(-0.015000000000000013);
+  const S _t1377 = _t369 * S(-0.38);
+  const S _t1378 = _t1366 + _t1377;
+  const S _t1379 = _t372 * S(-0.38);
+  const S _t1380 = _t1369 + _t1379;
+  const S _t1381 = _t375 * S(-0.38);
+  const S _t1382 = _t1372 + _t1381;
+  const S _t1383 = _t379 + _t1378;
+  P[129] = _t1383;
+  const S _t1384 = _t380 + _t1380;
+  P[130] = _t1384;
+  const S _t1385 = _t381 + _t1382;
+  P[131] = _t1385;
+  const S _t1386 = _t369 * S(-0.215);
+  const S _t1387 = _t1366 + _t1386;
+  const S _t1388 = _t372 * S(-0.215);
+  const S _t1389 = _t1369 + _t1388;
+  const S _t1390 = _t375 * S(-0.215);
+  const S _t1391 = _t1372 + _t1390;
+  const S _t1392 = _t379 + _t1387;
+  P[132] = _t1392;
+  const S _t1393 = _t380 + _t1389;
+  P[133] = _t1393;
+  const S _t1394 = _t381 + _t1391;
+  P[134] = _t1394;
+  const S _t1395 = _t369 * S(-0.21499999999999997);
+  const S _t1396 = _t360 * S(-0.015000000000000013);
+  const S _t1397 = _t1395 + _t1396;
+  const S _t1398 = _t372 * S(-0.21499999999999997);
+  const S _t1399 = _t363 * S(-0.015000000000000013);
+  const S _t1400 = _t1398 + _t1399;
+  const S _t1401 = _t375 * S(-0.21499999999999997);
+  const S _t1402 = _t366 * S(-0.015000000000000013);
+  const S _t1403 = _t1401 + _t1402;
+  const S _t1404 = _t379 + _t1397;
+  P[135] = _t1404;
+  const S _t1405 = _t380 + _t1400;
+  P[136] = _t1405;
+  const S _t1406 = _t381 + _t1403;
+  P[137] = _t1406;
+  const S _t1407 = _t420 * S(-0.010000000000000009);
+  const S _t1408 = _t384 * S(1.86140796399193e-14);
+  const S _t1409 = _t1407 + _t1408;
+  const S _t1410 = _t423 * S(-0.010000000000000009);
+  const S _t1411 = _t387 * S(1.86140796399193e-14);
   const S _t1412 = _t1410 + _t1411;
-  const S _t1413 = _t372 * S(-0.21499999999999997);
-  const S _t1414 = _t363 * S(-0.015000000000000013);
+  const S _t1413 = _t426 * S(-0.010000000000000009);
+  const S _t1414 = _t390 * S(1.86140796399193e-14);
   const S _t1415 = _t1413 + _t1414;
-  const S _t1416 = _t375 * S(-0.21499999999999997);
-  const S _t1417 = _t366 * S(-0.015000000000000013);
-  const S _t1418 = _t1416 + _t1417;
-  const S _t1419 = _t379 + _t1412;
-  P[153] = _t1419;
-  const S _t1420 = _t380 + _t1415;
-  P[154] = _t1420;
-  const S _t1421 = _t381 + _t1418;
-  P[155] = _t1421;
-  const S _t1422 = _t420 * S(-0.010000000000000009);
-  const S _t1423 = _t384 * S(1.86140796399193e-14);
+  const S _t1416 = _t415 + _t1409;
+  P[138] = _t1416;
+  const S _t1417 = _t416 + _t1412;
+  P[139] = _t1417;
+  const S _t1418 = _t417 + _t1415;
+  P[140] = _t1418;
+  const S _t1419 = _t420 * S(-0.19);
+  const S _t1420 = _t384 * S(-1.86140796399193e-14);
+  const S _t1421 = _t1419 + _t1420;
+  const S _t1422 = _t423 * S(-0.19);
+  const S _t1423 = _t387 * S(-1.86140796399193e-14);
   const S _t1424 = _t1422 + _t1423;
-  const S _t1425 = _t423 * S(-0.010000000000000009);
-  const S _t1426 = _t387 * S(1.86140796399193e-14);
+  const S _t1425 = _t426 * S(-0.19);
+  const S _t1426 = _t390 * S(-1.86140796399193e-14);
   const S _t1427 = _t1425 + _t1426;
-  const S _t1428 = _t426 * S(-0.010000000000000009);
-  const S _t1429 = _t390 * S(1.86140796399193e-14);
-  const S _t1430 = _t1428 + _t1429;
-  const S _t1431 = _t415 + _t1424;
-  P[156] = _t1431;
-  const S _t1432 = _t416 + _t1427;
-  P[157] = _t1432;
-  const S _t1433 = _t417 + _t1430;
-  P[158] = _t1433;
-  const S _t1434 = _t420 * S(-0.19);
-  const S _t1435 = _t384 * S(-1.86140796399193e-14);
-  const S _t1436 = _t1434 + _t1435;
-  const S _t1437 = _t423 * S(-0.19);
-  const S _t1438 = _t387 * S(-1.86140796399193e-14);
-  const S _t1439 = _t1437 + _t1438;
-  const S _t1440 = _t426 * S(-0.19);
-  const S _t1441 = _t390 * S(-1.86140796399193e-14);
-  const S _t1442 = _t1440 + _t1441;
-  const S _t1443 = _t415 + _t1436;
-  P[159] = _t1443;
-  const S _t1444 = _t416 + _t1439;
-  P[160] = _t1444;
-  const S _t1445 = _t417 + _t1442;
-  P[161] = _t1445;
-  const S _t1446 = S(-0.1) * _t420;
-  const S _t1447 = S(-0.1) * _t423;
-  const S _t1448 = S(-0.1) * _t426;
-  const S _t1449 = _t415 + _t1446;
-  P[162] = _t1449;
-  const S _t1450 = _t416 + _t1447;
-  P[163] = _t1450;
-  const S _t1451 = _t417 + _t1448;
-  P[164] = _t1451;
-  const S _t1452 = _t420 * S(-0.01);
-  const S _t1453 = _t423 * S(-0.01);
-  const S _t1454 = _t426 * S(-0.01);
-  const S _t1455 = _t415 + _t1452;
-  P[165] = _t1455;
-  P[168] = _t1455;
-  const S _t1456 = _t416 + _t1453;
-  P[166] = _t1456;
-  P[169] = _t1456;
-  const S _t1457 = _t417 + _t1454;
-  P[167] = _t1457;
-  P[170] = _t1457;
-  const S _t1458 = _t415 + _t1434;
-  P[171] = _t1458;
-  P[174] = _t1458;
-  const S _t1459 = _t416 + _t1437;
-  P[172] = _t1459;
-  P[175] = _t1459;
-  const S _t1460 = _t417 + _t1440;
-  P[173] = _t1460;
-  P[176] = _t1460;
-  const S _t1461 = _t420 * S(-0.09999999999999999);
-  const S _t1462 = _t423 * S(-0.09999999999999999);
-  const S _t1463 = _t426 * S(-0.09999999999999999);
-  const S _t1464 = _t415 + _t1461;
-  P[177] = _t1464;
-  const S _t1465 = _t416 + _t1462;
-  P[178] = _t1465;
-  const S _t1466 = _t417 + _t1463;
-  P[179] = _t1466;
-  const S _t1467 = _t384 * S(1.2409386426612866e-14);
-  const S _t1468 = _t387 * S(1.2409386426612866e-14);
-  const S _t1469 = _t390 * S(1.2409386426612866e-14);
-  const S _t1470 = _t431 + _t1467;
-  P[180] = _t1470;
-  const S _t1471 = _t432 + _t1468;
-  P[181] = _t1471;
-  const S _t1472 = _t433 + _t1469;
-  P[182] = _t1472;
-  const S _t1473 = _t420 * S(-0.12);
-  const S _t1474 = _t384 * S(-1.2409386426612866e-14);
+  const S _t1428 = _t415 + _t1421;
+  P[141] = _t1428;
+  const S _t1429 = _t416 + _t1424;
+  P[142] = _t1429;
+  const S _t1430 = _t417 + _t1427;
+  P[143] = _t1430;
+  const S _t1431 = S(-0.1) * _t420;
+  const S _t1432 = S(-0.1) * _t423;
+  const S _t1433 = S(-0.1) * _t426;
+  const S _t1434 = _t415 + _t1431;
+  P[144] = _t1434;
+  P[147] = _t1434;
+  const S _t1435 = _t416 + _t1432;
+  P[145] = _t1435;
+  P[148] = _t1435;
+  const S _t1436 = _t417 + _t1433;
+  P[146] = _t1436;
+  P[149] = _t1436;
+  const S _t1437 = _t384 * S(1.2409386426612866e-14);
+  const S _t1438 = _t387 * S(1.2409386426612866e-14);
+  const S _t1439 = _t390 * S(1.2409386426612866e-14);
+  const S _t1440 = _t431 + _t1437;
+  P[150] = _t1440;
+  const S _t1441 = _t432 + _t1438;
+  P[151] = _t1441;
+  const S _t1442 = _t433 + _t1439;
+  P[152] = _t1442;
+  const S _t1443 = _t420 * S(-0.12);
+  const S _t1444 = _t384 * S(-1.2409386426612866e-14);
+  const S _t1445 = _t1443 + _t1444;
+  const S _t1446 = _t423 * S(-0.12);
+  const S _t1447 = _t387 * S(-1.2409386426612866e-14);
+  const S _t1448 = _t1446 + _t1447;
+  const S _t1449 = _t426 * S(-0.12);
+  const S _t1450 = _t390 * S(-1.2409386426612866e-14);
+  const S _t1451 = _t1449 + _t1450;
+  const S _t1452 = _t431 + _t1445;
+  P[153] = _t1452;
+  const S _t1453 = _t432 + _t1448;
+  P[154] = _t1453;
+  const S _t1454 = _t433 + _t1451;
+  P[155] = _t1454;
+  const S _t1455 = _t420 * S(-0.06);
+  const S _t1456 = _t423 * S(-0.06);
+  const S _t1457 = _t426 * S(-0.06);
+  const S _t1458 = _t431 + _t1455;
+  P[156] = _t1458;
+  const S _t1459 = _t432 + _t1456;
+  P[157] = _t1459;
+  const S _t1460 = _t433 + _t1457;
+  P[158] = _t1460;
+  const S _t1461 = _t420 * S(-0.060000000000000005);
+  const S _t1462 = _t423 * S(-0.060000000000000005);
+  const S _t1463 = _t426 * S(-0.060000000000000005);
+  const S _t1464 = _t431 + _t1461;
+  P[159] = _t1464;
+  const S _t1465 = _t432 + _t1462;
+  P[160] = _t1465;
+  const S _t1466 = _t433 + _t1463;
+  P[161] = _t1466;
+  const S _t1467 = _t466 * S(-0.010000000000000009);
+  const S _t1468 = _t436 * S(1.86140796399193e-14);
+  const S _t1469 = _t1467 + _t1468;
+  const S _t1470 = _t469 * S(-0.010000000000000009);
+  const S _t1471 = _t439 * S(1.86140796399193e-14);
+  const S _t1472 = _t1470 + _t1471;
+  const S _t1473 = _t472 * S(-0.010000000000000009);
+  const S _t1474 = _t442 * S(1.86140796399193e-14);
   const S _t1475 = _t1473 + _t1474;
-  const S _t1476 = _t423 * S(-0.12);
-  const S _t1477 = _t387 * S(-1.2409386426612866e-14);
-  const S _t1478 = _t1476 + _t1477;
-  const S _t1479 = _t426 * S(-0.12);
-  const S _t1480 = _t390 * S(-1.2409386426612866e-14);
+  const S _t1476 = _t461 + _t1469;
+  P[162] = _t1476;
+  const S _t1477 = _t462 + _t1472;
+  P[163] = _t1477;
+  const S _t1478 = _t463 + _t1475;
+  P[164] = _t1478;
+  const S _t1479 = _t466 * S(-0.19);
+  const S _t1480 = _t436 * S(-1.86140796399193e-14);
   const S _t1481 = _t1479 + _t1480;
-  const S _t1482 = _t431 + _t1475;
-  P[183] = _t1482;
-  const S _t1483 = _t432 + _t1478;
-  P[184] = _t1483;
-  const S _t1484 = _t433 + _t1481;
-  P[185] = _t1484;
-  const S _t1485 = _t420 * S(-0.06);
-  const S _t1486 = _t423 * S(-0.06);
-  const S _t1487 = _t426 * S(-0.06);
-  const S _t1488 = _t431 + _t1485;
-  P[186] = _t1488;
-  const S _t1489 = _t432 + _t1486;
-  P[187] = _t1489;
-  const S _t1490 = _t433 + _t1487;
-  P[188] = _t1490;
-  const S _t1491 = _t431 + _t1473;
-  P[195] = _t1491;
-  P[198] = _t1491;
-  const S _t1492 = _t432 + _t1476;
-  P[196] = _t1492;
-  P[199] = _t1492;
-  const S _t1493 = _t433 + _t1479;
-  P[197] = _t1493;
-  P[200] = _t1493;
-  const S _t1494 = _t420 * S(-0.060000000000000005);
-  const S _t1495 = _t423 * S(-0.060000000000000005);
-  const S _t1496 = _t426 * S(-0.060000000000000005);
-  const S _t1497 = _t431 + _t1494;
-  P[201] = _t1497;
-  const S _t1498 = _t432 + _t1495;
-  P[202] = _t1498;
-  const S _t1499 = _t433 + _t1496;
-  P[203] = _t1499;
-  const S _t1500 = _t466 * S(-0.010000000000000009);
-  const S _t1501 = _t436 * S(1.86140796399193e-14);
-  const S _t1502 = _t1500 + _t1501;
-  const S _t1503 = _t469 * S(-0.010000000000000009);
-  const S _t1504 = _t439 * S(1.86140796399193e-14);
+  const S _t1482 = _t469 * S(-0.19);
+  const S _t1483 = _t439 * S(-1.86140796399193e-14);
+  const S _t1484 = _t1482 + _t1483;
+  const S _t1485 = _t472 * S(-0.19);
+  const S _t1486 = _t442 * S(-1.86140796399193e-14);
+  const S _t1487 = _t1485 + _t1486;
+  const S _t1488 = _t461 + _t1481;
+  P[165] = _t1488;
+  const S _t1489 = _t462 + _t1484;
+  P[166] = _t1489;
+  const S _t1490 = _t463 + _t1487;
+  P[167] = _t1490;
+  const S _t1491 = S(-0.1) * _t466;
+  const S _t1492 = S(-0.1) * _t469;
+  const S _t1493 = S(-0.1) * _t472;
+  const S _t1494 = _t461 + _t1491;
+  P[168] = _t1494;
+  P[171] = _t1494;
+  const S _t1495 = _t462 + _t1492;
+  P[169] = _t1495;
+  P[172] = _t1495;
+  const S _t1496 = _t463 + _t1493;
+  P[170] = _t1496;
+  P[173] = _t1496;
+  const S _t1497 = _t436 * S(1.2409386426612866e-14);
+  const S _t1498 = _t439 * S(1.2409386426612866e-14);
+  const S _t1499 = _t442 * S(1.2409386426612866e-14);
+  const S _t1500 = _t477 + _t1497;
+  P[174] = _t1500;
+  const S _t1501 = _t478 + _t1498;
+  P[175] = _t1501;
+  const S _t1502 = _t479 + _t1499;
+  P[176] = _t1502;
+  const S _t1503 = _t466 * S(-0.12);
+  const S _t1504 = _t436 * S(-1.2409386426612866e-14);
   const S _t1505 = _t1503 + _t1504;
-  const S _t1506 = _t472 * S(-0.010000000000000009);
-  const S _t1507 = _t442 * S(1.86140796399193e-14);
+  const S _t1506 = _t469 * S(-0.12);
+  const S _t1507 = _t439 * S(-1.2409386426612866e-14);
   const S _t1508 = _t1506 + _t1507;
-  const S _t1509 = _t461 + _t1502;
-  P[204] = _t1509;
-  const S _t1510 = _t462 + _t1505;
-  P[205] = _t1510;
-  const S _t1511 = _t463 + _t1508;
-  P[206] = _t1511;
-  const S _t1512 = _t466 * S(-0.19);
-  const S _t1513 = _t436 * S(-1.86140796399193e-14);
-  const S _t1514 = _t1512 + _t1513;
-  const S _t1515 = _t469 * S(-0.19);
-  const S _t1516 = _t439 * S(-1.86140796399193e-14);
-  const S _t1517 = _t1515 + _t1516;
-  const S _t1518 = _t472 * S(-0.19);
-  const S _t1519 = _t442 * S(-1.86140796399193e-14);
-  const S _t1520 = _t1518 + _t1519;
-  const S _t1521 = _t461 + _t1514;
-  P[207] = _t1521;
-  const S _t1522 = _t462 + _t1517;
-  P[208] = _t1522;
-  const S _t1523 = _t463 + _t1520;
-  P[209] = _t1523;
-  const S _t1524 = S(-0.1) * _t466;
-  const S _t1525 = S(-0.1) * _t469;
-  const S _t1526 = S(-0.1) * _t472;
-  const S _t1527 = _t461 + _t1524;
-  P[210] = _t1527;
-  const S _t1528 = _t462 + _t1525;
-  P[211] = _t1528;
-  const S _t1529 = _t463 + _t1526;
-  P[212] = _t1529;
-  const S _t1530 = _t466 * S(-0.01);
-  const S _t1531 = _t469 * S(-0.01);
-  const S _t1532 = _t472 * S(-0.01);
-  const S _t1533 = _t461 + _t1530;
-  P[213] = _t1533;
-  P[216] = _t1533;
-  const S _t1534 = _t462 + _t1531;
-  P[214] = _t1534;
-  P[217] = _t1534;
-  const S _t1535 = _t463 + _t1532;
-  P[215] = _t1535;
-  P[218] = _t1535;
-  const S _t1536 = _t461 + _t1512;
-  P[219] = _t1536;
-  P[222] = _t1536;
-  const S _t1537 = _t462 + _t1515;
-  P[220] = _t1537;
-  P[223] = _t1537;
-  const S _t1538 = _t463 + _t1518;
-  P[221] = _t1538;
-  P[224] = _t1538;
-  const S _t1539 = _t466 * S(-0.09999999999999999);
-  const S _t1540 = _t469 * S(-0.09999999999999999);
-  const S _t1541 = _t472 * S(-0.09999999999999999);
-  const S _t1542 = _t461 + _t1539;
-  P[225] = _t1542;
-  const S _t1543 = _t462 + _t1540;
-  P[226] = _t1543;
-  const S _t1544 = _t463 + _t1541;
-  P[227] = _t1544;
-  const S _t1545 = _t436 * S(1.2409386426612866e-14);
-  const S _t1546 = _t439 * S(1.2409386426612866e-14);
-  const S _t1547 = _t442 * S(1.2409386426612866e-14);
-  const S _t1548 = _t477 + _t1545;
-  P[228] = _t1548;
-  const S _t1549 = _t478 + _t1546;
-  P[229] = _t1549;
-  const S _t1550 = _t479 + _t1547;
-  P[230] = _t1550;
-  const S _t1551 = _t466 * S(-0.12);
-  const S _t1552 = _t436 * S(-1.2409386426612866e-14);
-  const S _t1553 = _t1551 + _t1552;
-  const S _t1554 = _t469 * S(-0.12);
-  const S _t1555 = _t439 * S(-1.2409386426612866e-14);
-  const S _t1556 = _t1554 + _t1555;
-  const S _t1557 = _t472 * S(-0.12);
-  const S _t1558 = _t442 * S(-1.2409386426612866e-14);
-  const S _t1559 = _t1557 + _t1558;
-  const S _t1560 = _t477 + _t1553;
-  P[231] = _t1560;
-  const S _t1561 = _t478 + _t1556;
-  P[232] = _t1561;
-  const S _t1562 = _t479 + _t1559;
-  P[233] = _t1562;
-  const S _t1563 = _t466 * S(-0.06);
-  const S _t1564 = _t469 * S(-0.06);
-  const S _t1565 = _t472 * S(-0.06);
-  const S _t1566 = _t477 + _t1563;
-  P[234] = _t1566;
-  const S _t1567 = _t478 + _t1564;
-  P[235] = _t1567;
-  const S _t1568 = _t479 + _t1565;
-  P[236] = _t1568;
-  const S _t1569 = _t477 + _t1551;
-  P[243] = _t1569;
-  P[246] = _t1569;
-  const S _t1570 = _t478 + _t1554;
-  P[244] = _t1570;
-  P[247] = _t1570;
-  const S _t1571 = _t479 + _t1557;
-  P[245] = _t1571;
-  P[248] = _t1571;
-  const S _t1572 = _t466 * S(-0.060000000000000005);
-  const S _t1573 = _t469 * S(-0.060000000000000005);
-  const S _t1574 = _t472 * S(-0.060000000000000005);
-  const S _t1575 = _t477 + _t1572;
-  P[249] = _t1575;
-  const S _t1576 = _t478 + _t1573;
-  P[250] = _t1576;
-  const S _t1577 = _t479 + _t1574;
-  P[251] = _t1577;
-  const S _t1578 = S(-0.05) * _t515;
-  const S _t1579 = S(0.03) * _t506;
-  const S _t1580 = _t1578 + _t1579;
-  const S _t1581 = _t482 * S(-0.04);
-  const S _t1582 = _t1580 + _t1581;
-  const S _t1583 = S(-0.05) * _t518;
-  const S _t1584 = S(0.03) * _t509;
-  const S _t1585 = _t1583 + _t1584;
-  const S _t1586 = _t485 * S(-0.04);
-  const S _t1587 = _t1585 + _t1586;
-  const S _t1588 = S(-0.05) * _t521;
-  const S _t1589 = S(0.03) * _t512;
-  const S _t1590 = _t1588 + _t1589;
-  const S _t1591 = _t488 * S(-0.04);
-  const S _t1592 = _t1590 + _t1591;
-  const S _t1593 = _t501 + _t1582;
-  P[252] = _t1593;
-  const S _t1594 = _t502 + _t1587;
-  P[253] = _t1594;
-  const S _t1595 = _t503 + _t1592;
-  P[254] = _t1595;
-  const S _t1596 = _t482 * S(0.11);
-  const S _t1597 = _t1580 + _t1596;
-  const S _t1598 = _t485 * S(0.11);
-  const S _t1599 = _t1585 + _t1598;
-  const S _t1600 = _t488 * S(0.11);
-  const S _t1601 = _t1590 + _t1600;
-  const S _t1602 = _t501 + _t1597;
-  P[255] = _t1602;
-  const S _t1603 = _t502 + _t1599;
-  P[256] = _t1603;
-  const S _t1604 = _t503 + _t1601;
-  P[257] = _t1604;
-  const S _t1605 = _t834 + _t1580;
-  const S _t1606 = _t835 + _t1585;
-  const S _t1607 = _t836 + _t1590;
-  const S _t1608 = _t501 + _t1605;
-  P[258] = _t1608;
-  const S _t1609 = _t502 + _t1606;
-  P[259] = _t1609;
-  const S _t1610 = _t503 + _t1607;
-  P[260] = _t1610;
-  const S _t1611 = _t506 * S(-0.03);
-  const S _t1612 = _t1578 + _t1611;
-  const S _t1613 = _t1581 + _t1612;
-  const S _t1614 = _t509 * S(-0.03);
-  const S _t1615 = _t1583 + _t1614;
-  const S _t1616 = _t1586 + _t1615;
-  const S _t1617 = _t512 * S(-0.03);
-  const S _t1618 = _t1588 + _t1617;
-  const S _t1619 = _t1591 + _t1618;
-  const S _t1620 = _t501 + _t1613;
-  P[261] = _t1620;
-  const S _t1621 = _t502 + _t1616;
-  P[262] = _t1621;
-  const S _t1622 = _t503 + _t1619;
-  P[263] = _t1622;
-  const S _t1623 = _t1596 + _t1612;
-  const S _t1624 = _t1598 + _t1615;
-  const S _t1625 = _t1600 + _t1618;
-  const S _t1626 = _t501 + _t1623;
-  P[264] = _t1626;
-  const S _t1627 = _t502 + _t1624;
-  P[265] = _t1627;
-  const S _t1628 = _t503 + _t1625;
-  P[266] = _t1628;
-  const S _t1629 = _t834 + _t1612;
-  const S _t1630 = _t835 + _t1615;
-  const S _t1631 = _t836 + _t1618;
-  const S _t1632 = _t501 + _t1629;
-  P[267] = _t1632;
-  const S _t1633 = _t502 + _t1630;
-  P[268] = _t1633;
-  const S _t1634 = _t503 + _t1631;
-  P[269] = _t1634;
-  const S _t1635 = _t515 * S(-0.05000000000000001);
-  const S _t1636 = _t834 + _t1635;
-  const S _t1637 = _t518 * S(-0.05000000000000001);
-  const S _t1638 = _t835 + _t1637;
-  const S _t1639 = _t521 * S(-0.05000000000000001);
-  const S _t1640 = _t836 + _t1639;
-  const S _t1641 = _t501 + _t1636;
-  P[270] = _t1641;
-  const S _t1642 = _t502 + _t1638;
-  P[271] = _t1642;
-  const S _t1643 = _t503 + _t1640;
-  P[272] = _t1643;
-  const S _t1644 = _t524 * S(0.035);
-  const S _t1645 = _t1611 + _t1644;
-  const S _t1646 = _t527 * S(0.035);
-  const S _t1647 = _t1614 + _t1646;
-  const S _t1648 = _t530 * S(0.035);
-  const S _t1649 = _t1617 + _t1648;
-  const S _t1650 = _t540 + _t1645;
-  P[273] = _t1650;
-  const S _t1651 = _t541 + _t1647;
-  P[274] = _t1651;
-  const S _t1652 = _t542 + _t1649;
-  P[275] = _t1652;
-  const S _t1653 = _t1579 + _t1644;
-  const S _t1654 = _t1584 + _t1646;
-  const S _t1655 = _t1589 + _t1648;
-  const S _t1656 = _t540 + _t1653;
-  P[276] = _t1656;
-  const S _t1657 = _t541 + _t1654;
-  P[277] = _t1657;
-  const S _t1658 = _t542 + _t1655;
-  P[278] = _t1658;
-  const S _t1659 = _t540 + _t1644;
-  P[279] = _t1659;
-  P[282] = _t1659;
-  const S _t1660 = _t541 + _t1646;
-  P[280] = _t1660;
-  P[283] = _t1660;
-  const S _t1661 = _t542 + _t1648;
-  P[281] = _t1661;
-  P[284] = _t1661;
-  const S _t1662 = _t564 + _t1323;
-  P[285] = _t1662;
-  P[288] = _t1662;
-  const S _t1663 = _t565 + _t1324;
-  P[286] = _t1663;
-  P[289] = _t1663;
-  const S _t1664 = _t566 + _t1325;
-  P[287] = _t1664;
-  P[290] = _t1664;
-  const S _t1665 = _t564 + _t1329;
-  P[291] = _t1665;
-  const S _t1666 = _t565 + _t1330;
-  P[292] = _t1666;
-  const S _t1667 = _t566 + _t1331;
-  P[293] = _t1667;
-  const S _t1668 = S(-0.06) * _t599;
-  const S _t1669 = S(-0.06) * _t602;
-  const S _t1670 = S(-0.06) * _t605;
-  const S _t1671 = _t585 + _t1668;
-  P[303] = _t1671;
-  const S _t1672 = _t586 + _t1669;
-  P[304] = _t1672;
-  const S _t1673 = _t587 + _t1670;
-  P[305] = _t1673;
-  const S _t1674 = _t599 * S(-0.38);
-  const S _t1675 = _t602 * S(-0.38);
-  const S _t1676 = _t605 * S(-0.38);
-  const S _t1677 = _t585 + _t1674;
-  P[306] = _t1677;
-  const S _t1678 = _t586 + _t1675;
-  P[307] = _t1678;
-  const S _t1679 = _t587 + _t1676;
-  P[308] = _t1679;
-  const S _t1680 = S(-0.22) * _t599;
-  const S _t1681 = S(-0.22) * _t602;
-  const S _t1682 = S(-0.22) * _t605;
-  const S _t1683 = _t585 + _t1680;
-  P[309] = _t1683;
-  P[312] = _t1683;
-  const S _t1684 = _t586 + _t1681;
-  P[310] = _t1684;
-  P[313] = _t1684;
-  const S _t1685 = _t587 + _t1682;
-  P[311] = _t1685;
-  P[314] = _t1685;
-  const S _t1686 = _t621 * S(1.86140796399193e-14);
-  const S _t1687 = _t624 * S(1.86140796399193e-14);
-  const S _t1688 = _t627 * S(1.86140796399193e-14);
-  const S _t1689 = _t616 + _t1686;
-  P[324] = _t1689;
-  const S _t1690 = _t617 + _t1687;
-  P[325] = _t1690;
-  const S _t1691 = _t618 + _t1688;
-  P[326] = _t1691;
-  const S _t1692 = _t630 * S(-0.18);
-  const S _t1693 = _t621 * S(-1.86140796399193e-14);
+  const S _t1509 = _t472 * S(-0.12);
+  const S _t1510 = _t442 * S(-1.2409386426612866e-14);
+  const S _t1511 = _t1509 + _t1510;
+  const S _t1512 = _t477 + _t1505;
+  P[177] = _t1512;
+  const S _t1513 = _t478 + _t1508;
+  P[178] = _t1513;
+  const S _t1514 = _t479 + _t1511;
+  P[179] = _t1514;
+  const S _t1515 = _t466 * S(-0.06);
+  const S _t1516 = _t469 * S(-0.06);
+  const S _t1517 = _t472 * S(-0.06);
+  const S _t1518 = _t477 + _t1515;
+  P[180] = _t1518;
+  const S _t1519 = _t478 + _t1516;
+  P[181] = _t1519;
+  const S _t1520 = _t479 + _t1517;
+  P[182] = _t1520;
+  const S _t1521 = _t466 * S(-0.060000000000000005);
+  const S _t1522 = _t469 * S(-0.060000000000000005);
+  const S _t1523 = _t472 * S(-0.060000000000000005);
+  const S _t1524 = _t477 + _t1521;
+  P[183] = _t1524;
+  const S _t1525 = _t478 + _t1522;
+  P[184] = _t1525;
+  const S _t1526 = _t479 + _t1523;
+  P[185] = _t1526;
+  const S _t1527 = S(-0.05) * _t515;
+  const S _t1528 = S(0.03) * _t506;
+  const S _t1529 = _t1527 + _t1528;
+  const S _t1530 = _t482 * S(-0.04);
+  const S _t1531 = _t1529 + _t1530;
+  const S _t1532 = S(-0.05) * _t518;
+  const S _t1533 = S(0.03) * _t509;
+  const S _t1534 = _t1532 + _t1533;
+  const S _t1535 = _t485 * S(-0.04);
+  const S _t1536 = _t1534 + _t1535;
+  const S _t1537 = S(-0.05) * _t521;
+  const S _t1538 = S(0.03) * _t512;
+  const S _t1539 = _t1537 + _t1538;
+  const S _t1540 = _t488 * S(-0.04);
+  const S _t1541 = _t1539 + _t1540;
+  const S _t1542 = _t501 + _t1531;
+  P[186] = _t1542;
+  const S _t1543 = _t502 + _t1536;
+  P[187] = _t1543;
+  const S _t1544 = _t503 + _t1541;
+  P[188] = _t1544;
+  const S _t1545 = _t482 * S(0.11);
+  const S _t1546 = _t1529 + _t1545;
+  const S _t1547 = _t485 * S(0.11);
+  const S _t1548 = _t1534 + _t1547;
+  const S _t1549 = _t488 * S(0.11);
+  const S _t1550 = _t1539 + _t1549;
+  const S _t1551 = _t501 + _t1546;
+  P[189] = _t1551;
+  const S _t1552 = _t502 + _t1548;
+  P[190] = _t1552;
+  const S _t1553 = _t503 + _t1550;
+  P[191] = _t1553;
+  const S _t1554 = _t834 + _t1529;
+  const S _t1555 = _t835 + _t1534;
+  const S _t1556 = _t836 + _t1539;
+  const S _t1557 = _t501 + _t1554;
+  P[192] = _t1557;
+  const S _t1558 = _t502 + _t1555;
+  P[193] = _t1558;
+  const S _t1559 = _t503 + _t1556;
+  P[194] = _t1559;
+  const S _t1560 = _t506 * S(-0.03);
+  const S _t1561 = _t1527 + _t1560;
+  const S _t1562 = _t1530 + _t1561;
+  const S _t1563 = _t509 * S(-0.03);
+  const S _t1564 = _t1532 + _t1563;
+  const S _t1565 = _t1535 + _t1564;
+  const S _t1566 = _t512 * S(-0.03);
+  const S _t1567 = _t1537 + _t1566;
+  const S _t1568 = _t1540 + _t1567;
+  const S _t1569 = _t501 + _t1562;
+  P[195] = _t1569;
+  const S _t1570 = _t502 + _t1565;
+  P[196] = _t1570;
+  const S _t1571 = _t503 + _t1568;
+  P[197] = _t1571;
+  const S _t1572 = _t1545 + _t1561;
+  const S _t1573 = _t1547 + _t1564;
+  const S _t1574 = _t1549 + _t1567;
+  const S _t1575 = _t501 + _t1572;
+  P[198] = _t1575;
+  const S _t1576 = _t502 + _t1573;
+  P[199] = _t1576;
+  const S _t1577 = _t503 + _t1574;
+  P[200] = _t1577;
+  const S _t1578 = _t834 + _t1561;
+  const S _t1579 = _t835 + _t1564;
+  const S _t1580 = _t836 + _t1567;
+  const S _t1581 = _t501 + _t1578;
+  P[201] = _t1581;
+  const S _t1582 = _t502 + _t1579;
+  P[202] = _t1582;
+  const S _t1583 = _t503 + _t1580;
+  P[203] = _t1583;
+  const S _t1584 = _t515 * S(-0.05000000000000001);
+  const S _t1585 = _t834 + _t1584;
+  const S _t1586 = _t518 * S(-0.05000000000000001);
+  const S _t1587 = _t835 + _t1586;
+  const S _t1588 = _t521 * S(-0.05000000000000001);
+  const S _t1589 = _t836 + _t1588;
+  const S _t1590 = _t501 + _t1585;
+  P[204] = _t1590;
+  const S _t1591 = _t502 + _t1587;
+  P[205] = _t1591;
+  const S _t1592 = _t503 + _t1589;
+  P[206] = _t1592;
+  const S _t1593 = _t524 * S(0.035);
+  const S _t1594 = _t1560 + _t1593;
+  const S _t1595 = _t527 * S(0.035);
+  const S _t1596 = _t1563 + _t1595;
+  const S _t1597 = _t530 * S(0.035);
+  const S _t1598 = _t1566 + _t1597;
+  const S _t1599 = _t540 + _t1594;
+  P[207] = _t1599;
+  const S _t1600 = _t541 + _t1596;
+  P[208] = _t1600;
+  const S _t1601 = _t542 + _t1598;
+  P[209] = _t1601;
+  const S _t1602 = _t1528 + _t1593;
+  const S _t1603 = _t1533 + _t1595;
+  const S _t1604 = _t1538 + _t1597;
+  const S _t1605 = _t540 + _t1602;
+  P[210] = _t1605;
+  const S _t1606 = _t541 + _t1603;
+  P[211] = _t1606;
+  const S _t1607 = _t542 + _t1604;
+  P[212] = _t1607;
+  const S _t1608 = _t540 + _t1593;
+  P[213] = _t1608;
+  P[216] = _t1608;
+  const S _t1609 = _t541 + _t1595;
+  P[214] = _t1609;
+  P[217] = _t1609;
+  const S _t1610 = _t542 + _t1597;
+  P[215] = _t1610;
+  P[218] = _t1610;
+  const S _t1611 = _t564 + _t1311;
+  P[219] = _t1611;
+  P[222] = _t1611;
+  const S _t1612 = _t565 + _t1312;
+  P[220] = _t1612;
+  P[223] = _t1612;
+  const S _t1613 = _t566 + _t1313;
+  P[221] = _t1613;
+  P[224] = _t1613;
+  const S _t1614 = _t564 + _t1317;
+  P[225] = _t1614;
+  const S _t1615 = _t565 + _t1318;
+  P[226] = _t1615;
+  const S _t1616 = _t566 + _t1319;
+  P[227] = _t1616;
+  const S _t1617 = S(-0.06) * _t599;
+  const S _t1618 = S(-0.06) * _t602;
+  const S _t1619 = S(-0.06) * _t605;
+  const S _t1620 = _t585 + _t1617;
+  P[237] = _t1620;
+  const S _t1621 = _t586 + _t1618;
+  P[238] = _t1621;
+  const S _t1622 = _t587 + _t1619;
+  P[239] = _t1622;
+  const S _t1623 = _t599 * S(-0.38);
+  const S _t1624 = _t602 * S(-0.38);
+  const S _t1625 = _t605 * S(-0.38);
+  const S _t1626 = _t585 + _t1623;
+  P[240] = _t1626;
+  const S _t1627 = _t586 + _t1624;
+  P[241] = _t1627;
+  const S _t1628 = _t587 + _t1625;
+  P[242] = _t1628;
+  const S _t1629 = S(-0.22) * _t599;
+  const S _t1630 = S(-0.22) * _t602;
+  const S _t1631 = S(-0.22) * _t605;
+  const S _t1632 = _t585 + _t1629;
+  P[243] = _t1632;
+  P[246] = _t1632;
+  const S _t1633 = _t586 + _t1630;
+  P[244] = _t1633;
+  P[247] = _t1633;
+  const S _t1634 = _t587 + _t1631;
+  P[245] = _t1634;
+  P[248] = _t1634;
+  const S _t1635 = _t621 * S(1.86140796399193e-14);
+  const S _t1636 = _t624 * S(1.86140796399193e-14);
+  const S _t1637 = _t627 * S(1.86140796399193e-14);
+  const S _t1638 = _t616 + _t1635;
+  P[258] = _t1638;
+  const S _t1639 = _t617 + _t1636;
+  P[259] = _t1639;
+  const S _t1640 = _t618 + _t1637;
+  P[260] = _t1640;
+  const S _t1641 = _t630 * S(-0.18);
+  const S _t1642 = _t621 * S(-1.86140796399193e-14);
+  const S _t1643 = _t1641 + _t1642;
+  const S _t1644 = _t633 * S(-0.18);
+  const S _t1645 = _t624 * S(-1.86140796399193e-14);
+  const S _t1646 = _t1644 + _t1645;
+  const S _t1647 = _t636 * S(-0.18);
+  const S _t1648 = _t627 * S(-1.86140796399193e-14);
+  const S _t1649 = _t1647 + _t1648;
+  const S _t1650 = _t616 + _t1643;
+  P[261] = _t1650;
+  const S _t1651 = _t617 + _t1646;
+  P[262] = _t1651;
+  const S _t1652 = _t618 + _t1649;
+  P[263] = _t1652;
+  const S _t1653 = S(-0.09) * _t630;
+  const S _t1654 = S(-0.09) * _t633;
+  const S _t1655 = S(-0.09) * _t636;
+  const S _t1656 = _t616 + _t1653;
+  P[264] = _t1656;
+  P[267] = _t1656;
+  const S _t1657 = _t617 + _t1654;
+  P[265] = _t1657;
+  P[268] = _t1657;
+  const S _t1658 = _t618 + _t1655;
+  P[266] = _t1658;
+  P[269] = _t1658;
+  const S _t1659 = S(-0.05) * _t648;
+  const S _t1660 = _t639 * S(-0.015);
+  const S _t1661 = _t1659 + _t1660;
+  const S _t1662 = S(-0.05) * _t651;
+  const S _t1663 = _t642 * S(-0.015);
+  const S _t1664 = _t1662 + _t1663;
+  const S _t1665 = S(-0.05) * _t654;
+  const S _t1666 = _t645 * S(-0.015);
+  const S _t1667 = _t1665 + _t1666;
+  const S _t1668 = _t658 + _t1661;
+  P[270] = _t1668;
+  const S _t1669 = _t659 + _t1664;
+  P[271] = _t1669;
+  const S _t1670 = _t660 + _t1667;
+  P[272] = _t1670;
+  const S _t1671 = _t648 * S(-0.38);
+  const S _t1672 = _t1660 + _t1671;
+  const S _t1673 = _t651 * S(-0.38);
+  const S _t1674 = _t1663 + _t1673;
+  const S _t1675 = _t654 * S(-0.38);
+  const S _t1676 = _t1666 + _t1675;
+  const S _t1677 = _t658 + _t1672;
+  P[273] = _t1677;
+  const S _t1678 = _t659 + _t1674;
+  P[274] = _t1678;
+  const S _t1679 = _t660 + _t1676;
+  P[275] = _t1679;
+  const S _t1680 = _t648 * S(-0.215);
+  const S _t1681 = _t1660 + _t1680;
+  const S _t1682 = _t651 * S(-0.215);
+  const S _t1683 = _t1663 + _t1682;
+  const S _t1684 = _t654 * S(-0.215);
+  const S _t1685 = _t1666 + _t1684;
+  const S _t1686 = _t658 + _t1681;
+  P[276] = _t1686;
+  const S _t1687 = _t659 + _t1683;
+  P[277] = _t1687;
+  const S _t1688 = _t660 + _t1685;
+  P[278] = _t1688;
+  const S _t1689 = _t648 * S(-0.21499999999999997);
+  const S _t1690 = _t639 * S(-0.015000000000000013);
+  const S _t1691 = _t1689 + _t1690;
+  const S _t1692 = _t651 * S(-0.21499999999999997);
+  const S _t1693 = _t642 * S(-0.015000000000000013);
   const S _t1694 = _t1692 + _t1693;
-  const S _t1695 = _t633 * S(-0.18);
-  const S _t1696 = _t624 * S(-1.86140796399193e-14);
+  const S _t1695 = _t654 * S(-0.21499999999999997);
+  const S _t1696 = _t645 * S(-0.015000000000000013);
   const S _t1697 = _t1695 + _t1696;
-  const S _t1698 = _t636 * S(-0.18);
-  const S _t1699 = _t627 * S(-1.86140796399193e-14);
-  const S _t1700 = _t1698 + _t1699;
-  const S _t1701 = _t616 + _t1694;
-  P[327] = _t1701;
-  const S _t1702 = _t617 + _t1697;
-  P[328] = _t1702;
-  const S _t1703 = _t618 + _t1700;
-  P[329] = _t1703;
-  const S _t1704 = S(-0.09) * _t630;
-  const S _t1705 = S(-0.09) * _t633;
-  const S _t1706 = S(-0.09) * _t636;
-  const S _t1707 = _t616 + _t1704;
-  P[330] = _t1707;
-  P[345] = _t1707;
-  const S _t1708 = _t617 + _t1705;
-  P[331] = _t1708;
-  P[346] = _t1708;
-  const S _t1709 = _t618 + _t1706;
-  P[332] = _t1709;
-  P[347] = _t1709;
-  const S _t1710 = _t616 + _t1692;
-  P[339] = _t1710;
-  P[342] = _t1710;
-  const S _t1711 = _t617 + _t1695;
-  P[340] = _t1711;
-  P[343] = _t1711;
-  const S _t1712 = _t618 + _t1698;
-  P[341] = _t1712;
-  P[344] = _t1712;
-  const S _t1713 = S(-0.05) * _t648;
-  const S _t1714 = _t639 * S(-0.015);
+  const S _t1698 = _t658 + _t1691;
+  P[279] = _t1698;
+  const S _t1699 = _t659 + _t1694;
+  P[280] = _t1699;
+  const S _t1700 = _t660 + _t1697;
+  P[281] = _t1700;
+  const S _t1701 = _t699 * S(-0.010000000000000009);
+  const S _t1702 = _t663 * S(1.86140796399193e-14);
+  const S _t1703 = _t1701 + _t1702;
+  const S _t1704 = _t702 * S(-0.010000000000000009);
+  const S _t1705 = _t666 * S(1.86140796399193e-14);
+  const S _t1706 = _t1704 + _t1705;
+  const S _t1707 = _t705 * S(-0.010000000000000009);
+  const S _t1708 = _t669 * S(1.86140796399193e-14);
+  const S _t1709 = _t1707 + _t1708;
+  const S _t1710 = _t694 + _t1703;
+  P[282] = _t1710;
+  const S _t1711 = _t695 + _t1706;
+  P[283] = _t1711;
+  const S _t1712 = _t696 + _t1709;
+  P[284] = _t1712;
+  const S _t1713 = _t699 * S(-0.19);
+  const S _t1714 = _t663 * S(-1.86140796399193e-14);
   const S _t1715 = _t1713 + _t1714;
-  const S _t1716 = S(-0.05) * _t651;
-  const S _t1717 = _t642 * S(-0.015);
+  const S _t1716 = _t702 * S(-0.19);
+  const S _t1717 = _t666 * S(-1.86140796399193e-14);
   const S _t1718 = _t1716 + _t1717;
-  const S _t1719 = S(-0.05) * _t654;
-  const S _t1720 = _t645 * S(-0.015);
+  const S _t1719 = _t705 * S(-0.19);
+  const S _t1720 = _t669 * S(-1.86140796399193e-14);
   const S _t1721 = _t1719 + _t1720;
-  const S _t1722 = _t658 + _t1715;
-  P[348] = _t1722;
-  const S _t1723 = _t659 + _t1718;
-  P[349] = _t1723;
-  const S _t1724 = _t660 + _t1721;
-  P[350] = _t1724;
-  const S _t1725 = _t648 * S(-0.38);
-  const S _t1726 = _t1714 + _t1725;
-  const S _t1727 = _t651 * S(-0.38);
-  const S _t1728 = _t1717 + _t1727;
-  const S _t1729 = _t654 * S(-0.38);
-  const S _t1730 = _t1720 + _t1729;
-  const S _t1731 = _t658 + _t1726;
-  P[351] = _t1731;
-  const S _t1732 = _t659 + _t1728;
-  P[352] = _t1732;
-  const S _t1733 = _t660 + _t1730;
-  P[353] = _t1733;
-  const S _t1734 = _t648 * S(-0.215);
-  const S _t1735 = _t1714 + _t1734;
-  const S _t1736 = _t651 * S(-0.215);
-  const S _t1737 = _t1717 + _t1736;
-  const S _t1738 = _t654 * S(-0.215);
-  const S _t1739 = _t1720 + _t1738;
-  const S _t1740 = _t658 + _t1735;
-  P[354] = _t1740;
-  const S _t1741 = _t659 + _t1737;
-  P[355] = _t1741;
-  const S _t1742 = _t660 + _t1739;
-  P[356] = _t1742;
-  const S _t1743 = _t648 * S(-0.21499999999999997);
-  const S _t1744 = _t639 * S(-0.015000000000000013);
+  const S _t1722 = _t694 + _t1715;
+  P[285] = _t1722;
+  const S _t1723 = _t695 + _t1718;
+  P[286] = _t1723;
+  const S _t1724 = _t696 + _t1721;
+  P[287] = _t1724;
+  const S _t1725 = S(-0.1) * _t699;
+  const S _t1726 = S(-0.1) * _t702;
+  const S _t1727 = S(-0.1) * _t705;
+  const S _t1728 = _t694 + _t1725;
+  P[288] = _t1728;
+  P[291] = _t1728;
+  const S _t1729 = _t695 + _t1726;
+  P[289] = _t1729;
+  P[292] = _t1729;
+  const S _t1730 = _t696 + _t1727;
+  P[290] = _t1730;
+  P[293] = _t1730;
+  const S _t1731 = _t663 * S(1.2409386426612866e-14);
+  const S _t1732 = _t666 * S(1.2409386426612866e-14);
+  const S _t1733 = _t669 * S(1.2409386426612866e-14);
+  const S _t1734 = _t710 + _t1731;
+  P[294] = _t1734;
+  const S _t1735 = _t711 + _t1732;
+  P[295] = _t1735;
+  const S _t1736 = _t712 + _t1733;
+  P[296] = _t1736;
+  const S _t1737 = _t699 * S(-0.12);
+  const S _t1738 = _t663 * S(-1.2409386426612866e-14);
+  const S _t1739 = _t1737 + _t1738;
+  const S _t1740 = _t702 * S(-0.12);
+  const S _t1741 = _t666 * S(-1.2409386426612866e-14);
+  const S _t1742 = _t1740 + _t1741;
+  const S _t1743 = _t705 * S(-0.12);
+  const S _t1744 = _t669 * S(-1.2409386426612866e-14);
   const S _t1745 = _t1743 + _t1744;
-  const S _t1746 = _t651 * S(-0.21499999999999997);
-  const S _t1747 = _t642 * S(-0.015000000000000013);
-  const S _t1748 = _t1746 + _t1747;
-  const S _t1749 = _t654 * S(-0.21499999999999997);
-  const S _t1750 = _t645 * S(-0.015000000000000013);
-  const S _t1751 = _t1749 + _t1750;
-  const S _t1752 = _t658 + _t1745;
-  P[357] = _t1752;
-  const S _t1753 = _t659 + _t1748;
-  P[358] = _t1753;
-  const S _t1754 = _t660 + _t1751;
-  P[359] = _t1754;
-  const S _t1755 = _t699 * S(-0.010000000000000009);
-  const S _t1756 = _t663 * S(1.86140796399193e-14);
-  const S _t1757 = _t1755 + _t1756;
-  const S _t1758 = _t702 * S(-0.010000000000000009);
-  const S _t1759 = _t666 * S(1.86140796399193e-14);
-  const S _t1760 = _t1758 + _t1759;
-  const S _t1761 = _t705 * S(-0.010000000000000009);
-  const S _t1762 = _t669 * S(1.86140796399193e-14);
+  const S _t1746 = _t710 + _t1739;
+  P[297] = _t1746;
+  const S _t1747 = _t711 + _t1742;
+  P[298] = _t1747;
+  const S _t1748 = _t712 + _t1745;
+  P[299] = _t1748;
+  const S _t1749 = S(-0.06) * _t699;
+  const S _t1750 = S(-0.06) * _t702;
+  const S _t1751 = S(-0.06) * _t705;
+  const S _t1752 = _t710 + _t1749;
+  P[300] = _t1752;
+  const S _t1753 = _t711 + _t1750;
+  P[301] = _t1753;
+  const S _t1754 = _t712 + _t1751;
+  P[302] = _t1754;
+  const S _t1755 = _t699 * S(-0.060000000000000005);
+  const S _t1756 = _t702 * S(-0.060000000000000005);
+  const S _t1757 = _t705 * S(-0.060000000000000005);
+  const S _t1758 = _t710 + _t1755;
+  P[303] = _t1758;
+  const S _t1759 = _t711 + _t1756;
+  P[304] = _t1759;
+  const S _t1760 = _t712 + _t1757;
+  P[305] = _t1760;
+  const S _t1761 = _t745 * S(-0.010000000000000009);
+  const S _t1762 = _t715 * S(1.86140796399193e-14);
   const S _t1763 = _t1761 + _t1762;
-  const S _t1764 = _t694 + _t1757;
-  P[360] = _t1764;
-  const S _t1765 = _t695 + _t1760;
-  P[361] = _t1765;
-  const S _t1766 = _t696 + _t1763;
-  P[362] = _t1766;
-  const S _t1767 = _t699 * S(-0.19);
-  const S _t1768 = _t663 * S(-1.86140796399193e-14);
+  const S _t1764 = _t748 * S(-0.010000000000000009);
+  const S _t1765 = _t718 * S(1.86140796399193e-14);
+  const S _t1766 = _t1764 + _t1765;
+  const S _t1767 = _t751 * S(-0.010000000000000009);
+  const S _t1768 = _t721 * S(1.86140796399193e-14);
   const S _t1769 = _t1767 + _t1768;
-  const S _t1770 = _t702 * S(-0.19);
-  const S _t1771 = _t666 * S(-1.86140796399193e-14);
-  const S _t1772 = _t1770 + _t1771;
-  const S _t1773 = _t705 * S(-0.19);
-  const S _t1774 = _t669 * S(-1.86140796399193e-14);
+  const S _t1770 = _t740 + _t1763;
+  P[306] = _t1770;
+  const S _t1771 = _t741 + _t1766;
+  P[307] = _t1771;
+  const S _t1772 = _t742 + _t1769;
+  P[308] = _t1772;
+  const S _t1773 = _t745 * S(-0.19);
+  const S _t1774 = _t715 * S(-1.86140796399193e-14);
   const S _t1775 = _t1773 + _t1774;
-  const S _t1776 = _t694 + _t1769;
-  P[363] = _t1776;
-  const S _t1777 = _t695 + _t1772;
-  P[364] = _t1777;
-  const S _t1778 = _t696 + _t1775;
-  P[365] = _t1778;
-  const S _t1779 = S(-0.1) * _t699;
-  const S _t1780 = S(-0.1) * _t702;
-  const S _t1781 = S(-0.1) * _t705;
-  const S _t1782 = _t694 + _t1779;
-  P[366] = _t1782;
-  const S _t1783 = _t695 + _t1780;
-  P[367] = _t1783;
-  const S _t1784 = _t696 + _t1781;
-  P[368] = _t1784;
-  const S _t1785 = _t699 * S(-0.01);
-  const S _t1786 = _t702 * S(-0.01);
-  const S _t1787 = _t705 * S(-0.01);
-  const S _t1788 = _t694 + _t1785;
-  P[369] = _t1788;
-  P[372] = _t1788;
-  const S _t1789 = _t695 + _t1786;
-  P[370] = _t1789;
-  P[373] = _t1789;
-  const S _t1790 = _t696 + _t1787;
-  P[371] = _t1790;
-  P[374] = _t1790;
-  const S _t1791 = _t694 + _t1767;
-  P[375] = _t1791;
-  P[378] = _t1791;
-  const S _t1792 = _t695 + _t1770;
-  P[376] = _t1792;
-  P[379] = _t1792;
-  const S _t1793 = _t696 + _t1773;
-  P[377] = _t1793;
-  P[380] = _t1793;
-  const S _t1794 = _t699 * S(-0.09999999999999999);
-  const S _t1795 = _t702 * S(-0.09999999999999999);
-  const S _t1796 = _t705 * S(-0.09999999999999999);
-  const S _t1797 = _t694 + _t1794;
-  P[381] = _t1797;
-  const S _t1798 = _t695 + _t1795;
-  P[382] = _t1798;
-  const S _t1799 = _t696 + _t1796;
-  P[383] = _t1799;
-  const S _t1800 = _t663 * S(1.2409386426612866e-14);
-  const S _t1801 = _t666 * S(1.2409386426612866e-14);
-  const S _t1802 = _t669 * S(1.2409386426612866e-14);
-  const S _t1803 = _t710 + _t1800;
-  P[384] = _t1803;
-  const S _t1804 = _t711 + _t1801;
-  P[385] = _t1804;
-  const S _t1805 = _t712 + _t1802;
-  P[386] = _t1805;
-  const S _t1806 = _t699 * S(-0.12);
-  const S _t1807 = _t663 * S(-1.2409386426612866e-14);
-  const S _t1808 = _t1806 + _t1807;
-  const S _t1809 = _t702 * S(-0.12);
-  const S _t1810 = _t666 * S(-1.2409386426612866e-14);
-  const S _t1811 = _t1809 + _t1810;
-  const S _t1812 = _t705 * S(-0.12);
-  const S _t1813 = _t669 * S(-1.2409386426612866e-14);
-  const S _t1814 = _t1812 + _t1813;
-  const S _t1815 = _t710 + _t1808;
-  P[387] = _t1815;
-  const S _t1816 = _t711 + _t1811;
-  P[388] = _t1816;
-  const S _t1817 = _t712 + _t1814;
-  P[389] = _t1817;
-  const S _t1818 = S(-0.06) * _t699;
-  const S _t1819 = S(-0.06) * _t702;
-  const S _t1820 = S(-0.06) * _t705;
-  const S _t1821 = _t710 + _t1818;
-  P[390] = _t1821;
-  const S _t1822 = _t711 + _t1819;
-  P[391] = _t1822;
-  const S _t1823 = _t712 + _t1820;
-  P[392] = _t1823;
-  const S _t1824 = _t710 + _t1806;
-  P[399] = _t1824;
-  P[402] = _t1824;
-  const S _t1825 = _t711 + _t1809;
-  P[400] = _t1825;
-  P[403] = _t1825;
-  const S _t1826 = _t712 + _t1812;
-  P[401] = _t1826;
-  P[404] = _t1826;
-  const S _t1827 = _t699 * S(-0.060000000000000005);
-  const S _t1828 = _t702 * S(-0.060000000000000005);
-  const S _t1829 = _t705 * S(-0.060000000000000005);
-  const S _t1830 = _t710 + _t1827;
-  P[405] = _t1830;
-  const S _t1831 = _t711 + _t1828;
-  P[406] = _t1831;
-  const S _t1832 = _t712 + _t1829;
-  P[407] = _t1832;
-  const S _t1833 = _t745 * S(-0.010000000000000009);
-  const S _t1834 = _t715 * S(1.86140796399193e-14);
+  const S _t1776 = _t748 * S(-0.19);
+  const S _t1777 = _t718 * S(-1.86140796399193e-14);
+  const S _t1778 = _t1776 + _t1777;
+  const S _t1779 = _t751 * S(-0.19);
+  const S _t1780 = _t721 * S(-1.86140796399193e-14);
+  const S _t1781 = _t1779 + _t1780;
+  const S _t1782 = _t740 + _t1775;
+  P[309] = _t1782;
+  const S _t1783 = _t741 + _t1778;
+  P[310] = _t1783;
+  const S _t1784 = _t742 + _t1781;
+  P[311] = _t1784;
+  const S _t1785 = S(-0.1) * _t745;
+  const S _t1786 = S(-0.1) * _t748;
+  const S _t1787 = S(-0.1) * _t751;
+  const S _t1788 = _t740 + _t1785;
+  P[312] = _t1788;
+  P[315] = _t1788;
+  const S _t1789 = _t741 + _t1786;
+  P[313] = _t1789;
+  P[316] = _t1789;
+  const S _t1790 = _t742 + _t1787;
+  P[314] = _t1790;
+  P[317] = _t1790;
+  const S _t1791 = _t715 * S(1.2409386426612866e-14);
+  const S _t1792 = _t718 * S(1.2409386426612866e-14);
+  const S _t1793 = _t721 * S(1.2409386426612866e-14);
+  const S _t1794 = _t756 + _t1791;
+  P[318] = _t1794;
+  const S _t1795 = _t757 + _t1792;
+  P[319] = _t1795;
+  const S _t1796 = _t758 + _t1793;
+  P[320] = _t1796;
+  const S _t1797 = _t745 * S(-0.12);
+  const S _t1798 = _t715 * S(-1.2409386426612866e-14);
+  const S _t1799 = _t1797 + _t1798;
+  const S _t1800 = _t748 * S(-0.12);
+  const S _t1801 = _t718 * S(-1.2409386426612866e-14);
+  const S _t1802 = _t1800 + _t1801;
+  const S _t1803 = _t751 * S(-0.12);
+  const S _t1804 = _t721 * S(-1.2409386426612866e-14);
+  const S _t1805 = _t1803 + _t1804;
+  const S _t1806 = _t756 + _t1799;
+  P[321] = _t1806;
+  const S _t1807 = _t757 + _t1802;
+  P[322] = _t1807;
+  const S _t1808 = _t758 + _t1805;
+  P[323] = _t1808;
+  const S _t1809 = S(-0.06) * _t745;
+  const S _t1810 = S(-0.06) * _t748;
+  const S _t1811 = S(-0.06) * _t751;
+  const S _t1812 = _t756 + _t1809;
+  P[324] = _t1812;
+  const S _t1813 = _t757 + _t1810;
+  P[325] = _t1813;
+  const S _t1814 = _t758 + _t1811;
+  P[326] = _t1814;
+  const S _t1815 = _t745 * S(-0.060000000000000005);
+  const S _t1816 = _t748 * S(-0.060000000000000005);
+  const S _t1817 = _t751 * S(-0.060000000000000005);
+  const S _t1818 = _t756 + _t1815;
+  P[327] = _t1818;
+  const S _t1819 = _t757 + _t1816;
+  P[328] = _t1819;
+  const S _t1820 = _t758 + _t1817;
+  P[329] = _t1820;
+  const S _t1821 = S(-0.05) * _t794;
+  const S _t1822 = S(0.03) * _t785;
+  const S _t1823 = _t1821 + _t1822;
+  const S _t1824 = _t761 * S(-0.04);
+  const S _t1825 = _t1823 + _t1824;
+  const S _t1826 = S(-0.05) * _t797;
+  const S _t1827 = S(0.03) * _t788;
+  const S _t1828 = _t1826 + _t1827;
+  const S _t1829 = _t764 * S(-0.04);
+  const S _t1830 = _t1828 + _t1829;
+  const S _t1831 = S(-0.05) * _t800;
+  const S _t1832 = S(0.03) * _t791;
+  const S _t1833 = _t1831 + _t1832;
+  const S _t1834 = _t767 * S(-0.04);
   const S _t1835 = _t1833 + _t1834;
-  const S _t1836 = _t748 * S(-0.010000000000000009);
-  const S _t1837 = _t718 * S(1.86140796399193e-14);
-  const S _t1838 = _t1836 + _t1837;
-  const S _t1839 = _t751 * S(-0.010000000000000009);
-  const S _t1840 = _t721 * S(1.86140796399193e-14);
-  const S _t1841 = _t1839 + _t1840;
-  const S _t1842 = _t740 + _t1835;
-  P[408] = _t1842;
-  const S _t1843 = _t741 + _t1838;
-  P[409] = _t1843;
-  const S _t1844 = _t742 + _t1841;
-  P[410] = _t1844;
-  const S _t1845 = _t745 * S(-0.19);
-  const S _t1846 = _t715 * S(-1.86140796399193e-14);
-  const S _t1847 = _t1845 + _t1846;
-  const S _t1848 = _t748 * S(-0.19);
-  const S _t1849 = _t718 * S(-1.86140796399193e-14);
-  const S _t1850 = _t1848 + _t1849;
-  const S _t1851 = _t751 * S(-0.19);
-  const S _t1852 = _t721 * S(-1.86140796399193e-14);
-  const S _t1853 = _t1851 + _t1852;
-  const S _t1854 = _t740 + _t1847;
-  P[411] = _t1854;
-  const S _t1855 = _t741 + _t1850;
-  P[412] = _t1855;
-  const S _t1856 = _t742 + _t1853;
-  P[413] = _t1856;
-  const S _t1857 = S(-0.1) * _t745;
-  const S _t1858 = S(-0.1) * _t748;
-  const S _t1859 = S(-0.1) * _t751;
-  const S _t1860 = _t740 + _t1857;
-  P[414] = _t1860;
-  const S _t1861 = _t741 + _t1858;
-  P[415] = _t1861;
-  const S _t1862 = _t742 + _t1859;
-  P[416] = _t1862;
-  const S _t1863 = _t745 * S(-0.01);
-  const S _t1864 = _t748 * S(-0.01);
-  const S _t1865 = _t751 * S(-0.01);
-  const S _t1866 = _t740 + _t1863;
-  P[417] = _t1866;
-  P[420] = _t1866;
-  const S _t1867 = _t741 + _t1864;
-  P[418] = _t1867;
-  P[421] = _t1867;
-  const S _t1868 = _t742 + _t1865;
-  P[419] = _t1868;
-  P[422] = _t1868;
-  const S _t1869 = _t740 + _t1845;
-  P[423] = _t1869;
-  P[426] = _t1869;
-  const S _t1870 = _t741 + _t1848;
-  P[424] = _t1870;
-  P[427] = _t1870;
-  const S _t1871 = _t742 + _t1851;
-  P[425] = _t1871;
-  P[428] = _t1871;
-  const S _t1872 = _t745 * S(-0.09999999999999999);
-  const S _t1873 = _t748 * S(-0.09999999999999999);
-  const S _t1874 = _t751 * S(-0.09999999999999999);
-  const S _t1875 = _t740 + _t1872;
-  P[429] = _t1875;
-  const S _t1876 = _t741 + _t1873;
-  P[430] = _t1876;
-  const S _t1877 = _t742 + _t1874;
-  P[431] = _t1877;
-  const S _t1878 = _t715 * S(1.2409386426612866e-14);
-  const S _t1879 = _t718 * S(1.2409386426612866e-14);
-  const S _t1880 = _t721 * S(1.2409386426612866e-14);
-  const S _t1881 = _t756 + _t1878;
-  P[432] = _t1881;
-  const S _t1882 = _t757 + _t1879;
-  P[433] = _t1882;
-  const S _t1883 = _t758 + _t1880;
-  P[434] = _t1883;
-  const S _t1884 = _t745 * S(-0.12);
-  const S _t1885 = _t715 * S(-1.2409386426612866e-14);
-  const S _t1886 = _t1884 + _t1885;
-  const S _t1887 = _t748 * S(-0.12);
-  const S _t1888 = _t718 * S(-1.2409386426612866e-14);
-  const S _t1889 = _t1887 + _t1888;
-  const S _t1890 = _t751 * S(-0.12);
-  const S _t1891 = _t721 * S(-1.2409386426612866e-14);
-  const S _t1892 = _t1890 + _t1891;
-  const S _t1893 = _t756 + _t1886;
-  P[435] = _t1893;
-  const S _t1894 = _t757 + _t1889;
-  P[436] = _t1894;
-  const S _t1895 = _t758 + _t1892;
-  P[437] = _t1895;
-  const S _t1896 = S(-0.06) * _t745;
-  const S _t1897 = S(-0.06) * _t748;
-  const S _t1898 = S(-0.06) * _t751;
-  const S _t1899 = _t756 + _t1896;
-  P[438] = _t1899;
-  const S _t1900 = _t757 + _t1897;
-  P[439] = _t1900;
-  const S _t1901 = _t758 + _t1898;
-  P[440] = _t1901;
-  const S _t1902 = _t756 + _t1884;
-  P[447] = _t1902;
-  P[450] = _t1902;
-  const S _t1903 = _t757 + _t1887;
-  P[448] = _t1903;
-  P[451] = _t1903;
-  const S _t1904 = _t758 + _t1890;
-  P[449] = _t1904;
-  P[452] = _t1904;
-  const S _t1905 = _t745 * S(-0.060000000000000005);
-  const S _t1906 = _t748 * S(-0.060000000000000005);
-  const S _t1907 = _t751 * S(-0.060000000000000005);
-  const S _t1908 = _t756 + _t1905;
-  P[453] = _t1908;
-  const S _t1909 = _t757 + _t1906;
-  P[454] = _t1909;
-  const S _t1910 = _t758 + _t1907;
-  P[455] = _t1910;
-  const S _t1911 = S(-0.05) * _t794;
-  const S _t1912 = S(0.03) * _t785;
-  const S _t1913 = _t1911 + _t1912;
-  const S _t1914 = _t761 * S(-0.04);
-  const S _t1915 = _t1913 + _t1914;
-  const S _t1916 = S(-0.05) * _t797;
-  const S _t1917 = S(0.03) * _t788;
-  const S _t1918 = _t1916 + _t1917;
-  const S _t1919 = _t764 * S(-0.04);
-  const S _t1920 = _t1918 + _t1919;
-  const S _t1921 = S(-0.05) * _t800;
-  const S _t1922 = S(0.03) * _t791;
-  const S _t1923 = _t1921 + _t1922;
-  const S _t1924 = _t767 * S(-0.04);
-  const S _t1925 = _t1923 + _t1924;
-  const S _t1926 = _t780 + _t1915;
-  P[456] = _t1926;
-  const S _t1927 = _t781 + _t1920;
-  P[457] = _t1927;
-  const S _t1928 = _t782 + _t1925;
-  P[458] = _t1928;
-  const S _t1929 = _t761 * S(0.11);
-  const S _t1930 = _t1913 + _t1929;
-  const S _t1931 = _t764 * S(0.11);
-  const S _t1932 = _t1918 + _t1931;
-  const S _t1933 = _t767 * S(0.11);
-  const S _t1934 = _t1923 + _t1933;
-  const S _t1935 = _t780 + _t1930;
-  P[459] = _t1935;
-  const S _t1936 = _t781 + _t1932;
-  P[460] = _t1936;
-  const S _t1937 = _t782 + _t1934;
-  P[461] = _t1937;
-  const S _t1938 = _t837 + _t1913;
-  const S _t1939 = _t838 + _t1918;
-  const S _t1940 = _t839 + _t1923;
-  const S _t1941 = _t780 + _t1938;
-  P[462] = _t1941;
-  const S _t1942 = _t781 + _t1939;
-  P[463] = _t1942;
-  const S _t1943 = _t782 + _t1940;
-  P[464] = _t1943;
-  const S _t1944 = _t785 * S(-0.03);
-  const S _t1945 = _t1911 + _t1944;
-  const S _t1946 = _t1914 + _t1945;
-  const S _t1947 = _t788 * S(-0.03);
-  const S _t1948 = _t1916 + _t1947;
-  const S _t1949 = _t1919 + _t1948;
-  const S _t1950 = _t791 * S(-0.03);
-  const S _t1951 = _t1921 + _t1950;
-  const S _t1952 = _t1924 + _t1951;
-  const S _t1953 = _t780 + _t1946;
-  P[465] = _t1953;
-  const S _t1954 = _t781 + _t1949;
-  P[466] = _t1954;
-  const S _t1955 = _t782 + _t1952;
-  P[467] = _t1955;
-  const S _t1956 = _t1929 + _t1945;
-  const S _t1957 = _t1931 + _t1948;
-  const S _t1958 = _t1933 + _t1951;
-  const S _t1959 = _t780 + _t1956;
-  P[468] = _t1959;
-  const S _t1960 = _t781 + _t1957;
-  P[469] = _t1960;
-  const S _t1961 = _t782 + _t1958;
-  P[470] = _t1961;
-  const S _t1962 = _t837 + _t1945;
-  const S _t1963 = _t838 + _t1948;
-  const S _t1964 = _t839 + _t1951;
-  const S _t1965 = _t780 + _t1962;
-  P[471] = _t1965;
-  const S _t1966 = _t781 + _t1963;
-  P[472] = _t1966;
-  const S _t1967 = _t782 + _t1964;
-  P[473] = _t1967;
-  const S _t1968 = _t794 * S(-0.05000000000000001);
-  const S _t1969 = _t837 + _t1968;
-  const S _t1970 = _t797 * S(-0.05000000000000001);
-  const S _t1971 = _t838 + _t1970;
-  const S _t1972 = _t800 * S(-0.05000000000000001);
-  const S _t1973 = _t839 + _t1972;
-  const S _t1974 = _t780 + _t1969;
-  P[474] = _t1974;
-  const S _t1975 = _t781 + _t1971;
-  P[475] = _t1975;
-  const S _t1976 = _t782 + _t1973;
-  P[476] = _t1976;
-  const S _t1977 = _t803 * S(0.035);
-  const S _t1978 = _t1944 + _t1977;
-  const S _t1979 = _t806 * S(0.035);
-  const S _t1980 = _t1947 + _t1979;
-  const S _t1981 = _t809 * S(0.035);
-  const S _t1982 = _t1950 + _t1981;
-  const S _t1983 = _t819 + _t1978;
-  P[477] = _t1983;
-  const S _t1984 = _t820 + _t1980;
-  P[478] = _t1984;
-  const S _t1985 = _t821 + _t1982;
-  P[479] = _t1985;
-  const S _t1986 = _t1912 + _t1977;
-  const S _t1987 = _t1917 + _t1979;
-  const S _t1988 = _t1922 + _t1981;
-  const S _t1989 = _t819 + _t1986;
-  P[480] = _t1989;
-  const S _t1990 = _t820 + _t1987;
-  P[481] = _t1990;
-  const S _t1991 = _t821 + _t1988;
-  P[482] = _t1991;
-  const S _t1992 = _t819 + _t1977;
-  P[483] = _t1992;
-  P[486] = _t1992;
-  const S _t1993 = _t820 + _t1979;
-  P[484] = _t1993;
-  P[487] = _t1993;
-  const S _t1994 = _t821 + _t1981;
-  P[485] = _t1994;
-  P[488] = _t1994;
-  pairs_0_to_19<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_20_to_31<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_32_to_47<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_48_to_66<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_67_to_85<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_86_to_91<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_92_to_105<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_106_to_112<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_113_to_119<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_120_to_125<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_126_to_133<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_134_to_140<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_141_to_146<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_147_to_156<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_157_to_173<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
-  pairs_174_to_177<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  const S _t1836 = _t780 + _t1825;
+  P[330] = _t1836;
+  const S _t1837 = _t781 + _t1830;
+  P[331] = _t1837;
+  const S _t1838 = _t782 + _t1835;
+  P[332] = _t1838;
+  const S _t1839 = _t761 * S(0.11);
+  const S _t1840 = _t1823 + _t1839;
+  const S _t1841 = _t764 * S(0.11);
+  const S _t1842 = _t1828 + _t1841;
+  const S _t1843 = _t767 * S(0.11);
+  const S _t1844 = _t1833 + _t1843;
+  const S _t1845 = _t780 + _t1840;
+  P[333] = _t1845;
+  const S _t1846 = _t781 + _t1842;
+  P[334] = _t1846;
+  const S _t1847 = _t782 + _t1844;
+  P[335] = _t1847;
+  const S _t1848 = _t837 + _t1823;
+  const S _t1849 = _t838 + _t1828;
+  const S _t1850 = _t839 + _t1833;
+  const S _t1851 = _t780 + _t1848;
+  P[336] = _t1851;
+  const S _t1852 = _t781 + _t1849;
+  P[337] = _t1852;
+  const S _t1853 = _t782 + _t1850;
+  P[338] = _t1853;
+  const S _t1854 = _t785 * S(-0.03);
+  const S _t1855 = _t1821 + _t1854;
+  const S _t1856 = _t1824 + _t1855;
+  const S _t1857 = _t788 * S(-0.03);
+  const S _t1858 = _t1826 + _t1857;
+  const S _t1859 = _t1829 + _t1858;
+  const S _t1860 = _t791 * S(-0.03);
+  const S _t1861 = _t1831 + _t1860;
+  const S _t1862 = _t1834 + _t1861;
+  const S _t1863 = _t780 + _t1856;
+  P[339] = _t1863;
+  const S _t1864 = _t781 + _t1859;
+  P[340] = _t1864;
+  const S _t1865 = _t782 + _t1862;
+  P[341] = _t1865;
+  const S _t1866 = _t1839 + _t1855;
+  const S _t1867 = _t1841 + _t1858;
+  const S _t1868 = _t1843 + _t1861;
+  const S _t1869 = _t780 + _t1866;
+  P[342] = _t1869;
+  const S _t1870 = _t781 + _t1867;
+  P[343] = _t1870;
+  const S _t1871 = _t782 + _t1868;
+  P[344] = _t1871;
+  const S _t1872 = _t837 + _t1855;
+  const S _t1873 = _t838 + _t1858;
+  const S _t1874 = _t839 + _t1861;
+  const S _t1875 = _t780 + _t1872;
+  P[345] = _t1875;
+  const S _t1876 = _t781 + _t1873;
+  P[346] = _t1876;
+  const S _t1877 = _t782 + _t1874;
+  P[347] = _t1877;
+  const S _t1878 = _t794 * S(-0.05000000000000001);
+  const S _t1879 = _t837 + _t1878;
+  const S _t1880 = _t797 * S(-0.05000000000000001);
+  const S _t1881 = _t838 + _t1880;
+  const S _t1882 = _t800 * S(-0.05000000000000001);
+  const S _t1883 = _t839 + _t1882;
+  const S _t1884 = _t780 + _t1879;
+  P[348] = _t1884;
+  const S _t1885 = _t781 + _t1881;
+  P[349] = _t1885;
+  const S _t1886 = _t782 + _t1883;
+  P[350] = _t1886;
+  const S _t1887 = _t803 * S(0.035);
+  const S _t1888 = _t1854 + _t1887;
+  const S _t1889 = _t806 * S(0.035);
+  const S _t1890 = _t1857 + _t1889;
+  const S _t1891 = _t809 * S(0.035);
+  const S _t1892 = _t1860 + _t1891;
+  const S _t1893 = _t819 + _t1888;
+  P[351] = _t1893;
+  const S _t1894 = _t820 + _t1890;
+  P[352] = _t1894;
+  const S _t1895 = _t821 + _t1892;
+  P[353] = _t1895;
+  const S _t1896 = _t1822 + _t1887;
+  const S _t1897 = _t1827 + _t1889;
+  const S _t1898 = _t1832 + _t1891;
+  const S _t1899 = _t819 + _t1896;
+  P[354] = _t1899;
+  const S _t1900 = _t820 + _t1897;
+  P[355] = _t1900;
+  const S _t1901 = _t821 + _t1898;
+  P[356] = _t1901;
+  const S _t1902 = _t819 + _t1887;
+  P[357] = _t1902;
+  P[360] = _t1902;
+  const S _t1903 = _t820 + _t1889;
+  P[358] = _t1903;
+  P[361] = _t1903;
+  const S _t1904 = _t821 + _t1891;
+  P[359] = _t1904;
+  P[362] = _t1904;
+  pairs_0_to_26<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  pairs_27_to_50<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  pairs_51_to_91<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  pairs_92_to_135<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  pairs_136_to_168<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
+  pairs_169_to_177<S, compact>(P, J, threshold, distance, near, normal, witness, jacobian, m);
   if (num_near) *num_near = m;
 }
 

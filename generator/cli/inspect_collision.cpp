@@ -24,6 +24,11 @@ std::string sampled(const gen::PairDecision& p) {
 void print_collision_scene(const gen::CollisionScene& scene, std::ostream& out) {
   int n_kept = 0;
   for (const gen::PairDecision& p : scene.decisions) n_kept += kept(p.verdict) ? 1 : 0;
+  if (!scene.dropped_shapes.empty()) {
+    out << fmt::format("\ncollision shapes left out: {}, each inside another shape of its body (the volume, and every distance, is the same):\n",
+                       scene.dropped_shapes.size());
+    for (const gen::DroppedShape& s : scene.dropped_shapes) out << fmt::format("  {}: {}\n    inside {}\n", s.compound, s.source, s.container_source);
+  }
   if (scene.sampling.loops)  // the draws are closed by Newton: say how many were used
     out << fmt::format("\ncollision pairs: {} kept of {} (margin {:.4g} m; {}):\n", n_kept, scene.decisions.size(), scene.margin,
                        gen::sampling_summary(scene));
@@ -51,13 +56,16 @@ nlohmann::ordered_json collision_scene_json(const gen::CollisionScene& scene) {
                         {"min_distance", std::isnan(p.min_distance) ? Json() : Json(p.min_distance)}});
     }
   }
+  Json dropped = Json::array();
+  for (const gen::DroppedShape& s : scene.dropped_shapes)
+    dropped.push_back({{"body", s.compound}, {"source", s.source}, {"inside", s.container_source}});
   const gen::SamplingReport& r = scene.sampling;
   const Json sampling = {{"loops_closed", r.loops},         {"drawn", r.drawn},
                          {"used", r.used()},                {"closed", r.closed},
                          {"refined", r.refined},            {"not_closed", r.not_closed},
                          {"beyond_limits", r.beyond_limits}};
   return Json{{"margin", scene.margin}, {"samples", scene.samples}, {"sampling", sampling}, {"compounds", compounds},
-              {"kept", kept_pairs},     {"pruned", pruned},         {"warnings", scene.warnings}};
+              {"dropped_shapes", dropped}, {"kept", kept_pairs},     {"pruned", pruned},         {"warnings", scene.warnings}};
 }
 
 }  // namespace mbgen::cli

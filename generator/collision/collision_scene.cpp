@@ -13,6 +13,7 @@
 #include <set>
 
 #include "mbgen/collision/compound_distance.hpp"
+#include "mbgen/collision/contained_shapes.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/mbgen.hpp"
 
@@ -36,7 +37,8 @@ using collision::Compound;
 using collision::Shape;
 
 /// One compound per body that has SSVs, in body order; the links' shapes moved into the body frame.
-std::vector<Compound> make_compounds(const Description& d) {
+/// A shape inside another of its body's is left out (contained_shapes.hpp) and listed in `dropped`.
+std::vector<Compound> make_compounds(const Description& d, std::vector<DroppedShape>& dropped) {
   const Model& model = d.model;
   std::map<int, Compound> by_body;  // ordered by body index: deterministic
   for (const auto& [link, primitives] : d.ssv) {
@@ -61,6 +63,10 @@ std::vector<Compound> make_compounds(const Description& d) {
   std::vector<Compound> out;
   for (auto& [body, c] : by_body) {
     if (c.shapes.empty()) continue;
+    const std::vector<Shape> given = c.shapes;
+    for (const collision::ContainedShape& x : collision::drop_contained_shapes(c))
+      dropped.push_back({c.name, given[static_cast<std::size_t>(x.shape)].source, given[static_cast<std::size_t>(x.container)].source,
+                         x.protrusion});
     collision::update_bound(c);
     out.push_back(std::move(c));
   }
@@ -251,7 +257,7 @@ CollisionScene build_collision_scene(const Description& d, const CollisionSceneO
   CollisionScene scene;
   scene.margin = options.margin;
   scene.samples = options.samples;
-  scene.model.compounds = make_compounds(d);
+  scene.model.compounds = make_compounds(d, scene.dropped_shapes);
   const std::vector<Compound>& compounds = scene.model.compounds;
   const std::set<BodyPair> adjacent = adjacent_bodies(d);
   std::set<BodyPair> excluded, included;

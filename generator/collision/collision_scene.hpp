@@ -1,6 +1,7 @@
 #pragma once
 // The collision scene of a description: one SSV compound per body (the extras' `ssv:`, or the
-// URDF's sphere and cylinder collisions) and the pairs worth checking, pruned as MoveIt's setup
+// URDF's sphere and cylinder collisions; a shape inside another of its body's left out) and the
+// pairs worth checking, pruned as MoveIt's setup
 // assistant builds its collision matrix (DESIGN.md, "Swept-sphere volumes"):
 //   adjacent           bodies joined by a joint or a loop closure: they touch by design
 //   excluded           named in the scene's `collision: exclude`
@@ -99,9 +100,20 @@ class ConfigurationSampler {
 std::vector<VecX<double>> collision_sample_configurations(const Description& d, const CollisionSceneOptions& options,
                                                           SamplingReport* report = nullptr);
 
+/// A shape left out of its body's compound because another of its shapes holds it
+/// (mbgen/collision/contained_shapes.hpp: the compound's volume, and so every distance, is the
+/// same without it): a URDF's sphere at the end of a cylinder of its radius, for instance.
+struct DroppedShape {
+  std::string compound;          ///< the body's name
+  std::string source;            ///< where the dropped shape was given
+  std::string container_source;  ///< where the shape that holds it was given
+  double protrusion = 0.0;       ///< how far it reaches outside the container (<= 0: inside; at most 1e-9 m)
+};
+
 struct CollisionScene {
   collision::CollisionModel model;     ///< compounds, and the kept pairs
   std::vector<PairDecision> decisions; ///< every candidate pair, in (first, second) order
+  std::vector<DroppedShape> dropped_shapes;  ///< shapes inside another of their body's, left out
   double margin = 0.0;
   int samples = 0;                     ///< configurations drawn (see sampling for how many were used)
   SamplingReport sampling;
