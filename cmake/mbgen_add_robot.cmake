@@ -40,7 +40,7 @@
 # or a scene without contact.
 set(MBGEN_GENERATED_FUNCTIONS
     forward_dynamics full_accelerations inverse_dynamics actuator_forces mass_matrix mass_matrix_factor mass_matrix_solve forward_kinematics frame_poses frame_jacobians
-    center_of_mass centroidal_momentum_matrix velocity_map full_velocities acceleration_bias closure_positions
+    center_of_mass centroidal_momentum_matrix task_kinematics velocity_map full_velocities acceleration_bias closure_positions
     self_distances contact_points contact_accelerations)
 
 # The functions `--batch` emits over W states (generator/codegen/emit_batch.cpp), one file each

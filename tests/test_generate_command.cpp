@@ -217,7 +217,7 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
   ASSERT_EQ(generate(one, "arm", "--extras " + extras.string() + " --outputs inverse_dynamics"), 0);
   const std::vector<std::string> functions = {
       "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
-      "mass_matrix_solve", "forward_kinematics", "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "velocity_map", "full_velocities",
+      "mass_matrix_solve", "forward_kinematics", "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
   ASSERT_EQ(static_cast<int>(functions.size()), MBGEN_GENERATED_FUNCTION_COUNT);
   int files = 0;

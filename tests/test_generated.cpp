@@ -108,7 +108,8 @@ class GeneratedTest : public ::testing::Test {
     std::mt19937_64 rng(2024);
     const int nv = model.nv(), nb = model.num_bodies() - 1, nf = static_cast<int>(frames.size());
     std::vector<T> qdd(nv), tau_out(nv), M(nv * nv), X_WB(12 * nb), X_WF(12 * nf), J(6 * nv * nf), com(3), Ag(6 * nv);
-    double worst[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    std::vector<T> X_WF_task(X_WF.size()), J_task(J.size()), com_task(3), Ag_task(Ag.size());  // task_kinematics' four
+    double worst[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int trial = 0; trial < trials; ++trial) {
       const VecX<double> q = random_configuration<double>(model, rng);
       const VecX<double> v = random_vector<double>(nv, rng, 2.0);
@@ -124,6 +125,7 @@ class GeneratedTest : public ::testing::Test {
       gen_ns::frame_jacobians(qt.data(), J.data());
       gen_ns::center_of_mass(qt.data(), com.data());
       gen_ns::centroidal_momentum_matrix(qt.data(), Ag.data());
+      gen_ns::task_kinematics(qt.data(), X_WF_task.data(), J_task.data(), com_task.data(), Ag_task.data());
       // Forward dynamics: normwise backward error, as in test_aba.cpp.
       const double scale = r.M_matrix.norm() * r.qdd.norm() + tau.norm() + r.bias.norm();
       if (!gen_ns::has_loops) worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
@@ -136,10 +138,15 @@ class GeneratedTest : public ::testing::Test {
       worst[5] = std::max(worst[5], relative_error(widen(J), r.J));
       worst[6] = std::max(worst[6], relative_error(widen(com), r.com));
       worst[7] = std::max(worst[7], relative_error(widen(Ag), r.Ag));
+      worst[8] = std::max(worst[8], relative_error(widen(X_WF_task), r.X_WF));
+      worst[9] = std::max(worst[9], relative_error(widen(J_task), r.J));
+      worst[10] = std::max(worst[10], relative_error(widen(com_task), r.com));
+      worst[11] = std::max(worst[11], relative_error(widen(Ag_task), r.Ag));
     }
-    const char* names[8] = {"forward_dynamics", "inverse_dynamics", "mass_matrix", "forward_kinematics",
-                            "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix"};
-    for (int k = 0; k < 8; ++k) {
+    const char* names[12] = {"forward_dynamics", "inverse_dynamics", "mass_matrix", "forward_kinematics",
+                             "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix",
+                             "task_kinematics X_WF", "task_kinematics J", "task_kinematics com", "task_kinematics Ag"};
+    for (int k = 0; k < 12; ++k) {
       EXPECT_LT(worst[k], tolerance) << names[k];
       RecordProperty(names[k], std::to_string(worst[k]));
     }
@@ -446,6 +453,8 @@ TEST_F(GeneratedTest, NoAllocation) {
   gen_ns::frame_jacobians(q.data(), out.data());
   gen_ns::center_of_mass(q.data(), out.data());
   gen_ns::centroidal_momentum_matrix(q.data(), out.data());
+  gen_ns::task_kinematics(q.data(), out.data(), out.data() + 12 * gen_ns::num_frames, out.data() + 18 * gen_ns::num_frames * gen_ns::nv,
+                          out.data() + 24 * gen_ns::num_frames * gen_ns::nv);
   gen_ns::velocity_map(q.data(), out.data());
   gen_ns::full_velocities(q.data(), v.data(), out.data());
   gen_ns::acceleration_bias(q.data(), v.data(), out.data());

@@ -163,6 +163,7 @@ void contact_points(const double* q, double* p, double* J);
 /// Cost: 1785 operations: 672 additions/subtractions, 1030 multiplications, 16 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // centroidal_momentum_matrix: left out (not among the outputs of ankle_2dof.yaml's scene, nor needed by them).
+// task_kinematics: left out (not among the outputs of ankle_2dof.yaml's scene, nor needed by them).
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.
@@ -295,7 +296,7 @@ template <typename S> struct BasicBackend {
   int num_frames() const { return ankle_2dof::num_frames; }
   const char* frame_name(int k) const { return ankle_2dof::frame_names[k]; }
   int num_distance_pairs() const { return ankle_2dof::num_distance_pairs; }
-  // task_kinematics: left out (the scene generates no centroidal_momentum_matrix)
+  // task_kinematics: left out (the scene generates no centroidal_momentum_matrix, task_kinematics)
   // self_distances: left out (the scene generates no self_distances)
 };
 using Backend = BasicBackend<double>;

@@ -162,6 +162,15 @@ void center_of_mass(const double* q, double* com);
 /// Cost: 3845 operations: 1723 additions/subtractions, 2025 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
 void centroidal_momentum_matrix(const double* q, double* Ag);
 
+/// frame_poses, frame_jacobians, center_of_mass and centroidal_momentum_matrix in one pass of the kinematics (a controller step's reads: Backend::task_kinematics), each term computed once; the centre of mass is the momentum matrix's (from the composite bodies), equal to center_of_mass's to round-off.
+/// in  q: [47] joint positions
+/// out X_WF: [3 x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major
+/// out J: [3 x 6 x 46] per frame a row-major 6 x nv matrix, LOCAL_WORLD_ALIGNED
+/// out com: [3] centre of mass, world
+/// out Ag: [6 x 46, row-major] centroidal momentum matrix
+/// Cost: 4229 operations: 1903 additions/subtractions, 2229 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
+void task_kinematics(const double* q, double* X_WF, double* J, double* com, double* Ag);
+
 /// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
 /// in  q: [47] joint positions
 /// out p: [12 x 3] centres, world
@@ -337,12 +346,8 @@ template <typename S> struct BasicBackend {
   int num_distance_pairs() const { return lola::num_distance_pairs; }
   /// Per frame its pose (12: [R_WF | p_WF] row-major) and its Jacobian (6 x nv row-major, world
   /// axes), the centre of mass and the centroidal momentum matrix (6 x nv row-major), at q.
-  void task_kinematics(const S* q, S* X_WF, S* J, S* com, S* Ag) const {
-    lola::frame_poses(q, X_WF);
-    lola::frame_jacobians(q, J);
-    lola::center_of_mass(q, com);
-    lola::centroidal_momentum_matrix(q, Ag);
-  }  /// The scene's self-collision pairs: distances, normals, witness points and Jacobians (self_distances).
+  void task_kinematics(const S* q, S* X_WF, S* J, S* com, S* Ag) const { lola::task_kinematics(q, X_WF, J, com, Ag); }
+  /// The scene's self-collision pairs: distances, normals, witness points and Jacobians (self_distances).
   void self_distances(const S* q, S* distance, S* normal, S* witness, S* J) const {
     lola::self_distances(q, distance, normal, witness, J);
   }
@@ -350,6 +355,7 @@ template <typename S> struct BasicBackend {
   /// (self_distances_near).
   void self_distances_near(const S* q, S threshold, S* distance, int* near, int* num_near, S* normal, S* witness, S* J) const {
     lola::self_distances_near(q, threshold, distance, near, num_near, normal, witness, J);
-  }};
+  }
+};
 using Backend = BasicBackend<double>;
 }  // namespace lola

@@ -158,6 +158,7 @@ void contact_points(const double* q, double* p, double* J);
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // frame_jacobians: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).
 // centroidal_momentum_matrix: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).
+// task_kinematics: left out (not among the outputs of slider_crank.yaml's scene, nor needed by them).
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.
@@ -290,7 +291,7 @@ template <typename S> struct BasicBackend {
   int num_frames() const { return slider_crank::num_frames; }
   const char* frame_name(int k) const { return slider_crank::frame_names[k]; }
   int num_distance_pairs() const { return slider_crank::num_distance_pairs; }
-  // task_kinematics: left out (the scene generates no frame_jacobians, centroidal_momentum_matrix)
+  // task_kinematics: left out (the scene generates no frame_jacobians, centroidal_momentum_matrix, task_kinematics)
   // self_distances: left out (the scene generates no self_distances)
 };
 using Backend = BasicBackend<double>;

@@ -147,6 +147,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   }
   add("center_of_mass", [&] { return trace_center_of_mass(tree); });
   add("centroidal_momentum_matrix", [&] { return trace_centroidal_momentum_matrix(tree); });
+  if (!frames.empty()) add("task_kinematics", [&] { return trace_task_kinematics(tree, frames); });
   // Ground contact: the vertex spheres of the scene's contact links. With the simulation, emitted
   // for every robot (empty, num_contact_spheres = 0, without `contact:`).
   const std::vector<sim::ContactSphere> contacts = gen::contact_spheres(description);
@@ -268,11 +269,12 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   const Vec3<double>& g = model.gravity;
   // The differential IK's members, when the scene generates what they call.
   const auto member_note = [&](const char* member, const std::string& missing) {
-    return fmt::format("  // {}: left out (the scene generates no {})\n", member, missing);
+    return fmt::format("  // {}: left out (the scene generates no {})", member, missing);
   };
   std::vector<std::string> kinematics_missing;
-  for (const char* f : {"frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix"})
-    if (!selection.emits(f) || (frames.empty() && std::string(f).rfind("frame_", 0) == 0)) kinematics_missing.push_back(f);
+  for (const char* f : {"frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics"})
+    if (!selection.emits(f) || (frames.empty() && (std::string(f).rfind("frame_", 0) == 0 || std::string(f) == "task_kinematics")))
+      kinematics_missing.push_back(f);
   const std::string kinematics_member = kinematics_missing.empty()
                                             ? templates.render("backend_kinematics", {{"robot", ctx.robot}})
                                             : member_note("task_kinematics", fmt::format("{}", fmt::join(kinematics_missing, ", ")));

@@ -13,7 +13,7 @@ const std::vector<std::string>& all_functions() {
   static const std::vector<std::string> functions = {
       "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
       "mass_matrix_solve", "forward_kinematics", "frame_poses",
-      "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "velocity_map", "full_velocities",
+      "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
   return functions;
 }
@@ -72,6 +72,9 @@ FunctionSelection select_functions(const std::vector<std::string>& outputs, bool
     s.emitted.insert("closure_positions");
     for (const auto& [function, needed] : needs())
       if (s.emits(function)) s.emitted.insert(needed);
+    // A scene with the four parts of a controller's kinematics gets them in one pass too.
+    if (s.emits("frame_poses") && s.emits("frame_jacobians") && s.emits("center_of_mass") && s.emits("centroidal_momentum_matrix"))
+      s.emitted.insert("task_kinematics");
   }
   for (const std::string& f : all_functions())
     if (!s.emits(f)) s.left_out.push_back(f);

@@ -296,4 +296,33 @@ TracedFunction trace_centroidal_momentum_matrix(const Model& model) {
   return f;
 }
 
+TracedFunction trace_task_kinematics(const Model& model, const std::vector<FrameIndex>& frames) {
+  const int n = static_cast<int>(frames.size()), nv = model.nv();
+  TracedFunction f;
+  f.name = "task_kinematics";
+  f.doc = "frame_poses, frame_jacobians, center_of_mass and centroidal_momentum_matrix in one pass of the kinematics "
+          "(a controller step's reads: Backend::task_kinematics), each term computed once; the centre of mass is the "
+          "momentum matrix's (from the composite bodies), equal to center_of_mass's to round-off.";
+  f.inputs = {q_spec(model)};
+  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n)},
+               {"J", 6 * nv * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix, LOCAL_WORLD_ALIGNED", n, nv)},
+               {"com", 3, "[3] centre of mass, world"},
+               {"Ag", 6 * nv, fmt::format("[6 x {}, row-major] centroidal momentum matrix", nv)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  // GenericBackend::task_kinematics' calls: the joint Jacobians (poses and frames with them), then
+  // the momentum matrix from those poses.
+  compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
+  const Mat6X<Sym>& A = detail::centroidal_momentum_matrix_from_poses<Sym>(model, data);
+  std::vector<int> poses, jacobians;
+  Mat6X<Sym> J(6, nv);
+  for (FrameIndex fr : frames) {
+    append_pose(poses, data.X_WF[fr]);
+    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
+    for (int id : ids_of(J)) jacobians.push_back(id);
+  }
+  f.output_ids = {poses, jacobians, ids_of(data.com), ids_of(A)};
+  return f;
+}
+
 }  // namespace mbgen::codegen

@@ -42,5 +42,9 @@ TracedFunction trace_contact_points(const Model& model, const std::vector<sim::C
 TracedFunction trace_contact_accelerations(const Model& model, const std::vector<sim::ContactSphere>& spheres, double exponent);
 TracedFunction trace_center_of_mass(const Model& model);
 TracedFunction trace_centroidal_momentum_matrix(const Model& model);
+/// The frames' poses and Jacobians (as the two functions above), the centre of mass and the
+/// centroidal momentum matrix in one trace: GenericBackend::task_kinematics' pass of the
+/// kinematics, its terms computed once.
+TracedFunction trace_task_kinematics(const Model& model, const std::vector<FrameIndex>& frames);
 
 }  // namespace mbgen::codegen
