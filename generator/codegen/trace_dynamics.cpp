@@ -17,6 +17,18 @@ void append_pose(std::vector<int>& ids, const SE3<Sym>& X) {
   }
 }
 
+/// The frames' Jacobians (LOCAL_WORLD_ALIGNED, 6 x nv row-major each, one after the other) from
+/// data's joint Jacobians (compute_joint_jacobians first).
+std::vector<int> frame_jacobian_ids(const Model& model, Data<Sym>& data, const std::vector<FrameIndex>& frames) {
+  std::vector<int> ids;
+  Mat6X<Sym> J(6, model.nv());
+  for (FrameIndex fr : frames) {
+    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
+    for (int id : ids_of(J)) ids.push_back(id);
+  }
+  return ids;
+}
+
 }  // namespace
 
 TracedFunction trace_forward_dynamics(const Model& model) {
@@ -208,13 +220,7 @@ TracedFunction trace_frame_jacobians(const Model& model, const std::vector<Frame
   Recording rec(f.graph);
   Data<Sym> data(model);
   compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
-  std::vector<int> ids;
-  Mat6X<Sym> J(6, model.nv());
-  for (FrameIndex fr : frames) {
-    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
-    for (int id : ids_of(J)) ids.push_back(id);
-  }
-  f.output_ids = {ids};
+  f.output_ids = {frame_jacobian_ids(model, data, frames)};
   return f;
 }
 
@@ -314,14 +320,9 @@ TracedFunction trace_task_kinematics(const Model& model, const std::vector<Frame
   // the momentum matrix from those poses.
   compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
   const Mat6X<Sym>& A = detail::centroidal_momentum_matrix_from_poses<Sym>(model, data);
-  std::vector<int> poses, jacobians;
-  Mat6X<Sym> J(6, nv);
-  for (FrameIndex fr : frames) {
-    append_pose(poses, data.X_WF[fr]);
-    frame_jacobian<Sym>(model, data, fr, ReferenceFrame::LocalWorldAligned, J);
-    for (int id : ids_of(J)) jacobians.push_back(id);
-  }
-  f.output_ids = {poses, jacobians, ids_of(data.com), ids_of(A)};
+  std::vector<int> poses;
+  for (FrameIndex fr : frames) append_pose(poses, data.X_WF[fr]);
+  f.output_ids = {poses, frame_jacobian_ids(model, data, frames), ids_of(data.com), ids_of(A)};
   return f;
 }
 
