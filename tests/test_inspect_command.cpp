@@ -188,6 +188,21 @@ TEST(Inspect, ExtrasFileIsReported) {
   EXPECT_EQ(j["actuated"], nlohmann::json({"shoulder", "knee"}));
 }
 
+/// Shapes inside another of their link's (the panda's spheres at its cylinders' ends) are listed,
+/// in the text with what holds them and in the JSON, and left out of the compounds.
+TEST(Inspect, ShapesInsideAnotherOfTheirLinksAreReported) {
+  const std::string panda = quote(std::string(MBGEN_SHARED_ROBOTS) + "/panda/panda_collision.urdf");
+  const Outcome text = run_mbgen("inspect " + panda + " --samples 0");
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("collision shapes left out: 22, each inside another shape of its body"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("<collision> 2 of link 'panda_link1'\n    inside "), std::string::npos) << text.out;
+  const Outcome json = run_mbgen("inspect " + panda + " --samples 0 --json");
+  ASSERT_EQ(json.status, 0) << json.err;
+  const nlohmann::json dropped = nlohmann::json::parse(json.out)["collision_pairs"]["dropped_shapes"];
+  ASSERT_EQ(dropped.size(), 22u);
+  EXPECT_NE(dropped[0]["inside"].get<std::string>().find("<collision> 1 of link '"), std::string::npos) << dropped[0];
+}
+
 TEST(Inspect, BadDescriptionExitsTwoWithTheMessage) {
   const std::string file = kData + "/bad/negative_mass.urdf";
   const Outcome run = run_mbgen("inspect " + quote(file));

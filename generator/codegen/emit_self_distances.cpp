@@ -16,8 +16,7 @@ namespace {
 using collision::CollisionModel;
 using collision::Compound;
 using collision::Shape;
-
-int num_points(const Shape& s) { return s.kind == Shape::Kind::Point ? 1 : (s.kind == Shape::Kind::Line ? 2 : 3); }
+using collision::vertex_count;
 
 /// Where each placed point lives in P (offsets of 3 numbers), per compound and shape.
 struct Placement {
@@ -62,7 +61,7 @@ Plan make_plan(const Model& model, const CollisionModel& scene) {
     const Compound& compound = scene.compounds[static_cast<std::size_t>(c)];
     for (const Shape& s : compound.shapes) {
       Placement pl;
-      for (int k = 0; k < num_points(s); ++k, plan.num_p += 3) pl.points.push_back(plan.num_p);
+      for (int k = 0; k < vertex_count(s); ++k, plan.num_p += 3) pl.points.push_back(plan.num_p);
       if (needs_bounds.count(c)) {
         pl.bound = plan.num_p;
         plan.num_p += 3;
@@ -102,7 +101,7 @@ TracedFunction trace_placement(const Model& model, const CollisionModel& scene, 
     const SE3<Sym>& X = data.X_WB[compound.body];
     for (std::size_t s = 0; s < placements.size(); ++s) {
       const Shape& shape = compound.shapes[s];
-      for (int k = 0; k < num_points(shape); ++k) place(X, shape.points[static_cast<std::size_t>(k)]);
+      for (int k = 0; k < vertex_count(shape); ++k) place(X, shape.points[static_cast<std::size_t>(k)]);
       if (placements[s].bound >= 0) place(X, shape.bound_center);
     }
     place(X, compound.bound_center);

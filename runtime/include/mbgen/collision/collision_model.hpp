@@ -44,10 +44,13 @@ struct CollisionModel {
   std::vector<CollisionPair> pairs;
 };
 
+/// The number of core vertices of a shape (of `points` in use): 1, 2 or 3.
+inline int vertex_count(const Shape& s) { return s.kind == Shape::Kind::Point ? 1 : (s.kind == Shape::Kind::Line ? 2 : 3); }
+
 /// Sets a shape's bounding sphere from its core: the centre of the core's points' bounding box
 /// and the largest distance from it to a point, plus the radius.
 inline void update_bound(Shape& s) {
-  const int n = s.kind == Shape::Kind::Point ? 1 : (s.kind == Shape::Kind::Line ? 2 : 3);
+  const int n = vertex_count(s);
   Vec3<double> lo = s.points[0], hi = s.points[0];
   for (int k = 1; k < n; ++k) {
     lo = lo.cwiseMin(s.points[static_cast<std::size_t>(k)]);

@@ -30,9 +30,6 @@ namespace mbgen::collision {
 /// A dropped shape changes the compound's distances by at most this much.
 inline constexpr double kContainmentTolerance = 1e-9;
 
-/// The number of core vertices of a shape: 1, 2 or 3.
-inline int vertex_count(const Shape& s) { return s.kind == Shape::Kind::Point ? 1 : (s.kind == Shape::Kind::Line ? 2 : 3); }
-
 /// Distance from point p to the core of `s` (both in the same frame).
 inline double distance_to_core(const Shape& s, const Vec3<double>& p) {
   const SsvVec3<double> x(p), a(s.points[0]), b(s.points[1]), c(s.points[2]);
