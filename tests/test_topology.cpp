@@ -5,8 +5,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <map>
 #include <random>
 #include <set>
+
+#include "mbgen/algorithm/givens_qr.hpp"
 
 #include "load/load_error.hpp"
 #include "model/topology.hpp"
@@ -129,6 +132,60 @@ TEST_P(LegsTopology, DependentBlocksAreSquareAndWellConditioned) {
     // wl16_like (597) reach no better in 24 seeds with all their motors independent.
     EXPECT_GT(sv[sv.size() - 1], 1e-3 * sv[0]) << f.model;
     std::cout << "[ Phi_z    ] " << f.model << ": " << s.rank() << " x " << s.rank() << ", condition " << sv[0] / sv[sv.size() - 1] << "\n";
+  }
+}
+
+/// Rotations givens_qr_factor performs on Phi_q(rows, columns) (a skipped one, where the entry to
+/// zero is an exact zero, records c = 1, s = 0), and Phi_z^-1 Phi_y by that factor, by coordinate.
+struct FactorRun {
+  int rotations = 0;
+  std::map<std::pair<int, int>, double> solution;  ///< (dependent v, independent v) -> entry
+};
+FactorRun factor_and_solve(const MatX<double>& Phi_q, const SubSystem& s, const std::vector<int>& columns) {
+  const int r = s.rank(), p = static_cast<int>(s.independent.size());
+  MatX<double> R(r, r), rhs(r, p);
+  for (int i = 0; i < r; ++i) {
+    for (int c = 0; c < r; ++c) R(i, c) = Phi_q(s.rows[i], columns[c]);
+    for (int c = 0; c < p; ++c) rhs(i, c) = Phi_q(s.rows[i], s.independent[c]);
+  }
+  VecX<double> c(r * (r - 1) / 2 + 1), sn(c.size());
+  givens_qr_factor<double>(R, r, c, sn);
+  givens_qr_apply<double>(c, sn, r, rhs, p);
+  upper_triangular_solve<double>(R, r, rhs, p);
+  FactorRun run;
+  for (int k = 0; k < r * (r - 1) / 2; ++k) run.rotations += (c[k] == 1.0 && sn[k] == 0.0) ? 0 : 1;
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < p; ++j) run.solution[{columns[i], s.independent[j]}] = rhs(i, j);
+  return run;
+}
+
+TEST_P(LegsTopology, DependentOrderFactorsWithFewerRotationsAndSolvesTheSame) {
+  // find_subsystems orders a sub-system's dependent coordinates, Phi_z's columns, each loop's own
+  // first where its loops share joints: the factor then rotates within each loop's rows up to the
+  // shared columns. Against the ascending order: never more rotations, the same Phi_z^-1 Phi_y.
+  const LegsFigures& f = GetParam();
+  const Description d = load(test::shared_robot("parallel_legs/" + f.model + "/robot.urdf"), f.extras);
+  Data<double> data(d.model);
+  const MatX<double> Phi_q = closure_jacobian<double>(d.model, data, d.assembly.q);
+  for (const SubSystem& s : d.model.subsystems) {
+    std::vector<int> ascending = s.dependent;
+    std::sort(ascending.begin(), ascending.end());
+    const FactorRun ordered = factor_and_solve(Phi_q, s, s.dependent), plain = factor_and_solve(Phi_q, s, ascending);
+    EXPECT_LE(ordered.rotations, plain.rotations) << f.model;
+    double largest = 0;
+    for (const auto& [key, value] : plain.solution) largest = std::max(largest, std::abs(value));
+    for (const auto& [key, value] : plain.solution) EXPECT_NEAR(ordered.solution.at(key), value, 1e-12 * largest) << f.model;
+    std::cout << "[ factor   ] " << f.model << ": " << s.rank() << " x " << s.rank() << ", " << ordered.rotations
+              << " rotations (ascending order: " << plain.rotations << ")\n";
+    if (f.model == "digit_like_2legs" && s.rank() == 12) {
+      // Two toe loops through the foot's two joints: 5 + 4 + 3 + 2 + 1 rotations in the first
+      // loop's rows, 6 + 5 + 4 + 3 + 2 in the second's (the first one carries the first loop's
+      // last row along), 1 for the shared pair. Ascending, the shared joints come first and mix
+      // the two loops' rows: 52 and 56 here (66 for a dense 12 x 12, less a few exact zeros).
+      EXPECT_EQ(ordered.rotations, 36);
+      EXPECT_GE(plain.rotations, 52);
+      for (int last : {10, 11}) EXPECT_EQ(gen::coordinate_name(d.model, s.dependent[last]).rfind("free_foot", 0), 0u);
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <string>
 #include <set>
@@ -38,9 +39,9 @@ const Joint& joint_of_coordinate(const Model& model, int v_index) {
   throw std::out_of_range("no joint has velocity index " + std::to_string(v_index));
 }
 
-/// SubSystem::nominal_pivot_ratio: the runtime's factorisation of Phi_z (givens_qr.hpp, rows and
-/// dependent columns in the runtime's ascending order) at the assembled pose, rounded to two
-/// significant digits through its decimal text, so that the generated constant is this very double.
+/// SubSystem::nominal_pivot_ratio: the runtime's factorisation of Phi_z (givens_qr.hpp, rows
+/// ascending, columns in `dependent`'s order) at the assembled pose, rounded to two significant
+/// digits through its decimal text, so that the generated constant is this very double.
 double nominal_pivot_ratio(const MatrixXd& Phi_q, const SubSystem& s) {
   const int r = s.rank();
   if (r == 0) return 1.0;
@@ -51,6 +52,61 @@ double nominal_pivot_ratio(const MatrixXd& Phi_q, const SubSystem& s) {
   givens_qr_factor<double>(R, r, c, sn);
   const Eigen::VectorXd pivots = R.diagonal().cwiseAbs();
   return std::stod(fmt::format("{:.1e}", pivots.minCoeff() / pivots.maxCoeff()));
+}
+
+/// Entries a Givens QR (givens_qr.hpp) updates on Phi_z when `nonzero` (rows x columns, in the
+/// factor's order) is its structure: each column's rotations run up its rows, a structural zero
+/// below is skipped, and a rotation leaves both rows with the union of their non-zeros.
+long givens_updates(std::vector<std::vector<bool>> nonzero) {
+  const std::size_t n = nonzero.size();
+  long updates = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t i = n - 1; i > j; --i) {
+      if (!nonzero[i][j]) continue;
+      for (std::size_t col = j + 1; col < n; ++col) {
+        const bool any = nonzero[i - 1][col] || nonzero[i][col];
+        nonzero[i - 1][col] = nonzero[i][col] = any;
+        updates += any ? 1 : 0;
+      }
+      nonzero[i - 1][j] = true;
+      nonzero[i][j] = false;
+    }
+  return updates;
+}
+
+/// The order of a sub-system's dependent coordinates, which is the order of Phi_z's columns in
+/// its factorisation. A closure's rows depend only on the joints of its own cycle, so the Phi_z of
+/// loops sharing a few joints (digit_like's toe rods: two loops through the foot's two joints) is
+/// block-structured; ascending order puts the shared joints, nearer the root, first, and their
+/// rotations mix every row of every loop (a dense factorisation). Taking first the coordinates on
+/// fewest cycles (each loop's own, loop by loop) keeps each loop's rotations within its rows up to
+/// the shared columns. Kept only where it updates fewer entries than the ascending order (for one
+/// loop, or loops whose shared joints come last already, the order stays ascending).
+std::vector<int> factorisation_order(const SubSystem& s, const std::vector<std::set<int>>& cycles,
+                                     const std::vector<LoopClosure>& closures, const std::map<int, int>& body_of) {
+  const std::size_t r = s.rows.size();
+  auto cycles_through = [&](int v) {
+    std::vector<int> on;
+    for (std::size_t k = 0; k < s.closures.size(); ++k)
+      if (cycles[static_cast<std::size_t>(s.closures[k])].count(body_of.at(v)) > 0) on.push_back(static_cast<int>(k));
+    return on;
+  };
+  auto structure = [&](const std::vector<int>& order) {
+    std::vector<std::vector<bool>> nonzero(r, std::vector<bool>(r, false));
+    for (std::size_t i = 0; i < r; ++i)
+      for (std::size_t c = 0; c < r; ++c)
+        for (int k : cycles_through(order[c])) {
+          const LoopClosure& closure = closures[static_cast<std::size_t>(s.closures[static_cast<std::size_t>(k)])];
+          if (s.rows[i] >= closure.row_offset && s.rows[i] < closure.row_offset + closure.rows()) nonzero[i][c] = true;
+        }
+    return nonzero;
+  };
+  std::vector<int> order = s.dependent;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const std::vector<int> on_a = cycles_through(a), on_b = cycles_through(b);
+    return on_a.size() != on_b.size() ? on_a.size() < on_b.size() : on_a < on_b;
+  });
+  return givens_updates(structure(order)) < givens_updates(structure(s.dependent)) ? order : s.dependent;
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -121,10 +177,11 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
       for (int r = 0; r < c.rows(); ++r) s.rows.push_back(c.row_offset + r);
     }
     s.root = root;
+    std::map<int, int> body_of;  // coordinate -> the body its joint moves
     for (int b : bodies) {
       s.bodies.push_back(BodyIndex(b));
       const Joint& joint = model.joint(model.body(BodyIndex(b)).joint);
-      for (int k = 0; k < joint.nv; ++k) s.coordinates.push_back(joint.idx_v + k);
+      for (int k = 0; k < joint.nv; ++k) s.coordinates.push_back(joint.idx_v + k), body_of[joint.idx_v + k] = b;
     }
     std::sort(s.coordinates.begin(), s.coordinates.end());
     const int k = static_cast<int>(s.coordinates.size()), m = static_cast<int>(s.rows.size());
@@ -167,7 +224,7 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
     std::vector<bool> is_dependent(k, false);
     for (int c : z) is_dependent[c] = true;
     for (int c = 0; c < k; ++c) (is_dependent[c] ? s.dependent : s.independent).push_back(s.coordinates[c]);
-    std::sort(s.dependent.begin(), s.dependent.end());
+    s.dependent = factorisation_order(s, cycles, model.closures, body_of);
     s.nominal_pivot_ratio = nominal_pivot_ratio(Phi_q, s);
     for (int c : z)
       if (!free_joint[c] && ++out.dependent_actuated)

@@ -70,9 +70,11 @@ struct SubSystem {
   BodyIndex root;                   ///< deepest common ancestor of its bodies (may be the world)
   std::vector<int> coordinates;     ///< v indices of the joints moving `bodies`, ascending
   std::vector<int> independent;     ///< subset of `coordinates`: the sub-system's own coordinates y
-  std::vector<int> dependent;       ///< the rest: z, solved from the closures
+  /// The rest: z, solved from the closures, in the order of Phi_z's columns in its factorisation
+  /// (ascending, unless loops share joints: then each loop's own first; find_subsystems.cpp).
+  std::vector<int> dependent;
   std::vector<int> rows;            ///< kept (independent) constraint rows, global indices; size = rank
-  /// Smallest / largest |R_ii| of Phi_z (Givens QR, rows and dependent columns ascending) at the
+  /// Smallest / largest |R_ii| of Phi_z (Givens QR, rows ascending, columns as `dependent`) at the
   /// assembled pose, rounded to two significant digits (a scale, and the same constant in the
   /// generated code): what closure_positions measures this sub-system's pivot ratio against to
   /// tell a dead point in float (algorithm/closure_positions.hpp). 1 unless the loader set it.
