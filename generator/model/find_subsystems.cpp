@@ -54,34 +54,68 @@ double nominal_pivot_ratio(const MatrixXd& Phi_q, const SubSystem& s) {
   return std::stod(fmt::format("{:.1e}", pivots.minCoeff() / pivots.maxCoeff()));
 }
 
-/// Entries a Givens QR (givens_qr.hpp) updates on Phi_z when `nonzero` (rows x columns, in the
-/// factor's order) is its structure: each column's rotations run up its rows, a structural zero
-/// below is skipped, and a rotation leaves both rows with the union of their non-zeros.
-long givens_updates(std::vector<std::vector<bool>> nonzero) {
-  const std::size_t n = nonzero.size();
+/// Structural non-zeros of a sub-system's Phi_z (rows x columns), columns as in `dependent`.
+using Structure = std::vector<std::vector<bool>>;
+
+/// Entries a Givens QR (givens_qr.hpp) updates when it zeroes column `column` below row j of
+/// `nonzero` (rows x columns), the columns in `left` still to come: the column's rotations run up
+/// its rows, a structural zero below is skipped, and a rotation leaves both rows with the union
+/// of their non-zeros.
+long eliminate(Structure& nonzero, std::size_t j, std::size_t column, const std::vector<std::size_t>& left) {
   long updates = 0;
-  for (std::size_t j = 0; j < n; ++j)
-    for (std::size_t i = n - 1; i > j; --i) {
-      if (!nonzero[i][j]) continue;
-      for (std::size_t col = j + 1; col < n; ++col) {
-        const bool any = nonzero[i - 1][col] || nonzero[i][col];
-        nonzero[i - 1][col] = nonzero[i][col] = any;
-        updates += any ? 1 : 0;
-      }
-      nonzero[i - 1][j] = true;
-      nonzero[i][j] = false;
+  for (std::size_t i = nonzero.size() - 1; i > j; --i) {
+    if (!nonzero[i][column]) continue;
+    for (std::size_t col : left) {
+      const bool any = nonzero[i - 1][col] || nonzero[i][col];
+      nonzero[i - 1][col] = nonzero[i][col] = any;
+      updates += any ? 1 : 0;
     }
+    nonzero[i - 1][column] = true;
+    nonzero[i][column] = false;
+  }
   return updates;
+}
+
+/// Entries the factorisation updates with the columns in `order` (positions into the structure's).
+long givens_updates(Structure nonzero, const std::vector<std::size_t>& order) {
+  long updates = 0;
+  for (std::size_t j = 0; j < order.size(); ++j)
+    updates += eliminate(nonzero, j, order[j], std::vector<std::size_t>(order.begin() + static_cast<long>(j) + 1, order.end()));
+  return updates;
+}
+
+/// Column by column, the one whose rotations update the fewest entries of the columns left (the
+/// first of `candidates` on a tie).
+std::vector<std::size_t> greedy_order(Structure nonzero, std::vector<std::size_t> candidates) {
+  std::vector<std::size_t> order;
+  while (!candidates.empty()) {
+    std::size_t best = 0;
+    long best_updates = -1;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      std::vector<std::size_t> left = candidates;
+      left.erase(left.begin() + static_cast<long>(c));
+      Structure trial = nonzero;
+      const long updates = eliminate(trial, order.size(), candidates[c], left);
+      if (best_updates < 0 || updates < best_updates) best_updates = updates, best = c;
+    }
+    std::vector<std::size_t> left = candidates;
+    left.erase(left.begin() + static_cast<long>(best));
+    eliminate(nonzero, order.size(), candidates[best], left);
+    order.push_back(candidates[best]);
+    candidates = left;
+  }
+  return order;
 }
 
 /// The order of a sub-system's dependent coordinates, which is the order of Phi_z's columns in
 /// its factorisation. A closure's rows depend only on the joints of its own cycle, so the Phi_z of
 /// loops sharing a few joints (digit_like's toe rods: two loops through the foot's two joints) is
 /// block-structured; ascending order puts the shared joints, nearer the root, first, and their
-/// rotations mix every row of every loop (a dense factorisation). Taking first the coordinates on
-/// fewest cycles (each loop's own, loop by loop) keeps each loop's rotations within its rows up to
-/// the shared columns. Kept only where it updates fewer entries than the ascending order (for one
-/// loop, or loops whose shared joints come last already, the order stays ascending).
+/// rotations mix every row of every loop (a dense factorisation). Two other orders are tried: the
+/// coordinates on fewest cycles first (each loop's own, loop by loop, then the shared ones), and
+/// column by column the one whose rotations update fewest entries; the one that updates fewest
+/// in all is kept, ascending on a tie (a single loop, or loops whose shared joints come last
+/// already, such as Lola's ankle, keep it).
 std::vector<int> factorisation_order(const SubSystem& s, const std::vector<std::set<int>>& cycles,
                                      const std::vector<LoopClosure>& closures, const std::map<int, int>& body_of) {
   const std::size_t r = s.rows.size();
@@ -91,22 +125,29 @@ std::vector<int> factorisation_order(const SubSystem& s, const std::vector<std::
       if (cycles[static_cast<std::size_t>(s.closures[k])].count(body_of.at(v)) > 0) on.push_back(static_cast<int>(k));
     return on;
   };
-  auto structure = [&](const std::vector<int>& order) {
-    std::vector<std::vector<bool>> nonzero(r, std::vector<bool>(r, false));
-    for (std::size_t i = 0; i < r; ++i)
-      for (std::size_t c = 0; c < r; ++c)
-        for (int k : cycles_through(order[c])) {
-          const LoopClosure& closure = closures[static_cast<std::size_t>(s.closures[static_cast<std::size_t>(k)])];
-          if (s.rows[i] >= closure.row_offset && s.rows[i] < closure.row_offset + closure.rows()) nonzero[i][c] = true;
-        }
-    return nonzero;
-  };
-  std::vector<int> order = s.dependent;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const std::vector<int> on_a = cycles_through(a), on_b = cycles_through(b);
+  Structure nonzero(r, std::vector<bool>(r, false));
+  for (std::size_t i = 0; i < r; ++i)
+    for (std::size_t c = 0; c < r; ++c)
+      for (int k : cycles_through(s.dependent[c])) {
+        const LoopClosure& closure = closures[static_cast<std::size_t>(s.closures[static_cast<std::size_t>(k)])];
+        if (s.rows[i] >= closure.row_offset && s.rows[i] < closure.row_offset + closure.rows()) nonzero[i][c] = true;
+      }
+  std::vector<std::size_t> ascending(r);
+  std::iota(ascending.begin(), ascending.end(), std::size_t{0});
+  std::vector<std::size_t> by_cycles = ascending;
+  std::stable_sort(by_cycles.begin(), by_cycles.end(), [&](std::size_t a, std::size_t b) {
+    const std::vector<int> on_a = cycles_through(s.dependent[a]), on_b = cycles_through(s.dependent[b]);
     return on_a.size() != on_b.size() ? on_a.size() < on_b.size() : on_a < on_b;
   });
-  return givens_updates(structure(order)) < givens_updates(structure(s.dependent)) ? order : s.dependent;
+  std::vector<std::size_t> best = ascending;
+  long best_updates = givens_updates(nonzero, ascending);
+  for (const std::vector<std::size_t>& order : {by_cycles, greedy_order(nonzero, by_cycles)}) {
+    const long updates = givens_updates(nonzero, order);
+    if (updates < best_updates) best_updates = updates, best = order;
+  }
+  std::vector<int> dependent;
+  for (std::size_t c : best) dependent.push_back(s.dependent[c]);
+  return dependent;
 }
 
 int find_root(std::vector<int>& parent, int i) {
