@@ -119,25 +119,23 @@ std::vector<std::size_t> greedy_order(Structure nonzero, std::vector<std::size_t
 std::vector<int> factorisation_order(const SubSystem& s, const std::vector<std::set<int>>& cycles,
                                      const std::vector<LoopClosure>& closures, const std::map<int, int>& body_of) {
   const std::size_t r = s.rows.size();
-  auto cycles_through = [&](int v) {
-    std::vector<int> on;
+  // on[c]: the sub-system's closures (positions in s.closures) whose cycle column c's joint is on.
+  std::vector<std::vector<std::size_t>> on(r);
+  for (std::size_t c = 0; c < r; ++c)
     for (std::size_t k = 0; k < s.closures.size(); ++k)
-      if (cycles[static_cast<std::size_t>(s.closures[k])].count(body_of.at(v)) > 0) on.push_back(static_cast<int>(k));
-    return on;
-  };
+      if (cycles[static_cast<std::size_t>(s.closures[k])].count(body_of.at(s.dependent[c])) > 0) on[c].push_back(k);
   Structure nonzero(r, std::vector<bool>(r, false));
   for (std::size_t i = 0; i < r; ++i)
     for (std::size_t c = 0; c < r; ++c)
-      for (int k : cycles_through(s.dependent[c])) {
-        const LoopClosure& closure = closures[static_cast<std::size_t>(s.closures[static_cast<std::size_t>(k)])];
+      for (std::size_t k : on[c]) {
+        const LoopClosure& closure = closures[static_cast<std::size_t>(s.closures[k])];
         if (s.rows[i] >= closure.row_offset && s.rows[i] < closure.row_offset + closure.rows()) nonzero[i][c] = true;
       }
   std::vector<std::size_t> ascending(r);
   std::iota(ascending.begin(), ascending.end(), std::size_t{0});
   std::vector<std::size_t> by_cycles = ascending;
   std::stable_sort(by_cycles.begin(), by_cycles.end(), [&](std::size_t a, std::size_t b) {
-    const std::vector<int> on_a = cycles_through(s.dependent[a]), on_b = cycles_through(s.dependent[b]);
-    return on_a.size() != on_b.size() ? on_a.size() < on_b.size() : on_a < on_b;
+    return on[a].size() != on[b].size() ? on[a].size() < on[b].size() : on[a] < on[b];
   });
   std::vector<std::size_t> best = ascending;
   long best_updates = givens_updates(nonzero, ascending);
