@@ -1,9 +1,9 @@
 #pragma once
 // The generic runtime's double algorithms that most tests call, instantiated once
 // (runtime_instances.cpp, in mbgen_test_instances) rather than in every test file that calls
-// them: test_generated.cpp alone is compiled once per robot of the suite (tests/CMakeLists.txt),
-// and instantiating and optimising these took 40 % of each of those compilations (hyq at -O3:
-// 18.6 s, 11.0 s with this header). Explicit instantiation declarations change no behaviour: the calls
+// them: when test_generated.cpp was still compiled once per robot of the suite, instantiating
+// and optimising these took 40 % of each of those compilations (hyq at -O3: 18.6 s, 11.0 s with
+// this header). Explicit instantiation declarations change no behaviour: the calls
 // link to the one instance. A function templated on more than its scalar (an output type) is
 // not here; it instantiates as before.
 #include "mbgen/mbgen.hpp"

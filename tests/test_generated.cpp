@@ -1,6 +1,6 @@
-// Generated code equals the generic runtime it was traced from. Compiled once per robot (see
-// tests/CMakeLists.txt) with MBGEN_GENERATED_HEADER, MBGEN_GENERATED_NS, MBGEN_DESCRIPTION,
-// MBGEN_EXTRAS (empty: none) and MBGEN_FLOATING defined.
+// Generated code equals the generic runtime it was traced from. Compiled once and linked into
+// every test_generated_<robot> with that robot's table of generated functions
+// (generated_robot.hpp; tests/CMakeLists.txt).
 //
 // Tolerances. double: 1e-12 relative. The generated code performs the generic code's operations
 // minus exact ones (x*0, x*1, x+0, constant folding) and in places another summation order, so
@@ -24,13 +24,11 @@
 #include <random>
 #include <type_traits>
 
-#include MBGEN_GENERATED_HEADER
+#include "generated_robot.hpp"
 #include "malloc_guard.hpp"
 #include "model/actuated_coordinates.hpp"
 #include "model/topology.hpp"
 #include "test_support.hpp"
-
-namespace gen_ns = MBGEN_GENERATED_NS;
 
 namespace mbgen::test {
 namespace {
@@ -43,9 +41,10 @@ class GeneratedTest : public ::testing::Test {
 
   static gen::Description load_with_extras() {
     gen::LoadOptions options;
-    options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
-    if (std::string(MBGEN_EXTRAS).size() > 0) options.extras_file = MBGEN_EXTRAS;
-    return gen::load_description(MBGEN_DESCRIPTION, options);
+    const generated::Robot& robot = generated::robot();
+    options.base = robot.load_floating ? gen::BaseType::Floating : gen::BaseType::Fixed;
+    if (std::string(robot.extras).size() > 0) options.extras_file = robot.extras;
+    return gen::load_description(robot.description, options);
   }
   static Model tree_of(Model m) {
     m.closures.clear();
@@ -53,8 +52,9 @@ class GeneratedTest : public ::testing::Test {
     return m;
   }
   static std::vector<FrameIndex> frame_indices(const Model& model) {
+    const generated::Robot& robot = generated::robot();
     std::vector<FrameIndex> out;
-    for (const char* name : gen_ns::frame_names) out.push_back(model.frame_index(name));
+    for (const char* name : robot.frame_names) out.push_back(model.frame_index(name));
     return out;
   }
   template <typename T> static VecX<double> widen(const std::vector<T>& x) {
@@ -117,18 +117,18 @@ class GeneratedTest : public ::testing::Test {
       const VecX<double> a = random_vector<double>(nv, rng, 5.0);
       const Reference r = reference(q, v, tau, a);
       const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(v), taut = narrow<T>(tau), at = narrow<T>(a);
-      if (!gen_ns::has_loops) gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), qdd.data());
-      gen_ns::inverse_dynamics(qt.data(), vt.data(), at.data(), tau_out.data());
-      gen_ns::mass_matrix(qt.data(), M.data());
-      gen_ns::forward_kinematics(qt.data(), X_WB.data());
-      gen_ns::frame_poses(qt.data(), X_WF.data());
-      gen_ns::frame_jacobians(qt.data(), J.data());
-      gen_ns::center_of_mass(qt.data(), com.data());
-      gen_ns::centroidal_momentum_matrix(qt.data(), Ag.data());
-      gen_ns::task_kinematics(qt.data(), X_WF_task.data(), J_task.data(), com_task.data(), Ag_task.data());
+      if (!robot.has_loops) generated::forward_dynamics(qt.data(), vt.data(), taut.data(), qdd.data());
+      generated::inverse_dynamics(qt.data(), vt.data(), at.data(), tau_out.data());
+      generated::mass_matrix(qt.data(), M.data());
+      generated::forward_kinematics(qt.data(), X_WB.data());
+      generated::frame_poses(qt.data(), X_WF.data());
+      generated::frame_jacobians(qt.data(), J.data());
+      generated::center_of_mass(qt.data(), com.data());
+      generated::centroidal_momentum_matrix(qt.data(), Ag.data());
+      generated::task_kinematics(qt.data(), X_WF_task.data(), J_task.data(), com_task.data(), Ag_task.data());
       // Forward dynamics: normwise backward error, as in test_aba.cpp.
       const double scale = r.M_matrix.norm() * r.qdd.norm() + tau.norm() + r.bias.norm();
-      if (!gen_ns::has_loops) worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
+      if (!robot.has_loops) worst[0] = std::max(worst[0], (r.M_matrix * (widen(qdd) - r.qdd)).norm() / scale);
       // Inverse dynamics: relative to the size of its terms.
       const double id_scale = r.M_matrix.norm() * a.norm() + r.bias.norm() + r.tau.norm();
       worst[1] = std::max(worst[1], (widen(tau_out) - r.tau).norm() / std::max(1.0, id_scale));
@@ -157,7 +157,7 @@ class GeneratedTest : public ::testing::Test {
   /// A seeded state of the closed system (consistent: loops closed, v = T vy) or, for a tree,
   /// of the tree; false when Newton does not reach one (then drawn again).
   template <typename Rng> bool draw_state(Rng& rng, VecX<double>& q, VecX<double>& v) {
-    if (gen_ns::has_loops) return consistent_state(closed, description.assembly.q, rng, 0.05, q, v);
+    if (robot.has_loops) return consistent_state(closed, description.assembly.q, rng, 0.05, q, v);
     q = random_configuration<double>(closed, rng);
     v = random_vector<double>(closed.nv(), rng, 2.0);
     return true;
@@ -165,7 +165,7 @@ class GeneratedTest : public ::testing::Test {
 
   template <typename T> void compare_closed(double tolerance, int trials) {
     std::mt19937_64 rng(2025);
-    const int nv = closed.nv(), ny = gen_ns::ny;
+    const int nv = closed.nv(), ny = robot.ny;
     ASSERT_EQ(ny, static_cast<int>(closed_data.independent_v.size()));
     std::vector<T> ydd(ny), qdd(nv);
     double worst_y = 0, worst_full = 0;
@@ -180,8 +180,8 @@ class GeneratedTest : public ::testing::Test {
       forward_dynamics_loops_independent<double>(closed, closed_data, q, vy, tau);
       const VecX<double> expected = closed_data.ddq;
       const std::vector<T> qt = narrow<T>(q), vt = narrow<T>(vy), taut = narrow<T>(tau);
-      gen_ns::forward_dynamics(qt.data(), vt.data(), taut.data(), ydd.data());
-      gen_ns::full_accelerations(qt.data(), vt.data(), taut.data(), qdd.data());
+      generated::forward_dynamics(qt.data(), vt.data(), taut.data(), ydd.data());
+      generated::full_accelerations(qt.data(), vt.data(), taut.data(), qdd.data());
       // Backward error on the tree joints: M (qdd - expected) against the terms of the equation.
       const MatX<double> M = crba<double>(model, data, q);
       const double scale = M.norm() * expected.norm() + tau.norm() + nonlinear_effects<double>(model, data, q, v).norm();
@@ -193,7 +193,7 @@ class GeneratedTest : public ::testing::Test {
     EXPECT_GE(states, trials / 2);
     EXPECT_LT(worst_full, tolerance) << "full_accelerations";
     compare_maps<T>(tolerance, trials);
-    EXPECT_LT(worst_y, gen_ns::has_loops ? tolerance : tolerance) << "forward_dynamics (independent accelerations)";
+    EXPECT_LT(worst_y, robot.has_loops ? tolerance : tolerance) << "forward_dynamics (independent accelerations)";
     RecordProperty("full_accelerations", std::to_string(worst_full));
   }
 
@@ -205,7 +205,7 @@ class GeneratedTest : public ::testing::Test {
   template <typename T> void compare_maps(double tolerance, int trials) {
     std::mt19937_64 rng(2026);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const int nv = closed.nv(), ny = gen_ns::ny;
+    const int nv = closed.nv(), ny = robot.ny;
     std::vector<T> Tmap(static_cast<std::size_t>(nv * ny)), v_out(nv), g_out(nv), vy_back(ny);
     double worst[4] = {0, 0, 0, 0};
     int states = 0;
@@ -220,9 +220,9 @@ class GeneratedTest : public ::testing::Test {
       full_velocities<double>(closed, closed_data, q, vy, v_full);
       acceleration_bias<double>(closed, closed_data, q, vy, g);
       const std::vector<T> qt = narrow<T>(q), vyt = narrow<T>(vy);
-      gen_ns::velocity_map(qt.data(), Tmap.data());
-      gen_ns::full_velocities(qt.data(), vyt.data(), v_out.data());
-      gen_ns::acceleration_bias(qt.data(), vyt.data(), g_out.data());
+      generated::velocity_map(qt.data(), Tmap.data());
+      generated::full_velocities(qt.data(), vyt.data(), v_out.data());
+      generated::acceleration_bias(qt.data(), vyt.data(), g_out.data());
       MatX<double> T_generated(nv, ny);
       for (int r = 0; r < nv; ++r)
         for (int c = 0; c < ny; ++c) T_generated(r, c) = static_cast<double>(Tmap[static_cast<std::size_t>(r * ny + c)]);
@@ -231,13 +231,13 @@ class GeneratedTest : public ::testing::Test {
       // is the unit row e_i exactly, in both maps (y = v[independent_v_index] for v = T y).
       for (int i = 0; i < ny; ++i)
         for (int c = 0; c < ny; ++c) {
-          const int r = gen_ns::independent_v_index[i];
+          const int r = robot.independent_v_index[i];
           ASSERT_EQ(T_generated(r, c), i == c ? 1.0 : 0.0) << "generated T(" << r << ", " << c << ")";
           ASSERT_EQ(T_expected(r, c), i == c ? 1.0 : 0.0) << "generic T(" << r << ", " << c << ")";
         }
       worst[1] = std::max(worst[1], relative_error(widen(v_out), v_full));
       worst[2] = std::max(worst[2], (widen(g_out) - g).norm() / std::max(1.0, g.norm()));
-      gen_ns::independent_velocities(v_out.data(), vy_back.data());
+      generated::independent_velocities(v_out.data(), vy_back.data());
       for (int i = 0; i < ny; ++i) EXPECT_EQ(vy_back[static_cast<std::size_t>(i)], vyt[static_cast<std::size_t>(i)]);
 
       // closure_positions: dependent coordinates moved off the closed pose, then closed again.
@@ -245,8 +245,8 @@ class GeneratedTest : public ::testing::Test {
       for (const SubSystem& s : closed.subsystems)
         for (int z : s.dependent) moved[closed.q_index_of_v(z)] += 1e-3 * unit(rng);
       std::vector<T> closing = narrow<T>(moved);
-      const auto result = gen_ns::closure_positions(closing.data());
-      EXPECT_EQ(result.status, gen_ns::ClosureStatus::converged) << "closure_positions, residual " << result.residual << " pivot ratio " << result.pivot_ratio << " iterations " << result.iterations;
+      const auto result = generated::closure_positions(closing.data());
+      EXPECT_EQ(result.status, generated::ClosureStatus::converged) << "closure_positions, residual " << result.residual << " pivot ratio " << result.pivot_ratio << " iterations " << result.iterations;
       worst[3] = std::max(worst[3], (widen(closing) - q).cwiseAbs().maxCoeff());
       if (std::is_same_v<T, double>) {
         VecX<double> generic = moved;
@@ -254,19 +254,19 @@ class GeneratedTest : public ::testing::Test {
         EXPECT_EQ(result.iterations, expected.iterations);
         EXPECT_LT((widen(closing) - generic).cwiseAbs().maxCoeff(), 1e-12);
       }
-      if (!gen_ns::has_loops) {
+      if (!robot.has_loops) {
         EXPECT_EQ(result.iterations, 0);
       }
       // close_loops: q closed as closure_positions' is (not the same bits: closure_positions may end
       // with a simplified step, close_loops always with Newton's), in at most one step more or fewer;
       // v's dependent entries full_velocities' at its q (independent kept).
       std::vector<T> closing_both = narrow<T>(moved), v_both(static_cast<std::size_t>(nv), T(7)), v_expected(static_cast<std::size_t>(nv));
-      for (int i = 0; i < ny; ++i) v_both[static_cast<std::size_t>(gen_ns::independent_v_index[i])] = vyt[static_cast<std::size_t>(i)];
-      const auto both = gen_ns::close_loops(closing_both.data(), v_both.data());
+      for (int i = 0; i < ny; ++i) v_both[static_cast<std::size_t>(robot.independent_v_index[i])] = vyt[static_cast<std::size_t>(i)];
+      const auto both = generated::close_loops(closing_both.data(), v_both.data());
       EXPECT_EQ(both.status, result.status);
       EXPECT_LE(std::abs(both.iterations - result.iterations), 1);
       worst[3] = std::max(worst[3], (widen(closing_both) - q).cwiseAbs().maxCoeff());
-      gen_ns::full_velocities(closing_both.data(), vyt.data(), v_expected.data());
+      generated::full_velocities(closing_both.data(), vyt.data(), v_expected.data());
       worst[1] = std::max(worst[1], relative_error(widen(v_both), widen(v_expected)));
     }
     EXPECT_GE(states, trials / 2);
@@ -280,6 +280,7 @@ class GeneratedTest : public ::testing::Test {
     RecordProperty("closure_positions", std::to_string(worst[3]));
   }
 
+  const generated::Robot& robot = generated::robot();
   gen::Description description;
   Model closed;  ///< with the loops (forward_dynamics, full_accelerations)
   Model model;   ///< the spanning tree (every other function)
@@ -288,17 +289,17 @@ class GeneratedTest : public ::testing::Test {
 };
 
 TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
-  EXPECT_EQ(gen_ns::nq, model.nq());
-  EXPECT_EQ(gen_ns::nv, model.nv());
-  EXPECT_EQ(gen_ns::num_bodies, model.num_bodies() - 1);
-  EXPECT_EQ(gen_ns::floating_base, model.floating_base());
+  EXPECT_EQ(robot.nq, model.nq());
+  EXPECT_EQ(robot.nv, model.nv());
+  EXPECT_EQ(robot.num_bodies, model.num_bodies() - 1);
+  EXPECT_EQ(robot.floating_base, model.floating_base());
   const std::vector<std::string> names = model.joint_names();
-  ASSERT_EQ(std::size(gen_ns::joint_names), names.size());
-  for (std::size_t j = 0; j < names.size(); ++j) EXPECT_EQ(names[j], gen_ns::joint_names[j]);
-  for (int k = 1; k < model.num_bodies(); ++k) EXPECT_EQ(model.body(BodyIndex(k)).name, gen_ns::body_names[k - 1]);
-  ASSERT_EQ(std::size(gen_ns::joint_names_full), names.size());
-  ASSERT_EQ(std::size(gen_ns::independent_v_index), static_cast<std::size_t>(gen_ns::ny));
-  for (int i = 0; i < gen_ns::ny; ++i) EXPECT_EQ(gen_ns::independent_v_index[i], closed_data.independent_v[static_cast<std::size_t>(i)]);
+  ASSERT_EQ(robot.joint_names.size, names.size());
+  for (std::size_t j = 0; j < names.size(); ++j) EXPECT_EQ(names[j], robot.joint_names[j]);
+  for (int k = 1; k < model.num_bodies(); ++k) EXPECT_EQ(model.body(BodyIndex(k)).name, robot.body_names[k - 1]);
+  ASSERT_EQ(robot.joint_names_full.size, names.size());
+  ASSERT_EQ(robot.independent_v_index.size, static_cast<std::size_t>(robot.ny));
+  for (int i = 0; i < robot.ny; ++i) EXPECT_EQ(robot.independent_v_index[i], closed_data.independent_v[static_cast<std::size_t>(i)]);
 }
 
 TEST_F(GeneratedTest, DoubleEqualsGeneric) { compare<double>(1e-12, 100); }
@@ -307,20 +308,20 @@ TEST_F(GeneratedTest, FloatWithinDerivedBound) { compare<float>(1e-4, 100); }
 
 TEST_F(GeneratedTest, ClosedSystemDoubleEqualsGeneric) { compare_closed<double>(1e-12, 20); }
 
-TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(gen_ns::has_loops ? 1e-2 : 1e-4, 20); }
+TEST_F(GeneratedTest, ClosedSystemFloatWithinDerivedBound) { compare_closed<float>(robot.has_loops ? 1e-2 : 1e-4, 20); }
 
 // actuator_forces: the description's actuated set, the generic function's values (1e-12 relative
 // to the forces' size), and forward dynamics with them giving back the accelerations (normwise
 // backward error 1e-12).
 TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
   const Actuation act = gen::description_actuation(description);
-  ASSERT_EQ(gen_ns::na, act.num_actuators());
-  for (int i = 0; i < gen_ns::na; ++i) {
-    EXPECT_EQ(gen_ns::actuated_v_index[i], act.actuated_v[static_cast<std::size_t>(i)]);
-    EXPECT_EQ(gen_ns::actuated_joint_names[i], gen::coordinate_name(closed, act.actuated_v[static_cast<std::size_t>(i)]));
+  ASSERT_EQ(robot.na, act.num_actuators());
+  for (int i = 0; i < robot.na; ++i) {
+    EXPECT_EQ(robot.actuated_v_index[i], act.actuated_v[static_cast<std::size_t>(i)]);
+    EXPECT_EQ(robot.actuated_joint_names[i], gen::coordinate_name(closed, act.actuated_v[static_cast<std::size_t>(i)]));
   }
   std::mt19937_64 rng(2027);
-  const int ny = gen_ns::ny, na = gen_ns::na;
+  const int ny = robot.ny, na = robot.na;
   std::vector<double> f(static_cast<std::size_t>(std::max(na, 1))), r(static_cast<std::size_t>(ny)), ydd_back(static_cast<std::size_t>(ny));
   double worst_generic = 0, worst_round_trip = 0;
   int states = 0;
@@ -333,16 +334,16 @@ TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
     const VecX<double> ydd = random_vector<double>(ny, rng, 5.0);
     VecX<double> f_expected(na), r_expected(ny);
     actuator_forces<double>(closed, closed_data, act, q, vy, ydd, f_expected, r_expected);
-    gen_ns::actuator_forces(q.data(), vy.data(), ydd.data(), f.data(), r.data());
+    generated::actuator_forces(q.data(), vy.data(), ydd.data(), f.data(), r.data());
     VecX<double> both(na + ny), both_expected(na + ny);
     for (int i = 0; i < na; ++i) both[i] = f[static_cast<std::size_t>(i)];
     for (int i = 0; i < ny; ++i) both[na + i] = r[static_cast<std::size_t>(i)];
     both_expected << f_expected, r_expected;
     worst_generic = std::max(worst_generic, relative_error(both, both_expected));
     VecX<double> tau = VecX<double>::Zero(closed.nv());
-    for (int i = 0; i < na; ++i) tau[gen_ns::actuated_v_index[i]] += f[static_cast<std::size_t>(i)];
-    for (int i = 0; i < ny; ++i) tau[gen_ns::independent_v_index[i]] += r[static_cast<std::size_t>(i)];
-    gen_ns::forward_dynamics(q.data(), vy.data(), tau.data(), ydd_back.data());
+    for (int i = 0; i < na; ++i) tau[robot.actuated_v_index[i]] += f[static_cast<std::size_t>(i)];
+    for (int i = 0; i < ny; ++i) tau[robot.independent_v_index[i]] += r[static_cast<std::size_t>(i)];
+    generated::forward_dynamics(q.data(), vy.data(), tau.data(), ydd_back.data());
     // Normwise backward error, as for forward dynamics above: M_y (ydd' - ydd) against the terms
     // of the equation (wl16_like's ill-conditioned loops amplify the forward error to 2e-10).
     const MatX<double> My = mass_matrix_loops<double>(closed, closed_data, q);
@@ -380,12 +381,12 @@ TEST_F(GeneratedTest, MassMatrixFactorRebuildsMAndSolveEqualsGeneric) {
   for (int trial = 0; trial < 50; ++trial) {
     const VecX<double> q = random_configuration<double>(model, rng);
     const VecX<double> b = random_vector<double>(nv, rng, 10.0);
-    gen_ns::mass_matrix(q.data(), M.data());
-    gen_ns::mass_matrix_factor(M.data(), LD.data());
-    gen_ns::mass_matrix_solve(LD.data(), b.data(), x.data());
+    generated::mass_matrix(q.data(), M.data());
+    generated::mass_matrix_factor(M.data(), LD.data());
+    generated::mass_matrix_solve(LD.data(), b.data(), x.data());
     const std::vector<float> qf = narrow<float>(q);
-    gen_ns::mass_matrix(qf.data(), Mf.data());
-    gen_ns::mass_matrix_factor(Mf.data(), LDf.data());
+    generated::mass_matrix(qf.data(), Mf.data());
+    generated::mass_matrix_factor(Mf.data(), LDf.data());
     const MatX<double> M_generic = crba<double>(model, data, q);
     worst_factor = std::max(worst_factor, relative_error(rebuilt_mass_matrix(LD, nv), M_generic));
     worst_factor_f = std::max(worst_factor_f, relative_error(rebuilt_mass_matrix(LDf, nv), M_generic));
@@ -414,54 +415,54 @@ TEST_F(GeneratedTest, NonFiniteInputsGiveNonFiniteOutputs) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const double bad : {nan, std::numeric_limits<double>::infinity()}) {
     // The assembled pose (a closed one) with loops; q = 0 (a unit quaternion) without.
-    std::vector<double> q(gen_ns::nq, 0.0), v(gen_ns::ny, 0.1), tau(gen_ns::nv, 0.2), qdd(gen_ns::ny);
-    if (gen_ns::has_loops) q.assign(description.assembly.q.data(), description.assembly.q.data() + gen_ns::nq);
-    if (gen_ns::floating_base && !gen_ns::has_loops) q[6] = 1;
-    ASSERT_EQ(gen_ns::closure_positions(q.data()).status, gen_ns::ClosureStatus::converged);
+    std::vector<double> q(robot.nq, 0.0), v(robot.ny, 0.1), tau(robot.nv, 0.2), qdd(robot.ny);
+    if (robot.has_loops) q.assign(description.assembly.q.data(), description.assembly.q.data() + robot.nq);
+    if (robot.floating_base && !robot.has_loops) q[6] = 1;
+    ASSERT_EQ(generated::closure_positions(q.data()).status, generated::ClosureStatus::converged);
     // A joint force: the joint's own acceleration depends on it (M^-1 has a positive diagonal).
-    for (int i = 0; i < gen_ns::ny; ++i) {
+    for (int i = 0; i < robot.ny; ++i) {
       std::vector<double> t = tau;
-      t[static_cast<std::size_t>(gen_ns::independent_v_index[i])] = bad;
-      gen_ns::forward_dynamics(q.data(), v.data(), t.data(), qdd.data());
-      EXPECT_FALSE(std::isfinite(qdd[static_cast<std::size_t>(i)])) << "tau of " << gen_ns::independent_joint_names[i];
+      t[static_cast<std::size_t>(robot.independent_v_index[i])] = bad;
+      generated::forward_dynamics(q.data(), v.data(), t.data(), qdd.data());
+      EXPECT_FALSE(std::isfinite(qdd[static_cast<std::size_t>(i)])) << "tau of " << robot.independent_joint_names[i];
     }
     // A position: the pose of the first body depends on its joint's first coordinate.
-    std::vector<double> X(12 * gen_ns::num_bodies), q_bad = q;
+    std::vector<double> X(12 * robot.num_bodies), q_bad = q;
     q_bad[0] = bad;
-    gen_ns::forward_kinematics(q_bad.data(), X.data());
+    generated::forward_kinematics(q_bad.data(), X.data());
     EXPECT_FALSE(std::all_of(X.begin(), X.begin() + 12, [](double x) { return std::isfinite(x); }));
     // The closure: a non-finite coordinate is no closed pose (loops), or nothing to close.
-    const auto result = gen_ns::closure_positions(q_bad.data());
-    EXPECT_EQ(result.status, gen_ns::has_loops ? gen_ns::ClosureStatus::not_converged : gen_ns::ClosureStatus::converged);
+    const auto result = generated::closure_positions(q_bad.data());
+    EXPECT_EQ(result.status, robot.has_loops ? generated::ClosureStatus::not_converged : generated::ClosureStatus::converged);
   }
 }
 
 TEST_F(GeneratedTest, NoAllocation) {
-  std::vector<double> q(gen_ns::nq, 0.1), v(gen_ns::nv, 0.2), out(36 * gen_ns::nv * (gen_ns::num_bodies + gen_ns::num_frames + 1));
-  if (gen_ns::floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
+  std::vector<double> q(robot.nq, 0.1), v(robot.nv, 0.2), out(36 * robot.nv * (robot.num_bodies + robot.num_frames + 1));
+  if (robot.floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
   std::vector<float> qf(q.begin(), q.end()), vf(v.begin(), v.end()), outf(out.size());
   MallocGuard guard;
-  gen_ns::forward_dynamics(q.data(), v.data(), v.data(), out.data());
-  gen_ns::full_accelerations(q.data(), v.data(), v.data(), out.data());
-  gen_ns::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
-  gen_ns::actuator_forces(q.data(), v.data(), v.data(), out.data(), out.data() + gen_ns::nv);
-  gen_ns::mass_matrix(q.data(), out.data());
-  gen_ns::mass_matrix_factor(out.data(), out.data() + gen_ns::nv * gen_ns::nv);
-  gen_ns::mass_matrix_solve(out.data() + gen_ns::nv * gen_ns::nv, v.data(), out.data());
-  gen_ns::forward_kinematics(q.data(), out.data());
-  gen_ns::frame_poses(q.data(), out.data());
-  gen_ns::frame_jacobians(q.data(), out.data());
-  gen_ns::center_of_mass(q.data(), out.data());
-  gen_ns::centroidal_momentum_matrix(q.data(), out.data());
-  gen_ns::task_kinematics(q.data(), out.data(), out.data() + 12 * gen_ns::num_frames, out.data() + 18 * gen_ns::num_frames * gen_ns::nv,
-                          out.data() + 24 * gen_ns::num_frames * gen_ns::nv);
-  gen_ns::velocity_map(q.data(), out.data());
-  gen_ns::full_velocities(q.data(), v.data(), out.data());
-  gen_ns::acceleration_bias(q.data(), v.data(), out.data());
-  gen_ns::closure_positions(q.data());
-  gen_ns::closure_positions(qf.data());
-  gen_ns::forward_dynamics(qf.data(), vf.data(), vf.data(), outf.data());
-  gen_ns::mass_matrix(qf.data(), outf.data());
+  generated::forward_dynamics(q.data(), v.data(), v.data(), out.data());
+  generated::full_accelerations(q.data(), v.data(), v.data(), out.data());
+  generated::inverse_dynamics(q.data(), v.data(), v.data(), out.data());
+  generated::actuator_forces(q.data(), v.data(), v.data(), out.data(), out.data() + robot.nv);
+  generated::mass_matrix(q.data(), out.data());
+  generated::mass_matrix_factor(out.data(), out.data() + robot.nv * robot.nv);
+  generated::mass_matrix_solve(out.data() + robot.nv * robot.nv, v.data(), out.data());
+  generated::forward_kinematics(q.data(), out.data());
+  generated::frame_poses(q.data(), out.data());
+  generated::frame_jacobians(q.data(), out.data());
+  generated::center_of_mass(q.data(), out.data());
+  generated::centroidal_momentum_matrix(q.data(), out.data());
+  generated::task_kinematics(q.data(), out.data(), out.data() + 12 * robot.num_frames, out.data() + 18 * robot.num_frames * robot.nv,
+                          out.data() + 24 * robot.num_frames * robot.nv);
+  generated::velocity_map(q.data(), out.data());
+  generated::full_velocities(q.data(), v.data(), out.data());
+  generated::acceleration_bias(q.data(), v.data(), out.data());
+  generated::closure_positions(q.data());
+  generated::closure_positions(qf.data());
+  generated::forward_dynamics(qf.data(), vf.data(), vf.data(), outf.data());
+  generated::mass_matrix(qf.data(), outf.data());
   EXPECT_EQ(guard.count(), 0u);
 }
 

@@ -1,7 +1,6 @@
 // Generated self_distances equals the generic compute_distances + compute_distance_jacobians on
 // the same scene (gen::build_collision_scene with the description's options, as the generator
-// builds it). Compiled into test_generated_<robot> (tests/CMakeLists.txt), same macros as
-// test_generated.cpp.
+// builds it). Compiled once and linked into every test_generated_<robot>, as test_generated.cpp.
 //
 // Tolerances.
 // double: 1e-12 (m for distances and witnesses, absolute for unit normals, relative to the
@@ -23,14 +22,12 @@
 
 #include <random>
 
-#include MBGEN_GENERATED_HEADER
+#include "generated_robot.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/collision/compound_distance.hpp"
 #include "collision/collision_scene.hpp"
 #include "model/load_description.hpp"
 #include "test_support.hpp"
-
-namespace gen_ns = MBGEN_GENERATED_NS;
 
 namespace mbgen::test {
 namespace {
@@ -41,9 +38,10 @@ class GeneratedSelfDistances : public ::testing::Test {
 
   static gen::Description load() {
     gen::LoadOptions options;
-    options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
-    if (std::string(MBGEN_EXTRAS).size() > 0) options.extras_file = MBGEN_EXTRAS;
-    return gen::load_description(MBGEN_DESCRIPTION, options);
+    const generated::Robot& robot = generated::robot();
+    options.base = robot.load_floating ? gen::BaseType::Floating : gen::BaseType::Fixed;
+    if (std::string(robot.extras).size() > 0) options.extras_file = robot.extras;
+    return gen::load_description(robot.description, options);
   }
   static collision::CollisionModel make_scene(const gen::Description& d) {
     return gen::build_collision_scene(d, gen::collision_scene_options(d)).model;
@@ -83,7 +81,7 @@ class GeneratedSelfDistances : public ::testing::Test {
 
   template <typename T> Worst compare(int trials, double min_core_distance) {
     std::mt19937_64 rng(7);
-    const int np = gen_ns::num_distance_pairs, nv = model.nv();
+    const int np = robot.num_distance_pairs, nv = model.nv();
     std::vector<T> distance(np), normal(3 * np), witness(6 * np), jacobian(np * nv);
     Data<double> data(model);
     collision::CollisionData<double> cd(model, scene);
@@ -95,7 +93,7 @@ class GeneratedSelfDistances : public ::testing::Test {
       collision::compute_distance_jacobians<double>(model, data, scene, cd);
       std::vector<T> qt(static_cast<std::size_t>(q.size()));
       for (int i = 0; i < q.size(); ++i) qt[static_cast<std::size_t>(i)] = static_cast<T>(q[i]);
-      gen_ns::self_distances(qt.data(), distance.data(), normal.data(), witness.data(), jacobian.data());
+      generated::self_distances(qt.data(), distance.data(), normal.data(), witness.data(), jacobian.data());
       const double jscale = std::max(1.0, cd.jacobian.cwiseAbs().maxCoeff());
       for (int k = 0; k < np; ++k) {
         const collision::SsvDistance<double>& r = cd.distances[static_cast<std::size_t>(k)].result;
@@ -121,21 +119,22 @@ class GeneratedSelfDistances : public ::testing::Test {
     return w;
   }
 
+  const generated::Robot& robot = generated::robot();
   gen::Description description;
   const Model& model;
   collision::CollisionModel scene;
 };
 
 TEST_F(GeneratedSelfDistances, PairsAreTheScenesKeptPairs) {
-  ASSERT_EQ(gen_ns::num_distance_pairs, static_cast<int>(scene.pairs.size()));
+  ASSERT_EQ(robot.num_distance_pairs, static_cast<int>(scene.pairs.size()));
   for (std::size_t k = 0; k < scene.pairs.size(); ++k) {
-    EXPECT_EQ(scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name, gen_ns::distance_pair_names[k][0]);
-    EXPECT_EQ(scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name, gen_ns::distance_pair_names[k][1]);
+    EXPECT_EQ(scene.compounds[static_cast<std::size_t>(scene.pairs[k].first)].name, robot.distance_pair_names[k][0]);
+    EXPECT_EQ(scene.compounds[static_cast<std::size_t>(scene.pairs[k].second)].name, robot.distance_pair_names[k][1]);
   }
 }
 
 TEST_F(GeneratedSelfDistances, DoubleEqualsGeneric) {
-  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  if (robot.num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
   const Worst w = compare<double>(200, -1.0);
   EXPECT_LT(w.distance, 1e-12);
   EXPECT_LT(w.witness, 1e-12);
@@ -148,7 +147,7 @@ TEST_F(GeneratedSelfDistances, DoubleEqualsGeneric) {
 }
 
 TEST_F(GeneratedSelfDistances, FloatWithinDerivedBound) {
-  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  if (robot.num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
   const Worst w = compare<float>(200, 0.01);
   EXPECT_LT(w.distance, 1e-5);
   EXPECT_LT(w.consistency, 1e-5);
@@ -167,8 +166,9 @@ TEST_F(GeneratedSelfDistances, FloatWithinDerivedBound) {
 /// points); a far pair's distance is a lower bound >= the threshold; rows are compact and ascending.
 /// Returns how many near and far pairs were seen.
 template <typename T> std::pair<int, int> near_set_against_full(const Model& model, int trials, double* worst_bound_excess) {
+  const generated::Robot& robot = generated::robot();
   std::mt19937_64 rng(19);
-  const int np = gen_ns::num_distance_pairs, nv = gen_ns::nv;
+  const int np = robot.num_distance_pairs, nv = robot.nv;
   std::vector<T> d(np), n(3 * np), w(6 * np), J(np * nv), dn(np), nn(3 * np), wn(6 * np), Jn(np * nv);
   std::vector<int> near(np);
   std::uniform_real_distribution<double> threshold_of(-0.05, 0.4);
@@ -177,10 +177,10 @@ template <typename T> std::pair<int, int> near_set_against_full(const Model& mod
     const VecX<double> q = random_configuration<double>(model, rng);
     std::vector<T> qt(static_cast<std::size_t>(q.size()));
     for (int i = 0; i < q.size(); ++i) qt[static_cast<std::size_t>(i)] = static_cast<T>(q[i]);
-    gen_ns::self_distances(qt.data(), d.data(), n.data(), w.data(), J.data());
+    generated::self_distances(qt.data(), d.data(), n.data(), w.data(), J.data());
     const T threshold = static_cast<T>(threshold_of(rng));
     int num_near = -1;
-    gen_ns::self_distances_near(qt.data(), threshold, dn.data(), near.data(), &num_near, nn.data(), wn.data(), Jn.data());
+    generated::self_distances_near(qt.data(), threshold, dn.data(), near.data(), &num_near, nn.data(), wn.data(), Jn.data());
     EXPECT_GE(num_near, 0);
     int i = 0;
     for (int k = 0; k < np; ++k) {
@@ -204,7 +204,7 @@ template <typename T> std::pair<int, int> near_set_against_full(const Model& mod
 }
 
 TEST_F(GeneratedSelfDistances, NearSetEqualsFullBelowTheThresholdAndBoundsTheRest) {
-  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  if (robot.num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
   double excess = -1e300;
   const auto [near_d, far_d] = near_set_against_full<double>(model, 200, &excess);
   EXPECT_GT(near_d, 0);
@@ -221,9 +221,9 @@ TEST_F(GeneratedSelfDistances, NearSetEqualsFullBelowTheThresholdAndBoundsTheRes
 /// their lower bounds to 1e-12 (bounding spheres: placed the traced way vs Eigen's; a pair within
 /// 1e-12 of the threshold may go either way).
 TEST_F(GeneratedSelfDistances, NearSetEqualsGeneric) {
-  if (gen_ns::num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
+  if (robot.num_distance_pairs == 0) GTEST_SKIP() << "the scene keeps no pair";
   std::mt19937_64 rng(23);
-  const int np = gen_ns::num_distance_pairs, nv = model.nv();
+  const int np = robot.num_distance_pairs, nv = model.nv();
   std::vector<double> d(np), n(3 * np), w(6 * np), J(np * nv);
   std::vector<int> near(np);
   Data<double> data(model);
@@ -235,7 +235,7 @@ TEST_F(GeneratedSelfDistances, NearSetEqualsGeneric) {
     compute_joint_jacobians<double>(model, data, q);
     collision::compute_near_distances<double>(model, data, scene, threshold, cd);
     int num_near = 0;
-    gen_ns::self_distances_near(q.data(), threshold, d.data(), near.data(), &num_near, n.data(), w.data(), J.data());
+    generated::self_distances_near(q.data(), threshold, d.data(), near.data(), &num_near, n.data(), w.data(), J.data());
     std::vector<bool> generated_near(static_cast<std::size_t>(np), false), generic_near(static_cast<std::size_t>(np), false);
     for (int i = 0; i < num_near; ++i) generated_near[static_cast<std::size_t>(near[i])] = true;
     for (int i = 0; i < cd.num_near; ++i) generic_near[static_cast<std::size_t>(cd.near[static_cast<std::size_t>(i)])] = true;
@@ -252,13 +252,13 @@ TEST_F(GeneratedSelfDistances, NearSetEqualsGeneric) {
 }
 
 TEST_F(GeneratedSelfDistances, NoAllocation) {
-  std::vector<double> q(gen_ns::nq, 0.1), out(6 * (gen_ns::num_distance_pairs + 1) * gen_ns::nv);
-  if (gen_ns::floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
-  std::vector<int> near(gen_ns::num_distance_pairs + 1);
+  std::vector<double> q(robot.nq, 0.1), out(6 * (robot.num_distance_pairs + 1) * robot.nv);
+  if (robot.floating_base) q[6] = 1, q[3] = q[4] = q[5] = 0;
+  std::vector<int> near(robot.num_distance_pairs + 1);
   int num_near = 0;
   MallocGuard guard;
-  gen_ns::self_distances(q.data(), out.data(), out.data(), out.data(), out.data());
-  gen_ns::self_distances_near(q.data(), 0.05, out.data(), near.data(), &num_near, out.data(), out.data(), out.data());
+  generated::self_distances(q.data(), out.data(), out.data(), out.data(), out.data());
+  generated::self_distances_near(q.data(), 0.05, out.data(), near.data(), &num_near, out.data(), out.data(), out.data());
   EXPECT_EQ(guard.count(), 0u);
 }
 
