@@ -83,6 +83,9 @@ TEST(GenerateCommand, TheScenesScalarUnlessTheCommandLineSaysOtherwise) {
   header = read(dir / "arm.hpp");
   EXPECT_NE(header.find("void forward_dynamics(const double* q"), std::string::npos);
   EXPECT_NE(header.find("void forward_dynamics(const float* q"), std::string::npos);
+  // Each scalar's declarations begin a line of their own (the double ones once ran into the float ones).
+  EXPECT_NE(header.find("\nClosureResult<float> closure_positions(float* q"), std::string::npos);
+  EXPECT_NE(header.find("\nClosureResult<double> closure_positions(double* q"), std::string::npos);
 }
 
 // --templates: a user's edited copy of a flavour shapes the output, and the banner names the

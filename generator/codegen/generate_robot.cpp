@@ -194,13 +194,15 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   for (const TracedFunction& f : functions) declarations += emit_declaration(f, ctx);
   for (const std::string& f : selection.left_out)
     if (f != "self_distances") declarations += left_out_note(f);
-  for (const std::string& s : scalar_types(options.scalars))
+  for (const std::string& s : scalar_types(options.scalars)) {
+    if (!scalar_declarations.empty()) scalar_declarations += '\n';  // a rendered template ends without one
     scalar_declarations += templates.render("scalar_declarations",
                                             {{"robot", ctx.robot},
                                              {"scalar", s},
                                              {"closure_positions", ctx.public_name("closure_positions", s)},
                                              {"close_loops", ctx.public_name("close_loops", s)},
                                              {"independent_velocities", ctx.public_name("independent_velocities", s)}});
+  }
   TemplateFields header_fields = {
       {"banner", ctx.banner},
       {"robot", ctx.robot},
