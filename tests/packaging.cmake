@@ -13,8 +13,11 @@ function(mbgen_add_firmware_test robot description)
   set_tests_properties(firmware.${robot} PROPERTIES SKIP_RETURN_CODE 77 PROCESSORS 2 TIMEOUT 900)
 endfunction()
 mbgen_add_firmware_test(iiwa14 ${MBGEN_SHARED_ROBOTS}/iiwa14/iiwa14_primitive_collision.urdf --fixed)
+# Lola in parts of at most 2,000 statements, as the README advises for firmware: arm-none-eabi-g++
+# 12's combine pass grows faster than a function's length (full_accelerations whole: 68 s of the
+# check's 70-100 s, 5.6 s in parts); iiwa14 and ankle_2dof keep each function whole.
 mbgen_add_firmware_test(lola ${PROJECT_SOURCE_DIR}/robots/lola/lola.urdf
-                        --extras ${PROJECT_SOURCE_DIR}/robots/lola/lola.yaml)
+                        --extras ${PROJECT_SOURCE_DIR}/robots/lola/lola.yaml --max-statements 2000)
 # The c flavour (docs/templates.md): its C99 header and C++ sources, for the same target.
 mbgen_add_firmware_test(ankle_2dof_c ${PROJECT_SOURCE_DIR}/robots/mechanisms/ankle_2dof.urdf
                         --extras ${PROJECT_SOURCE_DIR}/robots/mechanisms/ankle_2dof.yaml --flavour c)
