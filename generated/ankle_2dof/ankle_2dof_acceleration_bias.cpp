@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+}
+
+// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 // 1055 operations: 383 additions/subtractions, 598 multiplications, 14 divisions, 32 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 template <typename S>
 void acceleration_bias_impl(const S* q, const S* vy, S* g) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
+}
+
+// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 94 operations: 36 additions/subtractions, 46 multiplications, 0 divisions, 0 negations, 12 sin/cos, 0 square roots.
 template <typename S> void closure_residual(const S* q, S* residual) {
   const S _angle[8] = {q[0], q[1], q[3], q[4], q[6], q[7], S(0), S(0)};

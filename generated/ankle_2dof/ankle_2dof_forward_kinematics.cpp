@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Pose of every body in the world, in body_names order.
+}
+
+// Pose of every body in the world, in body_names order.
 // 44 operations: 8 additions/subtractions, 18 multiplications, 0 divisions, 6 negations, 12 sin/cos, 0 square roots.
 template <typename S>
 void forward_kinematics_impl(const S* q, S* X_WB) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
+}
+
+// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 // 27 operations: 6 additions/subtractions, 12 multiplications, 0 divisions, 5 negations, 4 sin/cos, 0 square roots.
 template <typename S>
 void frame_jacobians_impl(const S* q, S* J) {

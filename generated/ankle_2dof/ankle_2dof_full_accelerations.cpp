@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+}
+
+// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
 // 1785 operations: 672 additions/subtractions, 1030 multiplications, 16 divisions, 39 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 template <typename S>
 void full_accelerations_impl(const S* q, const S* v, const S* tau, S* qdd) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
+}
+
+// Joint forces tau = M(q) qdd + C(q, v) v + g(q) (recursive Newton-Euler).
 // 383 operations: 139 additions/subtractions, 225 multiplications, 0 divisions, 7 negations, 12 sin/cos, 0 square roots.
 template <typename S>
 void inverse_dynamics_impl(const S* q, const S* v, const S* qdd, S* tau) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
+}
+
+// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 // 546 operations: 170 additions/subtractions, 310 multiplications, 14 divisions, 24 negations, 12 sin/cos, 8 square roots, 8 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+}
+
+// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 // 162 operations: 57 additions/subtractions, 88 multiplications, 3 divisions, 6 negations, 6 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void acceleration_bias_impl(const S* q, const S* vy, S* g) {

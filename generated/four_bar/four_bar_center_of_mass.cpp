@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Centre of mass of the robot in the world.
+}
+
+// Centre of mass of the robot in the world.
 // 45 operations: 14 additions/subtractions, 22 multiplications, 2 divisions, 1 negations, 6 sin/cos, 0 square roots.
 template <typename S>
 void center_of_mass_impl(const S* q, S* com) {

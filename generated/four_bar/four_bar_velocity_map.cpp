@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
+}
+
+// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
 // 75 operations: 23 additions/subtractions, 36 multiplications, 3 divisions, 5 negations, 6 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void velocity_map_impl(const S* q, S* T) {

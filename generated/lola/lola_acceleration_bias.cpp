@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+}
+
+// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 // 2374 operations: 858 additions/subtractions, 1340 multiplications, 34 divisions, 74 negations, 32 sin/cos, 18 square roots, 18 max (selects).
 template <typename S>
 void acceleration_bias_impl(const S* q, const S* vy, S* g) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
+}
+
+// Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about the centre of mass], world axes.
 // 3845 operations: 1723 additions/subtractions, 2025 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
 template <typename S>
 void centroidal_momentum_matrix_impl(const S* q, S* Ag) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
+}
+
+// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 236 operations: 92 additions/subtractions, 112 multiplications, 0 divisions, 0 negations, 32 sin/cos, 0 square roots.
 template <typename S> void closure_residual(const S* q, S* residual) {
   const S _angle[16] = {q[21], q[22], q[23], q[24], q[26], q[27], q[29], q[30], q[36], q[37], q[38], q[39], q[41], q[42], q[44], q[45]};

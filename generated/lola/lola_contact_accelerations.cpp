@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
+}
+
+// Accelerations of every tree joint of the closed system (as full_accelerations) under tau and the ground: the compliant law of mbgen/sim/contact.hpp (Hunt-Crossley, exponent 1.5 built in; regularised Coulomb) at each contact sphere, its wrench an external force on its body in the articulated-body algorithm. Also writes, per sphere, what the law gave. The simulator's step (NAME::Backend::accelerations_with_contact).
 // 15301 operations: 6608 additions/subtractions, 8359 multiplications, 71 divisions, 99 negations, 68 sin/cos, 42 square roots, 54 max (selects).
 template <typename S>
 void contact_accelerations_impl(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) {

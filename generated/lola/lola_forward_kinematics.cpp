@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Pose of every body in the world, in body_names order.
+}
+
+// Pose of every body in the world, in body_names order.
 // 962 operations: 354 additions/subtractions, 540 multiplications, 0 divisions, 0 negations, 68 sin/cos, 0 square roots.
 template <typename S>
 void forward_kinematics_impl(const S* q, S* X_WB) {

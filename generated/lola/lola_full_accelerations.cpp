@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+}
+
+// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
 // 13720 operations: 5916 additions/subtractions, 7542 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 template <typename S>
 void full_accelerations_impl(const S* q, const S* v, const S* tau, S* qdd) {

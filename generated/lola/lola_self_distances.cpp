@@ -99,7 +99,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}using mbgen::collision::ClosestShapes;
+}
+
+using mbgen::collision::ClosestShapes;
 using mbgen::collision::LineSsv;
 using mbgen::collision::PointSsv;
 using mbgen::collision::SsvDistance;

@@ -96,7 +96,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// The 663 output entries that are the same at every call, by a function of their own: g++
+}
+
+// The 663 output entries that are the same at every call, by a function of their own: g++
 // vectorises no basic block as large as task_kinematics's, and stores them there 8 bytes at a time.
 template <typename S>
 MBGEN_GENERATED_NOINLINE void task_kinematics_constants(S* J) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
+}
+
+// Acceleration bias g at (q, vy): qdd = T ydd + g keeps the loops closed (zero at the independent coordinates).
 // 125 operations: 41 additions/subtractions, 68 multiplications, 3 divisions, 7 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void acceleration_bias_impl(const S* q, const S* vy, S* g) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
+}
+
+// The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 30 operations: 11 additions/subtractions, 14 multiplications, 0 divisions, 1 negations, 4 sin/cos, 0 square roots.
 template <typename S> void closure_residual(const S* q, S* residual) {
   const S _angle[4] = {q[0], q[1], S(0), S(0)};

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Pose of each frame in frame_names, in the world.
+}
+
+// Pose of each frame in frame_names, in the world.
 // 16 operations: 4 additions/subtractions, 6 multiplications, 0 divisions, 2 negations, 4 sin/cos, 0 square roots.
 template <typename S>
 void frame_poses_impl(const S* q, S* X_WF) {

@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
+}
+
+// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
 // 207 operations: 73 additions/subtractions, 114 multiplications, 4 divisions, 10 negations, 4 sin/cos, 1 square roots, 1 max (selects).
 template <typename S>
 void full_accelerations_impl(const S* q, const S* v, const S* tau, S* qdd) {

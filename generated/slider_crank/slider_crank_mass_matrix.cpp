@@ -87,7 +87,9 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
       c[k] = std::cos(x[k]);
     }
 #endif
-}// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
+}
+
+// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
 // 15 operations: 7 additions/subtractions, 5 multiplications, 0 divisions, 1 negations, 2 sin/cos, 0 square roots.
 template <typename S>
 void mass_matrix_impl(const S* q, S* M) {

@@ -32,7 +32,8 @@ std::vector<bool> reachable(const TracedFunction& f) {
 }  // namespace
 
 std::string sincos_helper(const EmitContext& ctx, bool uses_trig) {
-  return ctx.inline_sincos || uses_trig ? ctx.templates.render("sincos", {}) : std::string();
+  // A rendered template ends without its last newline: a blank line parts the helpers from what follows.
+  return ctx.inline_sincos || uses_trig ? ctx.templates.render("sincos", {}) + "\n\n" : std::string();
 }
 
 bool uses_trig(const TracedFunction& f) {
