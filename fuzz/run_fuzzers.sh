@@ -23,8 +23,13 @@ targets=("$@")
 source_dir=$(cd "$(dirname "$0")/.." && pwd)
 shared=${MBGEN_SHARED_ROBOTS:-$source_dir/../shared/robots}
 
+# clang and its sanitizer runtimes (the default install leaves them out); as root, installed if
+# missing, otherwise named.
+if [[ $(id -u) -eq 0 ]]; then
+  bash "$source_dir/scripts/install_deps.sh" --fuzz
+fi
 for tool in clang clang++; do
-  command -v "$tool" >/dev/null || { echo "$tool not found: apt-get install clang libclang-rt-14-dev" >&2; exit 1; }
+  command -v "$tool" >/dev/null || { echo "$tool not found: run scripts/install_deps.sh --fuzz as root (clang libclang-rt-14-dev)" >&2; exit 1; }
 done
 mkdir -p "$build_dir"
 cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \

@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages mbgen needs to build, test and benchmark (run as root).
 # Does nothing when they are all present; otherwise updates the package lists once and installs.
+#
+#   install_deps.sh          what the build and the test suite need
+#   install_deps.sh --fuzz   and clang with its sanitizer runtimes, for the fuzz targets
+#                            (fuzz/run_fuzzers.sh asks for them; the suite's default run does not
+#                            build them, so CI does not download a second compiler)
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -9,8 +14,12 @@ packages=(
   libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev libmujoco-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
   gnuplot-nox python3 valgrind
-  clang libclang-rt-14-dev
 )
+case "${1:-}" in
+  "") ;;
+  --fuzz) packages+=(clang libclang-rt-14-dev) ;;
+  *) echo "usage: $0 [--fuzz]" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -7,7 +7,7 @@
 #   bash scripts/test_sanitized.sh [ctest arguments...]   e.g. -R Generated
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install_deps.sh
+bash scripts/install_deps.sh --fuzz  # the suite here includes fuzz.smoke (clang)
 # -O1 -g1: what ASan's authors recommend (fast enough, line numbers in reports); -O2 -g on the
 # larger robots' generated functions takes far longer to compile and finds nothing more.
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
