@@ -438,7 +438,7 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t90 = _t37 * _t82;
   const S _t91 = _t90 - _t89;
   const S _t92 = _cos[2] * S(0.045);
-  const S _t93 = S(-0.05) * _sin[2];
+  const S _t93 = _sin[2] * S(-0.05);
   const S _t94 = _cos[2] * S(-0.1);
   const S _t95 = _t93 + _t94;
   const S _t96 = _sin[2] * S(0.045);
@@ -464,7 +464,7 @@ void closure_newton_step(const S* q, const S* invariants, S* residual, S* pivots
   const S _t116 = _t115 - _t114;
   const S _t117 = _t37 * _t102;
   const S _t118 = _t116 - _t117;
-  const S _t119 = S(0.1) + _t60;
+  const S _t119 = _t60 + S(0.1);
   const S _t120 = S(-0.05) - _t55;
   const S _t121 = _sin[2] * _t120;
   const S _t122 = _cos[2] * _t119;
@@ -1815,7 +1815,7 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t103 = _t37 * _t37;
   const S _t104 = _t102 + _t103;
   const S _t105 = _cos[2] * S(0.045);
-  const S _t106 = S(-0.05) * _sin[2];
+  const S _t106 = _sin[2] * S(-0.05);
   const S _t107 = _cos[2] * S(-0.1);
   const S _t108 = _t106 + _t107;
   const S _t109 = _sin[2] * S(0.045);
@@ -1841,7 +1841,7 @@ void closure_newton_step_velocities(const S* q, const S* v, const S* invariants,
   const S _t129 = _t128 - _t127;
   const S _t130 = _t37 * _t115;
   const S _t131 = _t129 - _t130;
-  const S _t132 = S(0.1) + _t60;
+  const S _t132 = _t60 + S(0.1);
   const S _t133 = S(-0.05) - _t55;
   const S _t134 = _sin[2] * _t133;
   const S _t135 = _cos[2] * _t132;

@@ -54,6 +54,17 @@ template <typename S> struct Data {
     M_y = MatX<S>::Zero(ny, ny);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k)
       for (BodyIndex b : model.subsystems[k].bodies) subsystem_of_body[b] = static_cast<int>(k);
+    // Each closure's two branches up to their common ancestor (closure.hpp's common_ancestor:
+    // bodies are numbered parents first, so the larger index climbs).
+    std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
+    for (const LoopClosure& c : model.closures)
+      for (BodyIndex a = c.body_a, b = c.body_b; a != b;) {
+        BodyIndex& lower = a.value() > b.value() ? a : b;
+        on_cycle[static_cast<std::size_t>(lower.value())] = true;
+        lower = model.body(lower).parent;
+      }
+    for (int k = 1; k < model.num_bodies(); ++k)
+      if (on_cycle[static_cast<std::size_t>(k)]) cycle_bodies.push_back(BodyIndex(k));
   }
 
   IndexedVector<BodyIndex, SE3<S>> X_J;    ///< joint transform: pose of each body in its joint frame
@@ -105,6 +116,9 @@ template <typename S> struct Data {
   MatX<S> M_y;                   ///< ny x ny: mass matrix in independent coordinates (mass_matrix_loops)
   VecX<S> scratch_y, scratch_nv;
   IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body
+  /// The bodies strictly below a closure's top on its cycle, ascending: all the loops' rows read
+  /// (closure.hpp, detail::cycle_placements).
+  std::vector<BodyIndex> cycle_bodies;
 };
 
 }  // namespace mbgen

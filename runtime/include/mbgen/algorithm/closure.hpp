@@ -57,6 +57,14 @@ template <typename S> Vec3<S> rotation_skew_vee(const Mat3<S>& R) {
   return Vec3<S>(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / S(2);
 }
 
+/// X_J and X_PB of the bodies on the closures' cycles (Data::cycle_bodies), the only poses the
+/// loops' rows read: cycle_kinematics places a cycle from X_PB alone, its top at rest. Newton on
+/// the loops places these rather than the whole tree (Lola: 22 of its 46 bodies, and no world
+/// poses).
+template <typename S> void cycle_placements(const Model& model, Data<S>& data, const S* q) {
+  for (BodyIndex b : data.cycle_bodies) place_in_parent<S>(model, data, q, b);
+}
+
 /// Fills data.X_TB (and, with v, data.v_T and data.a_T at zero joint accelerations) for the
 /// bodies from top (excluded) down to b, top an ancestor of b or b itself, as if top were at rest.
 /// Needs data.X_PB. Recurses to the top first: a cycle is a few bodies.
@@ -253,16 +261,23 @@ template <typename S> void closure_velocity_product_rows(const Data<S>& data, co
   }
 }
 
+/// The stacked residual into data.Phi from the closures' cycles alone (cycle_placements): what
+/// Newton checks between its steps.
+template <typename S> void cycle_residual(const Model& model, Data<S>& data, const S* q) {
+  cycle_placements<S>(model, data, q);
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
+    closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
+  }
+}
+
 }  // namespace detail
 
 /// Stacked residual Phi(q) of all closures (model.num_constraint_rows()) in data.Phi, also
 /// returned. Runs forward kinematics for q (size nq).
 template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  for (const LoopClosure& c : model.closures) {
-    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, nullptr);
-    detail::closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
-  }
+  detail::cycle_residual<S>(model, data, q.data());
   return data.Phi;
 }
 

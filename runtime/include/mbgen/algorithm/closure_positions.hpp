@@ -119,7 +119,7 @@ template <typename S> void step_from_factor(const Model& model, Data<S>& data) {
 /// R factor of Phi_z in data.subsystem[k].R and the full step Phi_z^-1 Phi_kept (to subtract
 /// from z, in SubSystem::dependent order) in the last column of data.subsystem[k].rhs.
 template <typename S> void closure_newton_step(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
-  forward_kinematics<S>(model, data, q);
+  cycle_placements<S>(model, data, q.data());
   for (const LoopClosure& c : model.closures) {
     const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
     closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
@@ -258,7 +258,7 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   };
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
-      closure_residual<S>(model, data, q);
+      cycle_residual<S>(model, data, q.data());
       S residual;
       const bool finite = kept_residual<S>(model, data, residual);
       if (finite && residual < S(options.tolerance)) {
@@ -302,7 +302,8 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
 /// Closes the loops: solves Phi(y, z) = 0 for the dependent coordinates z of every sub-system by
 /// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
 /// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
-/// aba() and forward_dynamics_loops do themselves). When Newton converges quadratically and
+/// aba() and forward_dynamics_loops do themselves); it places only the cycles' bodies
+/// (detail::cycle_placements), so data's world poses are not the returned q's. When Newton converges quadratically and
 /// far from a dead point, the final iterate is checked by its residual alone, and when that is not
 /// yet below the tolerance, one simplified step with the last factor precedes the next check
 /// (detail::residual_check_predicted): the result's pivot ratios are then those of the last

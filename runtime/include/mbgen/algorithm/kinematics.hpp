@@ -10,6 +10,14 @@ namespace mbgen {
 template <typename S> using ConstVecRef = Eigen::Ref<const VecX<S>>;
 
 namespace detail {
+/// Body i's pose in its parent, X_PB = X_PJ X_J, with X_J kept: the centroidal composites move
+/// through it.
+template <typename S> void place_in_parent(const Model& model, Data<S>& data, const S* q, BodyIndex i) {
+  const Joint& joint = model.joint(model.body(i).joint);
+  data.X_J[i] = joint_motion_transform<S>(joint, q + joint.idx_q);
+  data.X_PB[i] = joint.X_PJ.template cast<S>() * data.X_J[i];
+}
+
 /// Shared pass: poses always, velocities if v, accelerations if a (no gravity in a).
 template <typename S> void kinematics_pass(const Model& model, Data<S>& data, const S* q, const S* v, const S* a) {
   data.X_WB[kWorldBody] = SE3<S>::Identity();
@@ -19,9 +27,7 @@ template <typename S> void kinematics_pass(const Model& model, Data<S>& data, co
     const BodyIndex i(k);
     const Body& body = model.body(i);
     const Joint& joint = model.joint(body.joint);
-    // The pose in the parent, X_PB = X_PJ X_J, with X_J kept: the centroidal composites move through it.
-    data.X_J[i] = joint_motion_transform<S>(joint, q + joint.idx_q);
-    data.X_PB[i] = joint.X_PJ.template cast<S>() * data.X_J[i];
+    place_in_parent<S>(model, data, q, i);
     data.X_WB[i] = data.X_WB[body.parent] * data.X_PB[i];
     if (v) {
       Motion<S> vj = joint_velocity<S>(joint, v + joint.idx_v);
