@@ -127,6 +127,24 @@ TEST_P(LoopMapsTest, NewtonReadsNoPoseItDidNotPlace) {
   EXPECT_EQ(stale_q, fresh_q);
 }
 
+TEST_P(LoopMapsTest, MapsReadNoPoseTheyDidNotPlace) {
+  // The sub-systems' maps place only the cycles' bodies too: T and g at a consistent state must be
+  // the same bits from a fresh Data and from one whose every pose is another configuration's.
+  std::mt19937_64 rng(31);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  VecX<double> vy(static_cast<int>(data.independent_v.size()));
+  for (std::size_t i = 0; i < data.independent_v.size(); ++i) vy[static_cast<int>(i)] = v[data.independent_v[i]];
+  Data<double> stale(model);
+  forward_kinematics<double>(model, stale, random_configuration<double>(model, rng));
+  VecX<double> g_fresh(model.nv()), g_stale(model.nv());
+  acceleration_bias<double>(model, data, q, vy, g_fresh);
+  acceleration_bias<double>(model, stale, q, vy, g_stale);
+  EXPECT_EQ(g_stale, g_fresh);
+  forward_kinematics<double>(model, stale, random_configuration<double>(model, rng));
+  EXPECT_EQ(velocity_map_at(model, stale, q), velocity_map_at(model, data, q));
+}
+
 TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
   // close_loops from a moved pose and an inconsistent v: q closed as closure_positions closes it
   // (within 1e-10: closure_positions may end with a simplified step, close_loops never does), and

@@ -204,7 +204,7 @@ void acceleration_bias_impl(const S* q, const S* vy, S* g) {
   const S _t103 = _t35 * _t35;
   const S _t104 = _t102 + _t103;
   const S _t105 = _cos[2] * S(0.045);
-  const S _t106 = S(-0.05) * _sin[2];
+  const S _t106 = _sin[2] * S(-0.05);
   const S _t107 = _cos[2] * S(-0.1);
   const S _t108 = _t106 + _t107;
   const S _t109 = _sin[2] * S(0.045);
@@ -230,7 +230,7 @@ void acceleration_bias_impl(const S* q, const S* vy, S* g) {
   const S _t129 = _t128 - _t127;
   const S _t130 = _t35 * _t115;
   const S _t131 = _t129 - _t130;
-  const S _t132 = S(0.1) + _t60;
+  const S _t132 = _t60 + S(0.1);
   const S _t133 = S(-0.05) - _t55;
   const S _t134 = _sin[2] * _t133;
   const S _t135 = _cos[2] * _t132;

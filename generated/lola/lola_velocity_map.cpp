@@ -1548,7 +1548,7 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t81 = _t27 * _t27;
   const S _t82 = _t80 + _t81;
   const S _t83 = _cos[2] * S(0.045);
-  const S _t84 = S(-0.05) * _sin[2];
+  const S _t84 = _sin[2] * S(-0.05);
   const S _t85 = _cos[2] * S(-0.1);
   const S _t86 = _t84 + _t85;
   const S _t87 = _sin[2] * S(0.045);
@@ -1574,7 +1574,7 @@ void velocity_map_impl(const S* q, S* T) {
   const S _t107 = _t106 - _t105;
   const S _t108 = _t27 * _t93;
   const S _t109 = _t107 - _t108;
-  const S _t110 = S(0.1) + _t38;
+  const S _t110 = _t38 + S(0.1);
   const S _t111 = S(-0.05) - _t33;
   const S _t112 = _sin[2] * _t111;
   const S _t113 = _cos[2] * _t110;

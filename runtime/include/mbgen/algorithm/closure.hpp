@@ -261,13 +261,33 @@ template <typename S> void closure_velocity_product_rows(const Data<S>& data, co
   }
 }
 
-/// The stacked residual into data.Phi from the closures' cycles alone (cycle_placements): what
-/// Newton checks between its steps.
-template <typename S> void cycle_residual(const Model& model, Data<S>& data, const S* q) {
-  cycle_placements<S>(model, data, q);
+// The stacked rows of every closure from the joints' placements X_PB of the cycles' bodies
+// (forward kinematics places them with the rest of the tree, cycle_placements alone): the public
+// functions below run the former, Newton and the sub-systems' maps the latter.
+
+/// The residual into data.Phi.
+template <typename S> void residual_from_placements(const Model& model, Data<S>& data) {
   for (const LoopClosure& c : model.closures) {
     const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
     closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
+  }
+}
+
+/// The constraint Jacobian into data.Phi_q.
+template <typename S> void jacobian_from_placements(const Model& model, Data<S>& data) {
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
+    closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
+  }
+}
+
+/// The bias into data.gamma, for velocities v (nv).
+template <typename S> void bias_from_placements(const Model& model, Data<S>& data, const S* v) {
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = cycle_kinematics<S>(model, data, c, v);
+    S* out = data.gamma.data() + c.row_offset;
+    closure_velocity_product_rows<S>(data, c, top, out);
+    for (int i = 0; i < c.rows(); ++i) out[i] = -out[i];
   }
 }
 
@@ -277,7 +297,7 @@ template <typename S> void cycle_residual(const Model& model, Data<S>& data, con
 /// returned. Runs forward kinematics for q (size nq).
 template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  detail::cycle_residual<S>(model, data, q.data());
+  detail::residual_from_placements<S>(model, data);
   return data.Phi;
 }
 
@@ -285,10 +305,7 @@ template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S
 /// velocity of the closures) in data.Phi_q, also returned. Runs forward kinematics for q.
 template <typename S> const MatX<S>& closure_jacobian(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  for (const LoopClosure& c : model.closures) {
-    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, nullptr);
-    detail::closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
-  }
+  detail::jacobian_from_placements<S>(model, data);
   return data.Phi_q;
 }
 
@@ -298,12 +315,7 @@ template <typename S> const MatX<S>& closure_jacobian(const Model& model, Data<S
 template <typename S>
 const VecX<S>& closure_bias(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   forward_kinematics<S>(model, data, q);
-  for (const LoopClosure& c : model.closures) {
-    const BodyIndex top = detail::cycle_kinematics<S>(model, data, c, v.data());
-    S* out = data.gamma.data() + c.row_offset;
-    detail::closure_velocity_product_rows<S>(data, c, top, out);
-    for (int i = 0; i < c.rows(); ++i) out[i] = -out[i];
-  }
+  detail::bias_from_placements<S>(model, data, v.data());
   return data.gamma;
 }
 

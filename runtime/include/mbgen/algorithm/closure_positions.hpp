@@ -258,7 +258,8 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   };
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
-      cycle_residual<S>(model, data, q.data());
+      cycle_placements<S>(model, data, q.data());
+      residual_from_placements<S>(model, data);
       S residual;
       const bool finite = kept_residual<S>(model, data, residual);
       if (finite && residual < S(options.tolerance)) {

@@ -33,8 +33,10 @@ const VecX<S>& contact_forward_dynamics(const Model& model, Data<S>& data, const
     return detail::aba_force_passes<S>(model, data, v, tau);
   }
   for (std::size_t i = 0; i < data.independent_v.size(); ++i) data.scratch_y[static_cast<int>(i)] = v[data.independent_v[i]];
-  // The maps leave data.X_WB (the closure Jacobian's kinematics) and the full velocity in data.v_full.
+  // The maps place only the loops' bodies; the contact forces need every body's world pose. The
+  // full velocity is left in data.v_full.
   detail::loop_maps<S>(model, data, q, data.scratch_y);
+  forward_kinematics<S>(model, data, q);
   detail::aba_velocity_pass<S>(model, data, q, data.v_full);
   subtract_contact_forces<S>(spheres, exponent, data, ground, law, out);
   return detail::aba_force_passes<S>(model, data, data.v_full, tau);

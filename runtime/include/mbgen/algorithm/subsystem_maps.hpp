@@ -82,9 +82,11 @@ template <typename S> void solve_kept_rows(const Model& model, Data<S>& data, st
 }  // namespace detail
 
 /// G of every sub-system at configuration q (nq), in data.subsystem[s].G; keeps Phi_z's factor
-/// for subsystem_acceleration_biases at the same q. Needs no velocity.
+/// for subsystem_acceleration_biases at the same q. Needs no velocity. Places only the loops'
+/// bodies (closure.hpp, detail::cycle_placements): data's world poses are not q's.
 template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
-  closure_jacobian<S>(model, data, q);
+  detail::cycle_placements<S>(model, data, q.data());
+  detail::jacobian_from_placements<S>(model, data);
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
@@ -103,10 +105,12 @@ template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& 
 }
 
 /// g of every sub-system at (q, v), v consistent (qd_s = G yd), in data.subsystem[s].g. Needs
-/// subsystem_velocity_maps at the same q first.
+/// subsystem_velocity_maps at the same q first (its factor, and its placements of the loops'
+/// bodies: placed again here, they would be the same).
 template <typename S>
 void subsystem_acceleration_biases(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  closure_bias<S>(model, data, q, v);
+  (void)q;
+  detail::bias_from_placements<S>(model, data, v.data());
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
