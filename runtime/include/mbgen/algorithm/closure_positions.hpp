@@ -304,12 +304,12 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
 /// Newton, y and the warm start of z taken from q (nq), z written back into q. Uses data.Phi,
 /// data.Phi_q and the sub-systems' factor memory (the maps must be recomputed afterwards, as
 /// aba() and forward_dynamics_loops do themselves); it places only the cycles' bodies
-/// (detail::cycle_placements), so data's world poses are not the returned q's. When Newton converges quadratically and
-/// far from a dead point, the final iterate is checked by its residual alone, and when that is not
-/// yet below the tolerance, one simplified step with the last factor precedes the next check
-/// (detail::residual_check_predicted): the result's pivot ratios are then those of the last
-/// factorisation, one or two steps before the returned q, and the returned q is closed to the
-/// tolerance as Newton's (close_loops') is, not the same bits.
+/// (detail::cycle_placements), so data's world poses are not the returned q's. When Newton
+/// converges quadratically and far from a dead point, the final iterate is checked by its
+/// residual alone, and when that is not yet below the tolerance, one simplified step with the
+/// last factor precedes the next check (detail::residual_check_predicted): the result's pivot
+/// ratios are then those of the last factorisation, one or two steps before the returned q, and
+/// the returned q is closed to the tolerance as Newton's (close_loops') is, not the same bits.
 template <typename S>
 ClosureResult<S> closure_positions(const Model& model, Data<S>& data, Eigen::Ref<VecX<S>> q, const ClosureOptions& options = {}) {
   return detail::close_positions<S>(model, data, q, options, false);

@@ -105,8 +105,8 @@ template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& 
 }
 
 /// g of every sub-system at (q, v), v consistent (qd_s = G yd), in data.subsystem[s].g. Needs
-/// subsystem_velocity_maps at the same q first (its factor, and its placements of the loops'
-/// bodies: placed again here, they would be the same).
+/// subsystem_velocity_maps at the same q first: its factor, and its placements of the loops'
+/// bodies, which this reads (q itself is not read again).
 template <typename S>
 void subsystem_acceleration_biases(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   (void)q;
