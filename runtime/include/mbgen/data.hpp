@@ -54,15 +54,13 @@ template <typename S> struct Data {
     M_y = MatX<S>::Zero(ny, ny);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k)
       for (BodyIndex b : model.subsystems[k].bodies) subsystem_of_body[b] = static_cast<int>(k);
-    // Each closure's two branches up to their common ancestor (closure.hpp's common_ancestor:
-    // bodies are numbered parents first, so the larger index climbs).
+    // Each closure's two branches up to their common ancestor.
     std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
-    for (const LoopClosure& c : model.closures)
-      for (BodyIndex a = c.body_a, b = c.body_b; a != b;) {
-        BodyIndex& lower = a.value() > b.value() ? a : b;
-        on_cycle[static_cast<std::size_t>(lower.value())] = true;
-        lower = model.body(lower).parent;
-      }
+    for (const LoopClosure& c : model.closures) {
+      const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+      for (BodyIndex b : {c.body_a, c.body_b})
+        for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
+    }
     for (int k = 1; k < model.num_bodies(); ++k)
       if (on_cycle[static_cast<std::size_t>(k)]) cycle_bodies.push_back(BodyIndex(k));
   }

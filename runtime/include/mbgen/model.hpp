@@ -241,4 +241,16 @@ inline std::vector<std::string> Model::joint_names() const {
   return names;
 }
 
+/// Deepest body that supports both a and b (the world if nothing else): where a closure's
+/// fundamental cycle turns. Bodies are numbered parents first, so the larger index climbs.
+inline BodyIndex common_ancestor(const Model& model, BodyIndex a, BodyIndex b) {
+  while (a != b) {
+    if (a.value() > b.value())
+      a = model.body(a).parent;
+    else
+      b = model.body(b).parent;
+  }
+  return a;
+}
+
 }  // namespace mbgen

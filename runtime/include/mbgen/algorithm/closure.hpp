@@ -38,18 +38,6 @@ inline Mat3<double> closure_axis_basis(const Vec3<double>& axis) {
   return B;
 }
 
-/// Deepest body that supports both a and b (the world if nothing else): where a closure's
-/// fundamental cycle turns. Bodies are numbered parents first, so the larger index climbs.
-inline BodyIndex common_ancestor(const Model& model, BodyIndex a, BodyIndex b) {
-  while (a != b) {
-    if (a.value() > b.value())
-      a = model.body(a).parent;
-    else
-      b = model.body(b).parent;
-  }
-  return a;
-}
-
 namespace detail {
 
 /// vee((R - R^T) / 2): the rotation vector of R to first order.
