@@ -16,7 +16,8 @@
 //        1/2 |u2 - u_c|^2 + rho/2 |Bk D (u1 + u2) - k_des|^2
 //     where u_c = -D T^T dP/dq is the steepest-descent velocity of the collision potential
 //     (collision_potential.hpp; zero when no pair is within the activation distance; only those
-//     pairs get Jacobian rows: the backend's self_distances_near) and Bk the
+//     pairs get Jacobian rows: the backend's self_distances_near) plus the joint-limit potential
+//     (joint_limit_potential.hpp; zero when every limited joint is a margin away) and Bk the
 //     angular rows of the centroidal momentum matrix (times T). The minimiser in closed form:
 //        C = N (Bk D)^T (n x 3),  s = (I / rho + C^T C)^-1 (r - C^T u_c),  r = k_des - Bk D u1,
 //        u2 = N u_c + C s,
@@ -52,6 +53,7 @@
 
 #include "mbgen/control/collision_potential.hpp"
 #include "mbgen/control/damped_least_squares.hpp"
+#include "mbgen/control/joint_limit_potential.hpp"
 #include "mbgen/control/task.hpp"
 #include "mbgen/sim/backend.hpp"
 
@@ -72,6 +74,10 @@ struct DifferentialIkOptions {
   /// Self-collision avoidance: needs the backend's pairs (a collision model for DifferentialIk).
   bool collision_avoidance = false;
   CollisionPotentialOptions collision;
+  /// Joint position limits (joint_limit_potential.hpp; joint_position_limits(model) gives the
+  /// description's): their potential is descended with the collision potential's, in the null
+  /// space. Empty limits: off.
+  JointLimitOptions joint_limits;
   AngularMomentumOptions angular_momentum;
 };
 
@@ -82,6 +88,7 @@ struct StepReport {
   double smallest_singular_value = 0;
   int active_pairs = 0;     ///< collision pairs within the activation distance
   int near_pairs = 0;       ///< pairs closer than it: those with Jacobian rows (active_pairs but for NaN distances)
+  int active_limits = 0;    ///< joint limits within their activation margin
   double limit_scale = 1;   ///< factor applied to respect the velocity limits (1: none active)
 };
 
@@ -138,11 +145,13 @@ template <typename Backend> class BasicDifferentialIk {
         limits_[i] = S(l);
       }
     }
+    check(options.joint_limits, backend_.nq(), nv_);
     pairs_ = 0;
     if (options.collision_avoidance) {
       check(options.collision);
       pairs_ = backend_.num_distance_pairs();
     }
+    repulsion_ = pairs_ > 0 || !options.joint_limits.limits.empty();
     if (options.angular_momentum.enabled && (!(options.angular_momentum.weight > 0) || !std::isfinite(options.angular_momentum.weight)))
       throw std::invalid_argument("DifferentialIk: angular_momentum.weight must be finite and > 0, got " +
                                   std::to_string(options.angular_momentum.weight));
@@ -226,17 +235,22 @@ template <typename Backend> class BasicDifferentialIk {
     report.smallest_singular_value = static_cast<double>(dls_.smallest_singular_value());
     dls_.solve(xd_, u1_);
 
-    // Collision: u_c = -D T^T dP/dq, projected into the null space (below, with the momentum rows).
+    // Collision and joint limits: u_c = -D T^T dP/dq for P the sum of their potentials, projected
+    // into the null space (below, with the momentum rows).
     uc_.setZero();
-    if (pairs_ > 0) {
-      // The near set at the activation distance: only the pairs closer than it (the active ones)
-      // get witnesses and Jacobian rows (compact); bounding spheres spare the far pairs' SSV calls.
-      int num_near = 0;
-      backend_.self_distances_near(q.data(), S(options_.collision.activation_distance), distance_.data(), near_.data(), &num_near,
-                                   normal_.data(), witness_.data(), distance_J_.data());
-      report.near_pairs = num_near;
-      report.active_pairs =
-          collision_potential_gradient<S>(num_near, near_.data(), distance_.data(), distance_J_, options_.collision, gradient_);
+    if (repulsion_) {
+      gradient_.setZero();
+      if (pairs_ > 0) {
+        // The near set at the activation distance: only the pairs closer than it (the active ones)
+        // get witnesses and Jacobian rows (compact); bounding spheres spare the far pairs' SSV calls.
+        int num_near = 0;
+        backend_.self_distances_near(q.data(), S(options_.collision.activation_distance), distance_.data(), near_.data(), &num_near,
+                                     normal_.data(), witness_.data(), distance_J_.data());
+        report.near_pairs = num_near;
+        report.active_pairs =
+            collision_potential_gradient<S>(num_near, near_.data(), distance_.data(), distance_J_, options_.collision, gradient_);
+      }
+      report.active_limits = add_joint_limit_gradient<S>(q.data(), options_.joint_limits, gradient_);
       to_coordinates(gradient_, gradient_c_);
       uc_ = -scale_.cwiseProduct(gradient_c_);
     }
@@ -266,7 +280,7 @@ template <typename Backend> class BasicDifferentialIk {
       uc_ = from_null_.col(0);
       u2_ = from_null_.col(1);
     } else {
-      if (pairs_ > 0) dls_.project_to_null(uc_);
+      if (repulsion_) dls_.project_to_null(uc_);
       u2_ = uc_;
     }
     secondary_ = scale_.cwiseProduct(u2_);
@@ -302,8 +316,9 @@ template <typename Backend> class BasicDifferentialIk {
   const VecX<S>& coordinates_velocity() const { return c_; }      ///< nc: the solved velocity (after limits)
   /// nc: the secondary part D u2 of the solved velocity (before limits): in null(J T).
   const VecX<S>& secondary_velocity() const { return secondary_; }
-  const VecX<S>& collision_velocity() const { return collision_; }  ///< nc: D N u_c (before limits)
-  const VecX<S>& collision_gradient() const { return gradient_; }          ///< nv: dP/dq
+  /// nc: D N u_c (before limits), the descent of the collision and joint-limit potentials.
+  const VecX<S>& collision_velocity() const { return collision_; }
+  const VecX<S>& collision_gradient() const { return gradient_; }  ///< nv: dP/dq, both potentials
   /// The distances of the last step's pairs (collision avoidance on; else empty): exact for the
   /// pairs within the activation distance, a lower bound at least the activation distance for the
   /// others (self_distances_near).
@@ -424,6 +439,7 @@ template <typename Backend> class BasicDifferentialIk {
   int nv_;
   bool loops_;
   int nc_, nf_, m_, pairs_ = 0;
+  bool repulsion_ = false;  ///< a collision or joint-limit potential to descend
   DampedLeastSquares<S> dls_;
   std::vector<TaskTarget<S>> targets_;
   S mass_ = S(1);
