@@ -9,6 +9,9 @@
 // The names are the generated header's (generated/README.md): `generated::robot().nv` is the
 // robot's `NAME::nv`, `generated::mass_matrix(q, M)` its `NAME::mass_matrix` for the scalar of q.
 #include <cstddef>
+#include <vector>
+
+#include "mbgen/control/joint_limit_potential.hpp"
 
 namespace mbgen::test::generated {
 
@@ -67,6 +70,8 @@ struct Robot {
   List<const char*> joint_names, joint_names_full, body_names, frame_names, independent_joint_names,
       actuated_joint_names;
   List<int> independent_v_index, actuated_v_index;
+  /// The header's position ranges (num_limited_joints, limited_*), read back by the runtime.
+  std::vector<control::JointLimit> limits;
   const char* const (*distance_pair_names)[2];
   Functions<double> f64;
   Functions<float> f32;

@@ -302,6 +302,20 @@ TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
   for (int i = 0; i < robot.ny; ++i) EXPECT_EQ(robot.independent_v_index[i], closed_data.independent_v[static_cast<std::size_t>(i)]);
 }
 
+// The header's joint ranges are the description's, as the runtime reads them from the Model
+// (control::joint_position_limits): the same joints, indices and limits to the bit.
+TEST_F(GeneratedTest, JointLimitsAreTheDescriptions) {
+  const std::vector<control::JointLimit> expected = control::joint_position_limits(model);
+  ASSERT_EQ(robot.limits.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(robot.limits[i].joint, expected[i].joint);
+    EXPECT_EQ(robot.limits[i].q_index, expected[i].q_index) << expected[i].joint;
+    EXPECT_EQ(robot.limits[i].v_index, expected[i].v_index) << expected[i].joint;
+    EXPECT_EQ(robot.limits[i].lower, expected[i].lower) << expected[i].joint;
+    EXPECT_EQ(robot.limits[i].upper, expected[i].upper) << expected[i].joint;
+  }
+}
+
 TEST_F(GeneratedTest, DoubleEqualsGeneric) { compare<double>(1e-12, 100); }
 
 TEST_F(GeneratedTest, FloatWithinDerivedBound) { compare<float>(1e-4, 100); }

@@ -46,6 +46,16 @@ inline constexpr const char* actuated_joint_names[] = {"ankle_act_lat", "ankle_a
 // The v index of each actuated coordinate (-1 alone when nothing is actuated).
 inline constexpr int actuated_v_index[] = {2, 5};
 inline constexpr const char* body_names[] = {"ankle_act_lat_cross", "ankle_act_lat_housing", "ankle_act_lat_rod", "ankle_act_med_cross", "ankle_act_med_housing", "ankle_act_med_rod", "ankle_cross", "foot_body"};
+// The description's position ranges of its 1-DoF joints that have one (revolute with a <limit>
+// range, prismatic), for a controller's joint-limit potential:
+// mbgen::control::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
+// limited_v_index, limited_lower, limited_upper). One placeholder entry when there is none.
+constexpr int num_limited_joints = 8;
+inline constexpr const char* limited_joint_names[] = {"ankle_act_lat_u1", "ankle_act_lat_u2", "ankle_act_lat", "ankle_act_med_u1", "ankle_act_med_u2", "ankle_act_med", "ankle_pitch", "ankle_roll"};
+inline constexpr int limited_q_index[] = {0, 1, 2, 3, 4, 5, 6, 7};
+inline constexpr int limited_v_index[] = {0, 1, 2, 3, 4, 5, 6, 7};
+inline constexpr double limited_lower[] = {-0.124, -0.06, -0.049, -0.124, -0.06, -0.049, -0.5, -0.35};  ///< rad or m
+inline constexpr double limited_upper[] = {0.057, 0.06, 0.043, 0.057, 0.06, 0.043, 0.7, 0.35};  ///< rad or m
 inline constexpr const char* frame_names[] = {"foot"};
 constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
 

@@ -46,6 +46,16 @@ inline constexpr const char* actuated_joint_names[] = {"crank_joint"};
 // The v index of each actuated coordinate (-1 alone when nothing is actuated).
 inline constexpr int actuated_v_index[] = {0};
 inline constexpr const char* body_names[] = {"crank", "rod", "slider"};
+// The description's position ranges of its 1-DoF joints that have one (revolute with a <limit>
+// range, prismatic), for a controller's joint-limit potential:
+// mbgen::control::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
+// limited_v_index, limited_lower, limited_upper). One placeholder entry when there is none.
+constexpr int num_limited_joints = 3;
+inline constexpr const char* limited_joint_names[] = {"crank_joint", "rod_joint", "slider_joint"};
+inline constexpr int limited_q_index[] = {0, 1, 2};
+inline constexpr int limited_v_index[] = {0, 1, 2};
+inline constexpr double limited_lower[] = {-1000, -1000, -0.2};  ///< rad or m
+inline constexpr double limited_upper[] = {1000, 1000, 0.2};  ///< rad or m
 inline constexpr const char* frame_names[] = {"rod", "slider"};
 constexpr int num_contact_spheres = 0;  // ground-contact spheres (0: the scene has no contact)
 

@@ -18,6 +18,7 @@
 #include "load/load_error.hpp"
 #include "model/actuated_coordinates.hpp"
 #include "model/topology.hpp"
+#include "mbgen/control/joint_limit_potential.hpp"
 #include "mbgen/mbgen.hpp"
 
 #ifndef MBGEN_VERSION
@@ -227,6 +228,22 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
       {"scalar_declarations", scalar_declarations}};
   header_fields.insert(header_fields.end(), distances.header_fields.begin(), distances.header_fields.end());
   const auto number = [](double x) { return fmt::format("{}", x); };  // shortest round-trip
+  // The description's position ranges, for a controller's joint-limit potential on this code
+  // (control::joint_position_limits reads them back; the same rule as from a Model).
+  {
+    std::vector<std::string> names, q_index, v_index, lower, upper;
+    for (const control::JointLimit& l : control::joint_position_limits(model)) {
+      names.push_back(l.joint), q_index.push_back(std::to_string(l.q_index)), v_index.push_back(std::to_string(l.v_index));
+      lower.push_back(number(l.lower)), upper.push_back(number(l.upper));
+    }
+    const bool none = names.empty();  // C and C++ have no empty arrays: one placeholder entry
+    header_fields.push_back({"num_limited_joints", std::to_string(names.size())});
+    header_fields.push_back({"limited_joint_names", none ? std::string("\"\"") : quoted_list(names)});
+    header_fields.push_back({"limited_q_index", none ? std::string("-1") : fmt::format("{}", fmt::join(q_index, ", "))});
+    header_fields.push_back({"limited_v_index", none ? std::string("-1") : fmt::format("{}", fmt::join(v_index, ", "))});
+    header_fields.push_back({"limited_lower", none ? std::string("0") : fmt::format("{}", fmt::join(lower, ", "))});
+    header_fields.push_back({"limited_upper", none ? std::string("0") : fmt::format("{}", fmt::join(upper, ", "))});
+  }
   header_fields.push_back({"num_contact_spheres", std::to_string(contacts.size())});
   std::string contact_block;
   if (!contacts.empty()) {

@@ -52,6 +52,17 @@ inline std::vector<JointLimit> joint_position_limits(const Model& model) {
   return limits;
 }
 
+/// The limits a generated header lists (NAME::num_limited_joints, limited_joint_names,
+/// limited_q_index, limited_v_index, limited_lower, limited_upper): the same ranges as
+/// joint_position_limits(model) of the description the code was generated from, for a controller
+/// on the generated backend, which has no Model.
+inline std::vector<JointLimit> joint_position_limits(int count, const char* const* names, const int* q_index, const int* v_index,
+                                                     const double* lower, const double* upper) {
+  std::vector<JointLimit> limits;
+  for (int i = 0; i < count; ++i) limits.push_back({names[i], q_index[i], v_index[i], lower[i], upper[i]});
+  return limits;
+}
+
 /// Throws std::invalid_argument saying what is wrong: a limit outside the coordinates (nq, nv), an
 /// empty or non-finite range, a non-positive or non-finite activation or stiffness.
 inline void check(const JointLimitOptions& o, int nq, int nv) {
