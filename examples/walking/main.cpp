@@ -133,7 +133,23 @@ struct RunResult {
   double peak_zmp = 0;  ///< m: the full-body ZMP's largest distance from the pattern's, after the start's settling
   int closest[kGroups] = {-1, -1};  ///< the pair at each group's smallest distance
   double closest_time[kGroups] = {0, 0};
+  /// The description's joint ranges (the header's limited_*): the smallest margin to a limit
+  /// over the walk (rad or m; negative past it), its joint and time.
+  double min_limit_margin = 1e9, min_limit_time = 0;
+  int min_limit_joint = -1;
 };
+
+/// The smallest margin of q to the header's joint ranges (rad or m, negative past a limit), and
+/// its joint's index in limited_joint_names.
+std::pair<double, int> limit_margin(const VecX<double>& q) {
+  std::pair<double, int> worst(1e9, -1);
+  for (int i = 0; i < robot::num_limited_joints; ++i) {
+    const double x = q[robot::limited_q_index[i]];
+    const double margin = std::min(x - robot::limited_lower[i], robot::limited_upper[i] - x);
+    if (margin < worst.first) worst = {margin, i};
+  }
+  return worst;
+}
 
 /// The controller of the experiment: the IK on the generated backend with the pattern's targets
 /// (feet, CoM, torso yaw), for one configuration. `step(k, q, v)` is one 1 kHz tick.
@@ -250,6 +266,9 @@ RunResult run(const gen::Description& d, const VecX<double>& q0, const walking::
       row.d[g] = std::min(row.d[g], distance[static_cast<std::size_t>(p)]);
       if (row.d[g] < result.peak_d[g]) result.peak_d[g] = row.d[g], result.closest[g] = p, result.closest_time[g] = s.t;
     }
+    const std::pair<double, int> margin = limit_margin(q);
+    if (margin.first < result.min_limit_margin)
+      result.min_limit_margin = margin.first, result.min_limit_joint = margin.second, result.min_limit_time = s.t;
     // Vertical angular momentum about the CoM: the bottom row of A_G v.
     row.k_z = 0;
     for (int i = 0; i < nv; ++i) row.k_z += Ag[static_cast<std::size_t>(5 * nv + i)] * v[i];
@@ -594,6 +613,9 @@ int main(int argc, char** argv) {
         if (r.closest[g] >= 0)
           fmt::print("  closest {}: {} - {} at t = {:.3f} s\n", g == kLegs ? "legs" : "arm-body", robot::distance_pair_names[r.closest[g]][0],
                      robot::distance_pair_names[r.closest[g]][1], r.closest_time[g]);
+      if (r.min_limit_joint >= 0)
+        fmt::print("  closest to a joint limit (the description's ranges; negative: past it): {} at t = {:.3f} s, margin {:.3f}\n",
+                   robot::limited_joint_names[r.min_limit_joint], r.min_limit_time, r.min_limit_margin);
       fmt::print("{:12} {:10} min distance legs {:6.1f} mm, arms {:6.1f} mm; peak |k_z| {:.3f} kg m^2/s; peak |yaw torque| {:6.2f} N m; "
                  "task error {:.1e} (change vs plain {:.1e}); |J v - xd| {:.1e}; ground wrench vs CoM {:.1e}\n",
                  variant.name, config.name, 1e3 * r.peak_d[kLegs], 1e3 * r.peak_d[kArms], r.peak_k, r.peak_yaw, r.peak_task, task_change,
