@@ -98,6 +98,24 @@ TEST(JointLimitPotential, GradientIsThePotentialsDerivative) {
   for (int v = 0; v < 6; ++v) EXPECT_EQ(gradient[v], 0.0);
 }
 
+// The closed form on one joint: 0.03 inside its lower limit with a = 0.2 and stiffness 7, the gap
+// is 0.17: P = 7 * 0.17^2 / 2, dP/dq = -7 * 0.17; past the upper limit by 0.05, the gap is 0.25.
+TEST(JointLimitPotential, ClosedFormOnOneJoint) {
+  JointLimitOptions o;
+  o.limits = {{"j", 0, 0, -1.0, 1.0}};
+  o.activation = 0.2;
+  o.stiffness = 7.0;
+  double q = -0.97, gradient[1] = {0.0};
+  EXPECT_EQ(add_joint_limit_gradient<double>(&q, o, gradient), 1);
+  EXPECT_NEAR(gradient[0], -7.0 * 0.17, 1e-14);
+  EXPECT_NEAR(joint_limit_potential<double>(&q, o), 0.5 * 7.0 * 0.17 * 0.17, 1e-14);
+  q = 1.05;
+  gradient[0] = 0.0;
+  EXPECT_EQ(add_joint_limit_gradient<double>(&q, o, gradient), 1);
+  EXPECT_NEAR(gradient[0], 7.0 * 0.25, 1e-14);
+  EXPECT_NEAR(joint_limit_potential<double>(&q, o), 0.5 * 7.0 * 0.25 * 0.25, 1e-14);
+}
+
 TEST(JointLimitPotential, ZeroAwayFromTheLimits) {
   const Model model = talos();
   JointLimitOptions o;

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mbgen/model.hpp"
@@ -82,13 +83,20 @@ inline void check(const JointLimitOptions& o, int nq, int nv) {
   }
 }
 
+namespace detail {
+/// How far x has entered the activation zone of each limit: a - (x - lower) and
+/// a - (upper - x); positive inside the zone (or past the limit).
+template <typename S> std::pair<S, S> limit_gaps(S x, const JointLimit& l, S a) {
+  return {a - (x - S(l.lower)), a - (S(l.upper) - x)};
+}
+}  // namespace detail
+
 /// P(q).
 template <typename S> S joint_limit_potential(const S* q, const JointLimitOptions& o) {
   const S a(o.activation), k(o.stiffness);
   S p = S(0);
   for (const JointLimit& l : o.limits) {
-    const S x = q[l.q_index];
-    const S below = a - (x - S(l.lower)), above = a - (S(l.upper) - x);
+    const auto [below, above] = detail::limit_gaps<S>(q[l.q_index], l, a);
     if (below > S(0)) p += S(0.5) * k * below * below;
     if (above > S(0)) p += S(0.5) * k * above * above;
   }
@@ -101,8 +109,7 @@ template <typename S, typename Out> int add_joint_limit_gradient(const S* q, con
   const S a(o.activation), k(o.stiffness);
   int active = 0;
   for (const JointLimit& l : o.limits) {
-    const S x = q[l.q_index];
-    const S below = a - (x - S(l.lower)), above = a - (S(l.upper) - x);
+    const auto [below, above] = detail::limit_gaps<S>(q[l.q_index], l, a);
     if (below > S(0)) gradient[l.v_index] -= k * below, ++active;
     if (above > S(0)) gradient[l.v_index] += k * above, ++active;
   }
