@@ -28,7 +28,7 @@ template <typename Backend> sim::PdGravityController<Backend> controller(Backend
 
 struct StandingLola {
   gen::Description description;
-  std::vector<sim::ContactSphere> spheres;
+  std::vector<ContactSphere> spheres;
   VecX<double> q, v;  ///< settled: 0.5 s after being set down 0.3 mm deep
 };
 
@@ -89,12 +89,12 @@ void add_contact_accelerations() {
   benchmark::RegisterBenchmark("contact_accelerations/lola/generated", [](benchmark::State& state) {
     const StandingLola& s = standing_lola();
     const lola::Backend backend;
-    double ground[sim::kGroundInputs], law[sim::kLawInputs];
-    sim::ContactParameters p;
+    double ground[kGroundInputs], law[kLawInputs];
+    ContactParameters p;
     p.stiffness = lola::contact_stiffness, p.damping = lola::contact_damping, p.friction = lola::contact_friction;
     p.stiction_velocity = lola::contact_stiction_velocity;
-    sim::contact_inputs(sim::GroundPlane{}, p, ground, law);
-    VecX<double> tau = VecX<double>::Zero(lola::nv), qdd(lola::nv), out(sim::kContactOutputs * lola::num_contact_spheres);
+    contact_inputs(GroundPlane{}, p, ground, law);
+    VecX<double> tau = VecX<double>::Zero(lola::nv), qdd(lola::nv), out(kContactOutputs * lola::num_contact_spheres);
     for (auto _ : state) {
       backend.accelerations_with_contact(s.q.data(), s.v.data(), tau.data(), ground, law, qdd.data(), out.data());
       benchmark::DoNotOptimize(qdd.data());
@@ -146,7 +146,7 @@ void add_sim_benchmarks() {
   add_step_per_fd();
   const StandingLola& s = standing_lola();
   const Model* model = &s.description.model;
-  const std::vector<sim::ContactSphere>* spheres = &s.spheres;
+  const std::vector<ContactSphere>* spheres = &s.spheres;
   using sim::Integrator;
   for (Integrator i : {Integrator::explicit_euler, Integrator::symplectic_euler, Integrator::rk4, Integrator::dormand_prince45,
                        Integrator::linearly_implicit_euler})

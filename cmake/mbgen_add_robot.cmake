@@ -32,22 +32,17 @@
 #   MAX_STATEMENTS  statements per part above which a function is split into noinline parts
 #               (default 20000; compile time against a few loads and stores)
 
-# The source files of every generation, one per function (<NAME>_<function>.cpp), so that the
-# outputs follow from the arguments alone: a function the scene's outputs leave out
-# (generator/codegen/scene_functions.hpp) gets a file holding only a note; self_distances,
+# The source files of every generation, one per function of the generator's catalogue
+# (generator/codegen/function_catalog.hpp: MBGEN_GENERATED_FUNCTIONS, and MBGEN_BATCHED_FUNCTIONS
+# with BATCH, <NAME>_<function>_batch.cpp), so that the outputs follow from the arguments alone: a
+# function the scene's outputs leave out gets a file holding only a note; self_distances,
 # contact_points and contact_accelerations, when generated, are empty (num_distance_pairs or
 # num_contact_spheres = 0, or a call of full_accelerations) for a description without SSV pairs
-# or a scene without contact.
-set(MBGEN_GENERATED_FUNCTIONS
-    forward_dynamics full_accelerations inverse_dynamics actuator_forces mass_matrix mass_matrix_factor mass_matrix_solve forward_kinematics frame_poses frame_jacobians
-    center_of_mass centroidal_momentum_matrix task_kinematics velocity_map full_velocities acceleration_bias closure_positions
-    self_distances contact_points contact_accelerations)
-
-# The functions `--batch` emits over W states (generator/codegen/emit_batch.cpp), one file each
-# (<NAME>_<function>_batch.cpp).
-set(MBGEN_BATCHED_FUNCTIONS
-    forward_dynamics inverse_dynamics actuator_forces mass_matrix mass_matrix_factor mass_matrix_solve
-    forward_kinematics frame_poses frame_jacobians center_of_mass centroidal_momentum_matrix)
+# or a scene without contact. In this project's build the lists come from the catalogue's source
+# (cmake/mbgen_function_catalog.cmake); an installed package reads the copy made from it.
+if(NOT DEFINED MBGEN_GENERATED_FUNCTIONS)
+  include(${CMAKE_CURRENT_LIST_DIR}/mbgen_functions.cmake)
+endif()
 
 function(mbgen_add_robot)
   cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES;BATCH;MAX_STATEMENTS" "FRAMES;OUTPUTS;ARCH"

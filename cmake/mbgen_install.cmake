@@ -27,5 +27,5 @@ configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/mbgenConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/mbgenConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/mbgenConfig.cmake ${PROJECT_BINARY_DIR}/mbgenConfigVersion.cmake
-              ${CMAKE_CURRENT_LIST_DIR}/mbgen_add_robot.cmake
+              ${CMAKE_CURRENT_LIST_DIR}/mbgen_add_robot.cmake ${PROJECT_BINARY_DIR}/mbgen_functions.cmake
         DESTINATION ${MBGEN_INSTALL_CMAKEDIR})

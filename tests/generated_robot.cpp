@@ -71,7 +71,7 @@ Robot make_robot() {
   r.independent_v_index = list(ns::independent_v_index);
   r.actuated_v_index = list(ns::actuated_v_index);
   r.distance_pair_names = ns::distance_pair_names;
-  r.limits = control::joint_position_limits(ns::num_limited_joints, ns::limited_joint_names, ns::limited_q_index, ns::limited_v_index,
+  r.limits = joint_position_limits(ns::num_limited_joints, ns::limited_joint_names, ns::limited_q_index, ns::limited_v_index,
                                             ns::limited_lower, ns::limited_upper);
   r.f64 = functions_of<double>();
   r.f32 = functions_of<float>();

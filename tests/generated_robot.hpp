@@ -71,7 +71,7 @@ struct Robot {
       actuated_joint_names;
   List<int> independent_v_index, actuated_v_index;
   /// The header's position ranges (num_limited_joints, limited_*), read back by the runtime.
-  std::vector<control::JointLimit> limits;
+  std::vector<JointLimit> limits;
   const char* const (*distance_pair_names)[2];
   Functions<double> f64;
   Functions<float> f32;

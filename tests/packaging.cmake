@@ -51,6 +51,8 @@ if(MBGEN_BUILD_BENCH)
   set_tests_properties(bench.instructions_per_call PROPERTIES TIMEOUT 300 COST 50)
 endif()
 add_test(NAME bench.scaling_chart COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_scaling_chart.py)
+# The docs' figures that come from a program, against the program's output.
+add_test(NAME docs.figures COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_docs_figures.py)
 
 # The generator's stages depend downward only (generator/README.md), and the check catches a
 # planted upward include in a copy of the tree.

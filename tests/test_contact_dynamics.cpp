@@ -26,14 +26,14 @@ gen::Description load(const std::string& urdf, const std::string& extras) {
 }
 
 struct Inputs {
-  double ground[sim::kGroundInputs], law[sim::kLawInputs];
+  double ground[kGroundInputs], law[kLawInputs];
   double exponent;
 };
 
 Inputs tilted_ground() {
   Inputs in;
-  sim::ContactParameters p;
-  sim::contact_inputs(sim::GroundPlane::tilted_about_x(0.05), p, in.ground, in.law);
+  ContactParameters p;
+  contact_inputs(GroundPlane::tilted_about_x(0.05), p, in.ground, in.law);
   in.exponent = p.exponent;
   return in;
 }
@@ -42,7 +42,7 @@ Inputs tilted_ground() {
 void expect_same_contacts(const VecX<double>& out, const VecX<double>& out_joint) {
   EXPECT_LT((out - out_joint).cwiseAbs().maxCoeff(), 1e-12 * out.cwiseAbs().maxCoeff());
   int pressing = 0, apart = 0;
-  for (int k = 0; k < out.size() / sim::kContactOutputs; ++k) (out[sim::kContactOutputs * k] > 0 ? pressing : apart) += 1;
+  for (int k = 0; k < out.size() / kContactOutputs; ++k) (out[kContactOutputs * k] > 0 ? pressing : apart) += 1;
   EXPECT_GT(pressing, 0);
   EXPECT_GT(apart, 0);
 }
@@ -51,7 +51,7 @@ TEST(ContactDynamics, TreeBodyForcesEqualTheMassMatrixSolveWithJointForces) {
   const gen::Description d =
       load(MBGEN_SHARED_ROBOTS "/talos/talos_reduced.urdf", MBGEN_SOURCE_DIR "/examples/data/talos_sim.yaml");
   ASSERT_TRUE(d.model.subsystems.empty());
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   const int nv = d.model.nv(), nc = static_cast<int>(spheres.size());
   const Inputs in = tilted_ground();
   std::mt19937_64 rng(7);
@@ -61,7 +61,7 @@ TEST(ContactDynamics, TreeBodyForcesEqualTheMassMatrixSolveWithJointForces) {
     const VecX<double> q = sunk_into_ground(d, spheres, 2e-3);
     VecX<double> v(nv), tau(nv);
     for (int i = 0; i < nv; ++i) v[i] = 0.3 * unit(rng), tau[i] = 20 * unit(rng);
-    VecX<double> out(sim::kContactOutputs * nc), out_joint(out.size());
+    VecX<double> out(kContactOutputs * nc), out_joint(out.size());
     const VecX<double> qdd =
         contact_forward_dynamics<double>(d.model, data, spheres, in.exponent, q, v, tau, in.ground, in.law, out.data());
     // The reference: tau + J^T f through the joint-space mapping, then M qdd = tau - C v - g.
@@ -80,7 +80,7 @@ TEST(ContactDynamics, TreeBodyForcesEqualTheMassMatrixSolveWithJointForces) {
 TEST(ContactDynamics, LoopBodyForcesEqualTheRecursionWithJointForces) {
   const gen::Description d = load(MBGEN_SOURCE_DIR "/robots/lola/lola.urdf", MBGEN_SOURCE_DIR "/robots/lola/lola.yaml");
   ASSERT_FALSE(d.model.subsystems.empty());
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   const int nv = d.model.nv(), nc = static_cast<int>(spheres.size());
   const Inputs in = tilted_ground();
   std::mt19937_64 rng(9);
@@ -97,7 +97,7 @@ TEST(ContactDynamics, LoopBodyForcesEqualTheRecursionWithJointForces) {
     VecX<double> v_garbage = v;
     for (const SubSystem& s : d.model.subsystems)
       for (int z : s.dependent) v_garbage[z] = 1e3;
-    VecX<double> out(sim::kContactOutputs * nc), out_joint(out.size());
+    VecX<double> out(kContactOutputs * nc), out_joint(out.size());
     const VecX<double> qdd =
         contact_forward_dynamics<double>(d.model, data, spheres, in.exponent, q, v_garbage, tau, in.ground, in.law, out.data());
     VecX<double> tau_total = tau;

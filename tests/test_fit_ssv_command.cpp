@@ -66,7 +66,7 @@ TEST(FitSsvCommand, TalosCompoundsLoadAsExtrasAndInspectPrunesTheirPairs) {
 TEST(FitSsvCommand, NeverOverwritesAFileItDidNotWriteAndRefusesBadOptions) {
   const fs::path mine = scratch("mine.yaml");
   std::ofstream(mine) << "robot: talos\n";
-  EXPECT_EQ(run("fit-ssv " + kTalos + " " + kPackage + " --out " + mine.string(), scratch("o.txt"), scratch("e.txt")), 2);
+  EXPECT_EQ(run("fit-ssv " + kTalos + " " + kPackage + " --out " + mine.string(), scratch("o.txt"), scratch("e.txt")), 3);
   EXPECT_EQ(read(mine), "robot: talos\n");
   EXPECT_NE(read(scratch("e.txt")).find("was not written by mbgen fit-ssv"), std::string::npos) << read(scratch("e.txt"));
 

@@ -303,9 +303,9 @@ TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
 }
 
 // The header's joint ranges are the description's, as the runtime reads them from the Model
-// (control::joint_position_limits): the same joints, indices and limits to the bit.
+// (joint_position_limits): the same joints, indices and limits to the bit.
 TEST_F(GeneratedTest, JointLimitsAreTheDescriptions) {
-  const std::vector<control::JointLimit> expected = control::joint_position_limits(model);
+  const std::vector<JointLimit> expected = joint_position_limits(model);
   ASSERT_EQ(robot.limits.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(robot.limits[i].joint, expected[i].joint);

@@ -86,7 +86,7 @@ TEST(GeneratedSimulation, NearDistancesOfBothBackendsAgree) {
 
 TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
   const gen::Description d = load_lola();
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   ASSERT_EQ(static_cast<int>(spheres.size()), lola::num_contact_spheres);
   Data<double> data(d.model);
   std::mt19937_64 rng(3);
@@ -111,16 +111,16 @@ TEST(GeneratedSimulation, ContactPointsEqualTheGenericOnes) {
 // relative to their largest, the per-sphere outputs to 1e-10 relative.
 TEST(GeneratedSimulation, ContactAccelerationsEqualTheGenericOnes) {
   const gen::Description d = load_lola();
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   sim::GenericBackend<double> generic(d.model, spheres);
   generic.set_contact_exponent(lola::contact_exponent);
   const lola::Backend generated;
   EXPECT_EQ(generated.contact_exponent(), lola::contact_exponent);
-  sim::ContactParameters p;
+  ContactParameters p;
   p.stiffness = lola::contact_stiffness, p.damping = lola::contact_damping, p.friction = lola::contact_friction;
   p.stiction_velocity = lola::contact_stiction_velocity;
-  double ground[sim::kGroundInputs], law[sim::kLawInputs];
-  sim::contact_inputs(sim::GroundPlane::tilted_about_x(0.05), p, ground, law);
+  double ground[kGroundInputs], law[kLawInputs];
+  contact_inputs(GroundPlane::tilted_about_x(0.05), p, ground, law);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(-1, 1);
   int pressing = 0, apart = 0;
@@ -131,12 +131,12 @@ TEST(GeneratedSimulation, ContactAccelerationsEqualTheGenericOnes) {
     for (int i = 0; i < tau.size(); ++i) tau[i] = 20 * unit(rng);
     generic.full_velocities(q.data(), vy.data(), v.data());
     const int nc = lola::num_contact_spheres;
-    VecX<double> qdd(d.model.nv()), qdd_g(d.model.nv()), out(sim::kContactOutputs * nc), out_g(out.size());
+    VecX<double> qdd(d.model.nv()), qdd_g(d.model.nv()), out(kContactOutputs * nc), out_g(out.size());
     generic.accelerations_with_contact(q.data(), v.data(), tau.data(), ground, law, qdd.data(), out.data());
     generated.accelerations_with_contact(q.data(), v.data(), tau.data(), ground, law, qdd_g.data(), out_g.data());
     EXPECT_LT((qdd - qdd_g).cwiseAbs().maxCoeff(), 1e-10 * qdd.cwiseAbs().maxCoeff()) << trial;
     EXPECT_LT((out - out_g).cwiseAbs().maxCoeff(), 1e-10 * out.cwiseAbs().maxCoeff()) << trial;
-    for (int k = 0; k < nc; ++k) (out[sim::kContactOutputs * k] > 0 ? pressing : apart) += 1;
+    for (int k = 0; k < nc; ++k) (out[kContactOutputs * k] > 0 ? pressing : apart) += 1;
     // Without the ground's forces the same call is the plain forward dynamics.
     VecX<double> qdd_free(d.model.nv());
     generic.accelerations(q.data(), v.data(), tau.data(), qdd_free.data());
@@ -154,12 +154,12 @@ TEST(GeneratedSimulation, ContactAccelerationsEqualTheGenericOnes) {
 // forces' to 1e-10 relative, and contact_joint_forces' joint forces with the assembled ones.
 TEST(GeneratedSimulation, ContactForcesAreJacobianTransposeTimesTheLaw) {
   const gen::Description d = load_lola();
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   sim::GenericBackend<double> generic(d.model, spheres);
-  sim::ContactParameters p;
-  const sim::GroundPlane ground = sim::GroundPlane::tilted_about_x(0.05);
-  double g[sim::kGroundInputs], l[sim::kLawInputs];
-  sim::contact_inputs(ground, p, g, l);
+  ContactParameters p;
+  const GroundPlane ground = GroundPlane::tilted_about_x(0.05);
+  double g[kGroundInputs], l[kLawInputs];
+  contact_inputs(ground, p, g, l);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(-1, 1);
   const VecX<double> q = sunk_into_ground(d, spheres, 1e-3);
@@ -168,7 +168,7 @@ TEST(GeneratedSimulation, ContactForcesAreJacobianTransposeTimesTheLaw) {
   generic.full_velocities(q.data(), vy.data(), v.data());
   const int nv = d.model.nv(), nc = static_cast<int>(spheres.size());
   const VecX<double> zero = VecX<double>::Zero(nv);
-  VecX<double> qdd(nv), out(sim::kContactOutputs * nc);
+  VecX<double> qdd(nv), out(kContactOutputs * nc);
   generic.accelerations_with_contact(q.data(), v.data(), zero.data(), g, l, qdd.data(), out.data());
   VecX<double> points(3 * nc), jacobians(6 * nv * nc), tau = VecX<double>::Zero(nv);
   generic.contact_points(q.data(), points.data(), jacobians.data());
@@ -177,11 +177,11 @@ TEST(GeneratedSimulation, ContactForcesAreJacobianTransposeTimesTheLaw) {
     const Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians.data() + 6 * nv * k, 6, nv);
     const Vec3<double> c = points.segment<3>(3 * k), v_c = J.topRows<3>() * v, omega = J.bottomRows<3>() * v;
     const sim::ContactReport<double> r = sim::contact_law<double>(c, v_c, omega, spheres[static_cast<std::size_t>(k)].radius, ground, p);
-    EXPECT_NEAR(r.penetration, out[sim::kContactOutputs * k], 1e-15);
+    EXPECT_NEAR(r.penetration, out[kContactOutputs * k], 1e-15);
     if (!r.active) continue;
     ++active;
     // (a sphere moving out fast enough is active with no force: the Hunt-Crossley clamp)
-    EXPECT_LE((r.force - out.segment<3>(sim::kContactOutputs * k + 4)).norm(), 1e-9 * r.force.norm()) << k;
+    EXPECT_LE((r.force - out.segment<3>(kContactOutputs * k + 4)).norm(), 1e-9 * r.force.norm()) << k;
     pushing += r.force.norm() > 1.0;
     tau += J.topRows<3>().transpose() * r.force + J.bottomRows<3>().transpose() * (r.point - c).cross(r.force);
   }
@@ -254,7 +254,7 @@ TEST(GeneratedSimulation, AFailedClosureNamesItsSubSystem) {
 // acting) with a PD + gravity controller: the generated and generic backends give the same state.
 TEST(GeneratedSimulation, OneStepAgreesWithTheGenericBackend) {
   const gen::Description d = load_lola();
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   const VecX<double> q0 = sunk_into_ground(d, spheres, 5e-4);
   VecX<double> v0 = VecX<double>::Zero(d.model.nv());
   v0[0] = 0.05, v0[2] = -0.1, v0[4] = 0.2;  // sliding, sinking and pitching a little

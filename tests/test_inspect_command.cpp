@@ -80,7 +80,7 @@ TEST_P(InspectEveryUrdf, TextJsonFixedAndFloating) {
   EXPECT_TRUE(text.err.empty()) << text.err;  // urdfdom's console output is captured, not printed
   expect_json_report(run_mbgen("inspect " + urdf + " --json"), GetParam());
   if (test::loadable_bases(GetParam()).size() < 2) {  // hung from "world" by moving joints
-    EXPECT_EQ(run_mbgen("inspect " + urdf + " --floating --json").status, 2);
+    EXPECT_EQ(run_mbgen("inspect " + urdf + " --floating --json").status, 1);
     return;
   }
   const Outcome floating = run_mbgen("inspect " + urdf + " --floating --json");
@@ -105,9 +105,9 @@ TEST(Inspect, RobotYamlIsPickedUpAndCanBeGivenExplicitly) {
   }
 }
 
-TEST(Inspect, DisneyRobotYamlExitsTwoNamingTheMisspeltJoint) {
+TEST(Inspect, DisneyRobotYamlExitsOneNamingTheMisspeltJoint) {
   const Outcome run = run_mbgen("inspect " + quote(test::shared_robot("parallel_legs/disney_robot/robot.urdf")));
-  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.status, 1);
   EXPECT_NE(run.err.find("robot.yaml:4: error: joint_name[5]: names 'left_spherical_free_foot'"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("did you mean 'left_s\u0125erical_free_foot'?"), std::string::npos) << run.err;
 }
@@ -203,20 +203,20 @@ TEST(Inspect, ShapesInsideAnotherOfTheirLinksAreReported) {
   EXPECT_NE(dropped[0]["inside"].get<std::string>().find("<collision> 1 of link '"), std::string::npos) << dropped[0];
 }
 
-TEST(Inspect, BadDescriptionExitsTwoWithTheMessage) {
+TEST(Inspect, BadDescriptionExitsOneWithTheMessage) {
   const std::string file = kData + "/bad/negative_mass.urdf";
   const Outcome run = run_mbgen("inspect " + quote(file));
-  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.status, 1);
   EXPECT_TRUE(run.out.empty()) << run.out;
   EXPECT_EQ(run.err.rfind(file + ":7: error: link 'arm': negative mass", 0), 0u) << run.err;
   EXPECT_NE(run.err.find("\n  fix: "), std::string::npos) << run.err;
-  EXPECT_EQ(run_mbgen("inspect " + quote(file) + " --json").status, 2);
+  EXPECT_EQ(run_mbgen("inspect " + quote(file) + " --json").status, 1);
 }
 
-TEST(Inspect, BadExtrasExitsTwo) {
+TEST(Inspect, BadExtrasExitsOne) {
   const Outcome run = run_mbgen("inspect " + quote(kData + "/tiny_arm.urdf") + " --extras " +
                             quote(kData + "/bad/malformed.yaml"));
-  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.status, 1);
   EXPECT_NE(run.err.find("malformed.yaml:4: error: malformed YAML"), std::string::npos) << run.err;
 }
 
@@ -231,7 +231,7 @@ TEST(Inspect, MjcfRobotsAreReadByTheirExtension) {
   EXPECT_EQ(j["nv"], 32);
   EXPECT_EQ(j["closures"].size(), 4u);
   const Outcome toddlerbot = run_mbgen("inspect " + quote(test::shared_robot("toddlerbot_2xc/toddlerbot_2xc.xml")));
-  EXPECT_EQ(toddlerbot.status, 2);
+  EXPECT_EQ(toddlerbot.status, 1);
   EXPECT_NE(toddlerbot.err.find("<tendon>: not supported: tendons"), std::string::npos) << toddlerbot.err;
 }
 
@@ -253,7 +253,7 @@ TEST(Inspect, Version) {
 TEST(InspectCommand, RepairInertiaOnRequest) {
   const std::string file = kData + "/inertia/indefinite_antenna.urdf";
   const Outcome refused = run_mbgen("inspect " + quote(file));
-  EXPECT_EQ(refused.status, 2);
+  EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.err.find("indefinite_antenna.urdf:9: error: link 'antenna': inertia is not positive semi-definite"),
             std::string::npos)
       << refused.err;

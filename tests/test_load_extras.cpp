@@ -133,7 +133,7 @@ TEST(LoadExtras, ContactSceneIsRead) {
   EXPECT_EQ(c.parameters.stiction_velocity, 0.01);
   EXPECT_EQ(c.ground.normal, Vec3<double>(0, 0, 1));
   EXPECT_EQ(c.ground.offset, -0.1);
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   ASSERT_EQ(spheres.size(), 3u);
   EXPECT_EQ(spheres[1].name, "tool/0/1");
   EXPECT_EQ(spheres[2].radius, 0.01);

@@ -15,7 +15,6 @@
 namespace mbgen::test {
 namespace {
 
-using sim::ContactSphere;
 using sim::GenericBackend;
 using sim::Integrator;
 using sim::Simulator;

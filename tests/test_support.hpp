@@ -31,7 +31,7 @@ inline std::string shared_robot(const std::string& relative) { return std::strin
 
 /// The description's assembled pose (its neutral one for a tree) lowered until its lowest contact
 /// sphere sinks `depth` into the level ground z = 0 (a floating base's z moved).
-inline VecX<double> sunk_into_ground(const gen::Description& d, const std::vector<sim::ContactSphere>& spheres, double depth) {
+inline VecX<double> sunk_into_ground(const gen::Description& d, const std::vector<ContactSphere>& spheres, double depth) {
   VecX<double> q = d.assembly.q.size() ? d.assembly.q : neutral_configuration<double>(d.model);
   Data<double> data(d.model);
   VecX<double> p(3 * static_cast<int>(spheres.size())), J(6 * d.model.nv() * static_cast<int>(spheres.size()));

@@ -148,8 +148,8 @@ gen::Description lola_with_linkage(bool massless, bool transmission) {
       if (name.rfind("knee_nut", 0) == 0 || name.rfind("knee_rod", 0) == 0 || name.rfind("ankle_act_", 0) == 0)
         d.model.mutable_body(BodyIndex(b)).inertia = Inertia<double>();
     }
-  if (transmission) gen::reduce_model(d);
-  gen::build_topology(d);
+  if (transmission) d = gen::reduce_model(std::move(d));
+  d = gen::build_topology(std::move(d));
   return d;
 }
 

@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
   }
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   if (o.scenario != Scenario::swing) {
     if (spheres.empty()) {
       fmt::print(stderr, "mbgen_sim: {} has no contact spheres: add `scene: contact: links: [...]` to its extras (docs/extras.md)\n", urdf);

@@ -186,7 +186,7 @@ int main(int argc, char** argv) {
   gen::LoadOptions options;
   options.extras_file = extras;
   const gen::Description d = gen::load_description(mjcf, options);
-  const std::vector<sim::ContactSphere> spheres = gen::contact_spheres(d);
+  const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   char error[1000] = "";
   mjModel* m = mj_loadXML(mujoco_copy(mjcf).c_str(), nullptr, error, sizeof error);
   if (!m) {

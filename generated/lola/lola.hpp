@@ -48,7 +48,7 @@ inline constexpr int actuated_v_index[] = {16, 17, 18, 19, 24, 27, 30, 31, 32, 3
 inline constexpr const char* body_names[] = {"pelvis", "trunk_link", "torso", "neck", "head", "shoulder_l", "upper_arm_l", "forearm_l", "shoulder_r", "upper_arm_r", "forearm_r", "hip_yaw_link_l", "hip_roll_link_l", "thigh_l", "knee_nut_l", "knee_rod_l", "shank_l", "ankle_act_lat_cross_l", "ankle_act_lat_housing_l", "ankle_act_lat_rod_l", "ankle_act_med_cross_l", "ankle_act_med_housing_l", "ankle_act_med_rod_l", "ankle_cross_l", "foot_body_l", "toe_link_l", "hip_yaw_link_r", "hip_roll_link_r", "thigh_r", "knee_nut_r", "knee_rod_r", "shank_r", "ankle_act_lat_cross_r", "ankle_act_lat_housing_r", "ankle_act_lat_rod_r", "ankle_act_med_cross_r", "ankle_act_med_housing_r", "ankle_act_med_rod_r", "ankle_cross_r", "foot_body_r", "toe_link_r"};
 // The description's position ranges of its 1-DoF joints that have one (revolute with a <limit>
 // range, prismatic), for a controller's joint-limit potential:
-// mbgen::control::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
+// mbgen::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
 // limited_v_index, limited_lower, limited_upper). One placeholder entry when there is none.
 constexpr int num_limited_joints = 40;
 inline constexpr const char* limited_joint_names[] = {"trunk_yaw", "trunk_roll", "head_pan", "head_tilt", "shoulder_pitch_l", "shoulder_roll_l", "elbow_l", "shoulder_pitch_r", "shoulder_roll_r", "elbow_r", "hip_yaw_l", "hip_roll_l", "hip_pitch_l", "knee_act_l", "knee_rod_joint_l", "knee_l", "ankle_act_lat_u1_l", "ankle_act_lat_u2_l", "ankle_act_lat_l", "ankle_act_med_u1_l", "ankle_act_med_u2_l", "ankle_act_med_l", "ankle_pitch_l", "ankle_roll_l", "toe_l", "hip_yaw_r", "hip_roll_r", "hip_pitch_r", "knee_act_r", "knee_rod_joint_r", "knee_r", "ankle_act_lat_u1_r", "ankle_act_lat_u2_r", "ankle_act_lat_r", "ankle_act_med_u1_r", "ankle_act_med_u2_r", "ankle_act_med_r", "ankle_pitch_r", "ankle_roll_r", "toe_r"};
@@ -341,8 +341,8 @@ template <typename S> struct BasicBackend {
   void center_of_mass(const S* q, S* com) const { lola::center_of_mass(q, com); }
   void contact_points(const S* q, S* p, S* J) const { lola::contact_points(q, p, J); }
   /// accelerations under tau and the ground's forces on the contact spheres, in one generated
-  /// function (contact_accelerations): ground and law as mbgen::sim::contact_inputs writes them,
-  /// per sphere mbgen::sim::kContactOutputs numbers to contacts.
+  /// function (contact_accelerations): ground and law as mbgen::contact_inputs writes them,
+  /// per sphere mbgen::kContactOutputs numbers to contacts.
   void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) const {
     lola::contact_accelerations(q, v, tau, ground, law, qdd, contacts);
   }

@@ -48,7 +48,7 @@ inline constexpr int actuated_v_index[] = {0};
 inline constexpr const char* body_names[] = {"crank", "rod", "slider"};
 // The description's position ranges of its 1-DoF joints that have one (revolute with a <limit>
 // range, prismatic), for a controller's joint-limit potential:
-// mbgen::control::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
+// mbgen::joint_position_limits(num_limited_joints, limited_joint_names, limited_q_index,
 // limited_v_index, limited_lower, limited_upper). One placeholder entry when there is none.
 constexpr int num_limited_joints = 3;
 inline constexpr const char* limited_joint_names[] = {"crank_joint", "rod_joint", "slider_joint"};
@@ -288,8 +288,8 @@ template <typename S> struct BasicBackend {
   void center_of_mass(const S* q, S* com) const { slider_crank::center_of_mass(q, com); }
   void contact_points(const S* q, S* p, S* J) const { slider_crank::contact_points(q, p, J); }
   /// accelerations under tau and the ground's forces on the contact spheres, in one generated
-  /// function (contact_accelerations): ground and law as mbgen::sim::contact_inputs writes them,
-  /// per sphere mbgen::sim::kContactOutputs numbers to contacts.
+  /// function (contact_accelerations): ground and law as mbgen::contact_inputs writes them,
+  /// per sphere mbgen::kContactOutputs numbers to contacts.
   void accelerations_with_contact(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* contacts) const {
     slider_crank::contact_accelerations(q, v, tau, ground, law, qdd, contacts);
   }

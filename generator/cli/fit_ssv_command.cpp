@@ -14,7 +14,8 @@
 #include "cli/ssv_picture.hpp"
 #include "load/fit_link_ssvs.hpp"
 #include "load/load_error.hpp"
-#include "cli/package_path_option.hpp"
+#include "cli/description_options.hpp"
+#include "cli/exit_codes.hpp"
 #include "mesh/mesh_path.hpp"
 #include "model/load_description.hpp"
 
@@ -29,10 +30,10 @@ namespace {
 constexpr const char* kFitBanner = "# Written by mbgen fit-ssv";
 
 struct FitSsvOptions {
-  std::string description, extras, out, picture_data;
-  std::vector<std::string> package_paths;
+  DescriptionOptions input;
+  std::string out, picture_data;
   int budget = mesh::FitOptions{}.budget;
-  bool floating = false, fixed = false, quiet = false;
+  bool quiet = false;
 };
 
 std::string yaml_key(const std::string& name) {
@@ -81,7 +82,7 @@ void write_fit_file(const std::string& path, const std::string& text) {
     std::string first;
     std::getline(in, first);
     if (first.rfind(kFitBanner, 0) != 0)
-      throw std::runtime_error(fmt::format("{}: error: the file exists and was not written by mbgen fit-ssv (no `{}` on its "
+      throw codegen::OutputRefused(fmt::format("{}: error: the file exists and was not written by mbgen fit-ssv (no `{}` on its "
                                            "first line)\n  fix: choose another --out, or move the file away; mbgen never "
                                            "overwrites files it did not write", path, kFitBanner));
   }
@@ -89,21 +90,17 @@ void write_fit_file(const std::string& path, const std::string& text) {
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out << text;
-    if (!out) throw std::runtime_error(fmt::format("{}: error: cannot write (disk full or no permission)", temporary));
+    if (!out) throw codegen::OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary));
   }
   std::filesystem::rename(temporary, path);
 }
 
 int run_fit_ssv(const FitSsvOptions& o) {
-  try {
-    gen::LoadOptions load;
-    if (!o.extras.empty()) load.extras_file = o.extras;
-    if (o.floating) load.base = gen::BaseType::Floating;
-    if (o.fixed) load.base = gen::BaseType::Fixed;
+  return run_command(o.input.description, std::cerr, [&] {
+    gen::LoadOptions load = o.input.load_options();
     load.reduce = false;          // every link of the description gets its compound
     load.apply_scene_fit = false;  // fitted here, once, with this command's budget
-    for (const std::string& p : o.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
-    gen::Description d = gen::load_description(o.description, load);
+    gen::Description d = gen::load_description(o.input.description, load);
     mesh::FitOptions fit;
     fit.budget = o.budget;
     const std::vector<gen::LinkFit> fits = gen::fit_link_ssvs(d, load.package_paths, fit);
@@ -124,11 +121,8 @@ int run_fit_ssv(const FitSsvOptions& o) {
       std::cout << fmt::format("mbgen fit-ssv: {} link{} fitted, {} primitives -> {}\n", fits.size(), fits.size() == 1 ? "" : "s",
                                primitives, o.out);
     }
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  }
+    return static_cast<int>(kSuccess);
+  });
 }
 
 }  // namespace
@@ -136,17 +130,13 @@ int run_fit_ssv(const FitSsvOptions& o) {
 void add_fit_ssv_command(CLI::App& app, int& status) {
   auto options = std::make_shared<FitSsvOptions>();
   CLI::App* cmd = app.add_subcommand("fit-ssv", "Fit swept-sphere compounds to each link's meshes; write them as extras");
-  cmd->add_option("description", options->description, "URDF, or MJCF (.xml) file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--extras", options->extras, "YAML extras (links it gives an `ssv:` are not refitted)")
-      ->check(CLI::ExistingFile);
+  add_description_options(cmd, options->input,
+                          {"YAML extras (links it gives an `ssv:` are not refitted)", "for the meshes"});
   cmd->add_option("--out", options->out, "the YAML file to write (an extras file with `ssv:` only)")->required();
   cmd->add_option("--budget", options->budget, "most SSV primitives per link (default 4; a plate counts 2)")
       ->check(CLI::Range(1, 64));
-  add_package_path_option(cmd, options->package_paths, "for the meshes");
   cmd->add_option("--picture-data", options->picture_data,
                   "also write the meshes and SSV outlines at the nominal pose to this folder (scripts/ssv_picture.sh draws them)");
-  auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
-  cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_fit_ssv(*options); });
 }

@@ -2,7 +2,9 @@
 #include "cli/generate_command.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -12,22 +14,22 @@
 #include "codegen/generate_robot.hpp"
 #include "codegen/output_files.hpp"
 #include "codegen/templates.hpp"
+#include "cli/description_options.hpp"
+#include "cli/exit_codes.hpp"
+#include "codegen/function_catalog.hpp"
 #include "model/load_description.hpp"
-#include "load/load_error.hpp"
-#include "cli/package_path_option.hpp"
-#include "mesh/mesh_path.hpp"
 
 namespace mbgen::cli {
 
 namespace {
 
 struct GenerateOptions {
-  std::string description, extras, out, name, scalar;  ///< scalar: empty = the scene's, else both
+  DescriptionOptions input;
+  std::string out, name, scalar;  ///< scalar: empty = the scene's, else both
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
-  std::vector<std::string> package_paths;  ///< NAME=DIR, for `scene: collision: fit`
   std::vector<std::string> outputs;  ///< overrides the scene's outputs; {"all"}: everything
-  bool floating = false, fixed = false, quiet = false, repair_inertia = false;
+  bool quiet = false;
   long max_operations = codegen::kDefaultGraphLimit;
   int batch = 0;  ///< --batch W: states per call of the batch functions, 0 none
   int max_statements = codegen::kMaxStatementsPerPart;
@@ -35,17 +37,11 @@ struct GenerateOptions {
 
 int run_generate(const GenerateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  try {
+  return run_command(o.input.description, std::cerr, [&] {
     // The templates first: a broken one stops the run before anything is loaded or written.
     const codegen::TemplateSet templates =
         codegen::TemplateSet::load(o.templates.empty() ? codegen::installed_templates_directory(o.flavour) : o.templates);
-    gen::LoadOptions load;
-    if (!o.extras.empty()) load.extras_file = o.extras;
-    if (o.floating) load.base = gen::BaseType::Floating;
-    if (o.fixed) load.base = gen::BaseType::Fixed;
-    load.repair_inertia = o.repair_inertia;
-    for (const std::string& p : o.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
-    const gen::Description d = gen::load_description(o.description, load);
+    const gen::Description d = gen::load_description(o.input.description, o.input.load_options());
 
     codegen::CodegenOptions options;
     options.name = codegen::sanitize_identifier(!o.name.empty() ? o.name : d.robot_name.empty() ? d.model.name : d.robot_name);
@@ -82,14 +78,8 @@ int run_generate(const GenerateOptions& o) {
                                options.name, d.model.nq(), d.model.nv(), o.out, header, report.written.size(),
                                report.unchanged.size(), seconds);
     }
-    return 0;
-  } catch (const gen::LoadError& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  }
+    return static_cast<int>(kSuccess);
+  });
 }
 
 }  // namespace
@@ -97,9 +87,7 @@ int run_generate(const GenerateOptions& o) {
 void add_generate_command(CLI::App& app, int& status) {
   auto options = std::make_shared<GenerateOptions>();
   CLI::App* cmd = app.add_subcommand("generate", "Emit unrolled, allocation-free C++ for a robot");
-  cmd->add_option("description", options->description, "URDF, or MJCF (.xml) file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--extras", options->extras, "YAML extras (default: robot.yaml beside the URDF, if any)")
-      ->check(CLI::ExistingFile);
+  add_description_options(cmd, options->input);
   cmd->add_option("--out", options->out, "output directory (created if missing)")->required();
   cmd->add_option("--name", options->name, "C++ namespace (default: the extras' robot, else the URDF's name)");
   cmd->add_option("--scalar", options->scalar, "scalar types to emit (default: the scene's scalar, else both)")
@@ -108,20 +96,28 @@ void add_generate_command(CLI::App& app, int& status) {
       ->delimiter(',');
   cmd->add_option("--outputs", options->outputs,
                   "scene outputs to generate, overriding the scene's `outputs` (docs/extras.md), or `all`")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check([](const std::string& value) -> std::string {
+        const std::vector<std::string> known = codegen::scene_outputs();
+        if (value == "all" || std::find(known.begin(), known.end(), value) != known.end()) return "";
+        return fmt::format("unknown output '{}': the outputs are {} (or all)", value, fmt::join(known, ", "));
+      });
   auto* flavour = cmd->add_option("--flavour", options->flavour,
                                   "output flavour, from mbgen's templates: cpp (namespace, overloads) or c (C99 header, "
-                                  "extern \"C\" functions <name>_<function>_<scalar>); default cpp");
+                                  "extern \"C\" functions <name>_<function>_<scalar>); default cpp")
+                     ->check([](const std::string& value) -> std::string {
+                       try {  // a flavour is a folder of the installed templates
+                         codegen::installed_templates_directory(value);
+                         return "";
+                       } catch (const std::exception& e) {
+                         return e.what();
+                       }
+                     });
   cmd->add_option("--templates", options->templates,
                   "a folder of templates to frame the output with (a copy of share/mbgen/templates/<flavour>, edited; "
                   "docs/templates.md)")
       ->check(CLI::ExistingDirectory)
       ->excludes(flavour);
-  auto* floating = cmd->add_flag("--floating", options->floating, "floating base (overrides the extras)");
-  cmd->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)")->excludes(floating);
-  add_package_path_option(cmd, options->package_paths, "for the meshes `scene: collision: fit` reads");
-  cmd->add_flag("--repair-inertia", options->repair_inertia,
-                "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
   cmd->add_option("--max-operations", options->max_operations,
                   "largest traced function, in operations, before generation stops with an error (default 10000000; "
                   "a 5,000-link chain stops at its mass matrix after 20 s and 1.8 GB)")

@@ -20,7 +20,8 @@
 #include "codegen/traced_function.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
-#include "cli/package_path_option.hpp"
+#include "cli/description_options.hpp"
+#include "cli/exit_codes.hpp"
 #include "mesh/mesh_path.hpp"
 #include "mbgen/algorithm/closure.hpp"
 #include "model/topology.hpp"
@@ -34,10 +35,8 @@ using gen::Description;
 using Json = nlohmann::ordered_json;  // keys in the order written: a stable, readable object
 
 struct InspectOptions {
-  std::string description;
-  std::string extras;
-  bool floating = false, fixed = false, json = false, repair_inertia = false;
-  std::vector<std::string> package_paths;  ///< NAME=DIR, for `scene: collision: fit`
+  DescriptionOptions input;
+  bool json = false;
   int samples = -1;  ///< collision pruning samples; -1: the scene's prune_samples or the default
 };
 
@@ -129,7 +128,8 @@ void print_loops(const Description& d, std::ostream& out) {
   out << fmt::format("closed-system DoF: {} (tree {} - rank {})\n", d.closed_dof, m.nv(), m.nv() - d.closed_dof);
 }
 
-void print_text(const Description& d, const gen::CollisionScene* collision, std::ostream& out, const std::vector<std::string>& reduction_report) {
+void print_text(const Description& d, const codegen::FunctionSelection& selection, const gen::CollisionScene* collision, std::ostream& out,
+                const std::vector<std::string>& reduction_report) {
   const Model& m = d.model;
   out << "description: " << d.description_file << "\n";
   out << "extras:      " << (d.extras_file.empty() ? "(none)" : d.extras_file) << "\n";
@@ -187,7 +187,6 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
   {
-    const codegen::FunctionSelection selection = codegen::select_functions(d, {});
     std::vector<std::string> emitted;
     for (const std::string& f : codegen::all_functions())
       if (selection.emits(f)) emitted.push_back(f);
@@ -198,7 +197,7 @@ void print_text(const Description& d, const gen::CollisionScene* collision, std:
   }
   if (d.scene && d.scene->contact) {
     const gen::ContactSpec& c = *d.scene->contact;
-    const sim::ContactParameters& p = c.parameters;
+    const ContactParameters& p = c.parameters;
     out << fmt::format("ground contact: {} spheres (the SSV vertices of {}); k {:g} N/m^{:g}, damping {:g} s/m, friction {:g}, "
                        "stiction {:g} m/s; ground n ({:g}, {:g}, {:g}), offset {:g} m\n",
                        gen::contact_spheres(d).size(), fmt::join(c.links, ", "), p.stiffness, p.exponent, p.damping, p.friction,
@@ -288,7 +287,7 @@ Json to_json(const Description& d) {
     if (d.scene->contact) {
       const gen::ContactSpec& c = *d.scene->contact;
       Json spheres = Json::array();
-      for (const sim::ContactSphere& s : gen::contact_spheres(d))
+      for (const ContactSphere& s : gen::contact_spheres(d))
         spheres.push_back({{"name", s.name}, {"body", m.body(s.body).name}, {"center", {s.center.x(), s.center.y(), s.center.z()}}, {"radius", s.radius}});
       scene["contact"] = {{"links", c.links},
                           {"spheres", spheres},
@@ -366,20 +365,18 @@ Json to_json(const Description& d) {
 }
 
 int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& err) {
-  gen::LoadOptions load;
-  if (!options.extras.empty()) load.extras_file = options.extras;
-  if (options.floating) load.base = BaseType::Floating;
-  if (options.fixed) load.base = BaseType::Fixed;
-  load.repair_inertia = options.repair_inertia;
-  try {
-    for (const std::string& p : options.package_paths) load.package_paths.insert(mesh::parse_package_path(p));
-    const Description d = gen::load_description(options.description, load);
+  return run_command(options.input.description, err, [&] {
+    const gen::LoadOptions load = options.input.load_options();
+    const Description d = gen::load_description(options.input.description, load);
+    // What a generation of this description emits; also checks the scene's outputs against the
+    // generator's catalogue before anything is printed.
+    const codegen::FunctionSelection selection = codegen::select_functions(d, {});
     // What the reductions removed, and the forward dynamics' operations before and after.
     std::vector<std::string> reduction_report = d.reductions;
     if (!d.reductions.empty() && !options.json) {
       gen::LoadOptions whole = load;
       whole.reduce = false;
-      const Description full = gen::load_description(options.description, whole);
+      const Description full = gen::load_description(options.input.description, whole);
       const auto fd_operations = [](const Model& m) { return codegen::count_operations(codegen::trace_generated_forward_dynamics(m)).total(); };
       const long before = fd_operations(full.model), after = fd_operations(d.model);
       reduction_report.push_back(fmt::format("loops: {} closure(s), {} sub-system(s) (whole robot: {}, {})", d.model.closures.size(),
@@ -397,18 +394,18 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
     if (options.json) {
       Json j = to_json(d);
       if (collision) j["collision_pairs"] = collision_scene_json(*collision);
+      std::vector<std::string> generated;  // in the catalogue's order
+      for (const std::string& f : codegen::all_functions())
+        if (selection.emits(f)) generated.push_back(f);
+      j["functions"] = {{"generated", generated},
+                        {"left_out", selection.left_out},
+                        {"backend", selection.backend}};
       out << j.dump(2) << "\n";
     } else {
-      print_text(d, collision ? &*collision : nullptr, out, reduction_report);
+      print_text(d, selection, collision ? &*collision : nullptr, out, reduction_report);
     }
-    return 0;
-  } catch (const gen::LoadError& e) {
-    err << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {  // a bug in mbgen, not in the input: say so
-    err << options.description << ": internal error: " << e.what() << "\n";
-    return 1;
-  }
+    return static_cast<int>(kSuccess);
+  });
 }
 
 }  // namespace
@@ -416,16 +413,8 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
 void add_inspect_command(CLI::App& app, int& status) {
   auto options = std::make_shared<InspectOptions>();
   CLI::App* inspect = app.add_subcommand("inspect", "Load a robot description and report what mbgen understood");
-  inspect->add_option("DESCRIPTION", options->description, "URDF file")->required()->check(CLI::ExistingFile);
-  inspect->add_option("--extras", options->extras, "YAML extras file (default: robot.yaml beside the URDF, if any)")
-      ->check(CLI::ExistingFile);
-  CLI::Option* floating = inspect->add_flag("--floating", options->floating, "floating base (overrides the extras)");
-  CLI::Option* fixed = inspect->add_flag("--fixed", options->fixed, "fixed base (overrides the extras)");
-  floating->excludes(fixed);
+  add_description_options(inspect, options->input);
   inspect->add_flag("--json", options->json, "print one JSON object instead of the report");
-  inspect->add_flag("--repair-inertia", options->repair_inertia,
-                    "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
-  add_package_path_option(inspect, options->package_paths, "for the meshes `scene: collision: fit` reads");
   inspect->add_option("--samples", options->samples,
                       "configurations sampled to prune collision pairs (default: the scene's prune_samples, else 10000)")
       ->check(CLI::NonNegativeNumber);

@@ -1,7 +1,10 @@
 // The `mbgen` command: one CLI11 subcommand per job, each in its own <name>_command.cpp that
-// registers itself with add_<name>_command(app, status).
+// registers itself with add_<name>_command(app, status). The options that load a robot are parsed
+// by description_options.hpp for all of them, and every command exits with the codes of
+// exit_codes.hpp.
 #include <CLI/CLI.hpp>
 
+#include "cli/exit_codes.hpp"
 #include "cli/fit_ssv_command.hpp"
 #include "cli/generate_command.hpp"
 #include "cli/inspect_command.hpp"
@@ -21,8 +24,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; a usage error exits 2, like a bad description.
-    return app.exit(e) == 0 ? 0 : 2;
+    // --help and --version exit 0; a usage error exits kUsage (exit_codes.hpp).
+    return app.exit(e) == 0 ? mbgen::cli::kSuccess : mbgen::cli::kUsage;
   }
   return status;
 }

@@ -6,14 +6,6 @@
 
 namespace mbgen::codegen {
 
-const std::vector<std::string>& batched_functions() {
-  static const std::vector<std::string> functions = {
-      "forward_dynamics",   "inverse_dynamics",  "actuator_forces", "mass_matrix",    "mass_matrix_factor",
-      "mass_matrix_solve",  "forward_kinematics", "frame_poses",    "frame_jacobians", "center_of_mass",
-      "centroidal_momentum_matrix"};
-  return functions;
-}
-
 bool valid_batch_width(int lanes) { return lanes >= 2 && lanes <= 16 && (lanes & (lanes - 1)) == 0; }
 
 std::string batch_name(const std::string& function) { return function + "_batch"; }

@@ -13,10 +13,10 @@
 
 namespace mbgen::codegen {
 
-/// The functions `--batch` emits over W states: the straight-line dynamics and kinematics.
-/// Not batched: closure_positions (a Newton iteration whose steps differ per state), the loop
-/// maps, self_distances (its near set branches per pair) and the contact functions.
-const std::vector<std::string>& batched_functions();
+// Which functions `--batch` emits over W states is the catalogue's (function_catalog.hpp,
+// batched_functions()): the straight-line dynamics and kinematics. Not batched: closure_positions
+// (a Newton iteration whose steps differ per state), the loop maps, self_distances (its near set
+// branches per pair) and the contact functions.
 
 /// Batch widths g++ vectors can hold: a power of two from 2 to 16.
 bool valid_batch_width(int lanes);

@@ -43,7 +43,7 @@ WriteReport write_generated_files(const std::string& directory, const std::vecto
     if (!fs::exists(target)) continue;
     const std::string existing = read_all(target);
     if (existing.rfind(kBannerFirstLine, 0) != 0)
-      throw std::runtime_error(fmt::format(
+      throw OutputRefused(fmt::format(
           "{}: error: the file exists and was not written by mbgen (no mbgen banner on its first line)\n"
           "  fix: choose another --out directory or --name, or move the file away; mbgen never overwrites "
           "files it did not write",
@@ -64,7 +64,7 @@ WriteReport write_generated_files(const std::string& directory, const std::vecto
       out.close();
       if (!out) {
         fs::remove(temporary);
-        throw std::runtime_error(fmt::format("{}: error: cannot write (disk full or no permission)", temporary.string()));
+        throw OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary.string()));
       }
     }
     fs::rename(temporary, target);

@@ -2,6 +2,7 @@
 // Writing generated files safely: never over a file mbgen did not write (recognised by its
 // banner), always through a temporary file and a rename (an interrupted run leaves no half file),
 // and not at all when the contents are unchanged (build systems see no new time stamp).
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -9,12 +10,18 @@
 
 namespace mbgen::codegen {
 
+/// A file mbgen will not write over (it did not write it), or cannot write.
+class OutputRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct WriteReport {
   std::vector<std::string> written, unchanged;
 };
 
-/// Writes `files` into `directory` (created if missing). Throws std::runtime_error, naming the
-/// file, if one exists that mbgen did not write; then nothing is written at all.
+/// Writes `files` into `directory` (created if missing). Throws OutputRefused, naming the file, if
+/// one exists that mbgen did not write (then nothing is written at all) or one cannot be written.
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files);
 
 /// Hex SHA-256 of `bytes` (OpenSSL).

@@ -3,83 +3,56 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
-#include <map>
 #include <stdexcept>
+
+#include "load/load_error.hpp"
+#include "load/name_match.hpp"
 
 namespace mbgen::codegen {
 
-const std::vector<std::string>& all_functions() {
-  static const std::vector<std::string> functions = {
-      "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
-      "mass_matrix_solve", "forward_kinematics", "frame_poses",
-      "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
-      "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
-  return functions;
-}
-
 namespace {
 
-/// What each scene output brings. The closed system's dynamics come with the maps between its
-/// coordinate sets (without them a user cannot make a state for it); the simulation brings every
-/// function NAME::Backend calls.
-const std::map<std::string, std::vector<std::string>>& output_functions() {
-  static const std::map<std::string, std::vector<std::string>> table = {
-      {"forward_dynamics", {"forward_dynamics", "full_accelerations", "velocity_map", "full_velocities", "acceleration_bias"}},
-      {"inverse_dynamics", {"inverse_dynamics", "actuator_forces"}},
-      {"mass_matrix", {"mass_matrix", "mass_matrix_factor", "mass_matrix_solve"}},
-      {"forward_kinematics", {"forward_kinematics", "frame_poses"}},
-      {"jacobians", {"frame_poses", "frame_jacobians"}},
-      {"center_of_mass", {"center_of_mass"}},
-      {"centroidal_momentum", {"centroidal_momentum_matrix"}},
-      {"distances", {"self_distances"}},
-      {kSimulationOutput,
-       {"full_accelerations", "velocity_map", "full_velocities", "inverse_dynamics", "actuator_forces", "mass_matrix", "center_of_mass",
-        "contact_points", "contact_accelerations"}},
-  };
-  return table;
-}
-
-/// One copy of the unrolled dynamics (generate_robot.cpp): forward_dynamics and
-/// full_accelerations are each other's selection, full_velocities is velocity_map's product, and
-/// a contact-free contact_accelerations calls full_accelerations.
-const std::vector<std::pair<std::string, std::string>>& needs() {
-  static const std::vector<std::pair<std::string, std::string>> pairs = {{"forward_dynamics", "full_accelerations"},
-                                                                         {"full_accelerations", "forward_dynamics"},
-                                                                         {"full_velocities", "velocity_map"},
-                                                                         {"contact_accelerations", "full_accelerations"}};
-  return pairs;
+/// Adds what the emitted rows need, and the rows emitted with all of a set, until nothing changes.
+void close_over_needs(FunctionSelection& s) {
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const GeneratedFunction& f : function_catalog()) {
+      bool bring = false;
+      if (s.emits(f.name)) {
+        for (const std::string& needed : f.needs) grew |= s.emitted.insert(needed).second;
+      } else if (!f.with_all_of.empty()) {
+        bring = true;
+        for (const std::string& g : f.with_all_of) bring = bring && s.emits(g);
+      }
+      if (bring) grew |= s.emitted.insert(f.name).second;
+    }
+  }
 }
 
 }  // namespace
 
 FunctionSelection select_functions(const std::vector<std::string>& outputs, bool contact) {
   FunctionSelection s;
-  if (outputs.empty()) {
-    s.emitted.insert(all_functions().begin(), all_functions().end());
-  } else {
-    std::vector<std::string> wanted = outputs;
-    if (contact) wanted.push_back(kSimulationOutput);
-    for (const std::string& output : wanted) {
-      const auto it = output_functions().find(output);
-      if (it == output_functions().end()) {
-        std::vector<std::string> known;
-        for (const auto& [name, functions] : output_functions()) known.push_back(name);
-        throw std::invalid_argument(fmt::format("unknown output '{}': the outputs are {} (or all)", output, fmt::join(known, ", ")));
-      }
-      s.emitted.insert(it->second.begin(), it->second.end());
-    }
-    s.emitted.insert("closure_positions");
-    for (const auto& [function, needed] : needs())
-      if (s.emits(function)) s.emitted.insert(needed);
-    // A scene with the four parts of a controller's kinematics gets them in one pass too.
-    if (s.emits("frame_poses") && s.emits("frame_jacobians") && s.emits("center_of_mass") && s.emits("centroidal_momentum_matrix"))
-      s.emitted.insert("task_kinematics");
+  const std::vector<std::string> known = scene_outputs();
+  for (const std::string& output : outputs)
+    if (std::find(known.begin(), known.end(), output) == known.end())
+      throw std::invalid_argument(fmt::format("unknown output '{}': the outputs are {} (or all)", output, fmt::join(known, ", ")));
+  std::vector<std::string> wanted = outputs;
+  if (contact && !outputs.empty()) wanted.push_back(kSimulationOutput);
+  for (const GeneratedFunction& f : function_catalog()) {
+    bool brought = outputs.empty() || f.always;
+    for (const std::string& output : f.outputs) brought = brought || std::find(wanted.begin(), wanted.end(), output) != wanted.end();
+    if (brought) s.emitted.insert(f.name);
   }
-  for (const std::string& f : all_functions())
-    if (!s.emits(f)) s.left_out.push_back(f);
+  close_over_needs(s);
   s.backend = true;
-  for (const std::string& f : output_functions().at(kSimulationOutput)) s.backend = s.backend && s.emits(f);
+  for (const GeneratedFunction& f : function_catalog()) {
+    if (!s.emits(f.name)) s.left_out.push_back(f.name);
+    for (const std::string& output : f.outputs)
+      if (output == kSimulationOutput) s.backend = s.backend && s.emits(f.name);
+  }
   return s;
 }
 
@@ -92,6 +65,15 @@ FunctionSelection select_functions(const gen::Description& description, const st
     return select_functions(outputs, contact);
   }
   const std::vector<std::string> scene = description.scene ? description.scene->outputs : std::vector<std::string>{};
+  const std::vector<std::string> known = scene_outputs();
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    if (std::find(known.begin(), known.end(), scene[i]) != known.end()) continue;
+    const std::vector<int>& lines = description.scene->output_lines;
+    const std::string hint = gen::did_you_mean(scene[i], known);
+    throw gen::LoadError(description.extras_file, i < lines.size() ? lines[i] : 0, fmt::format("scene: outputs[{}]", i),
+                         fmt::format("'{}' is not one of {}", scene[i], fmt::join(known, ", ")),
+                         hint.empty() ? fmt::format("write one of {}", fmt::join(known, ", ")) : hint);
+  }
   if (reason)
     *reason = fmt::format("not among the outputs of {}'s scene, nor needed by them",
                           std::filesystem::path(description.extras_file).filename().string());

@@ -1,41 +1,37 @@
 #pragma once
-// Which functions a generation emits (docs/extras.md, `scene: outputs`): each output the scene
-// lists brings the functions that compute it and those they need; the rest are left out. A
+// Which functions a generation emits (docs/extras.md, `scene: outputs`), from the catalogue
+// (function_catalog.hpp): each output the scene lists brings the rows that name it, and what
+// those need in turn; the rest are left out. A
 // left-out function is not declared in the header, and its source file holds only a note, so
 // that the file list still follows from mbgen_add_robot's arguments alone.
 #include <set>
 #include <string>
 #include <vector>
 
+#include "codegen/function_catalog.hpp"
 #include "load/description.hpp"
 
 namespace mbgen::codegen {
 
-/// Every function mbgen emits, one source file each, in the order of
-/// cmake/mbgen_add_robot.cmake's MBGEN_GENERATED_FUNCTIONS.
-const std::vector<std::string>& all_functions();
-
-/// The scene output that asks for the simulator (NAME::Backend and what it calls); implied by a
-/// scene with `contact:`. Not a loader keyword of its own before this list existed.
-inline constexpr const char* kSimulationOutput = "simulation";
-
 struct FunctionSelection {
   std::set<std::string> emitted;
-  std::vector<std::string> left_out;  ///< all_functions() order
+  std::vector<std::string> left_out;  ///< catalogue order
   /// NAME::Backend, the simulator's adapter (mbgen/sim/backend.hpp): every function it calls is emitted.
   bool backend = false;
   bool emits(const std::string& function) const { return emitted.count(function) > 0; }
 };
 
 /// The functions for `outputs` (scene output names: forward_dynamics, mass_matrix, jacobians,
-/// simulation, ...). An empty list selects everything (a description without `scene: outputs`
+/// simulation, ...; scene_outputs()). An empty list selects everything (a description without `scene: outputs`
 /// gets every function, as before outputs were honoured); `contact` (the scene has `contact:`)
 /// adds the simulation's functions. closure_positions is always emitted: the position level of
 /// the loops, which every function of a closed system presumes (it returns at once without loops).
+/// An output the catalogue does not know throws std::invalid_argument naming the known ones.
 FunctionSelection select_functions(const std::vector<std::string>& outputs, bool contact);
 
 /// The selection for a description: `outputs` if given ({"all"}: everything), else the scene's.
-/// `reason` says, for the notes in the generated files, why the rest is left out.
+/// `reason` says, for the notes in the generated files, why the rest is left out. An unknown
+/// output of the scene is a LoadError naming the extras file, its line and the closest output.
 FunctionSelection select_functions(const gen::Description& description, const std::vector<std::string>& outputs,
                                    std::string* reason = nullptr);
 

@@ -67,7 +67,7 @@ std::vector<TemplateSpec> make_catalog() {
         {"actuated_joint_names", "the actuated coordinates' names as C string literals, comma-separated (\"\" alone when none)"},
         {"actuated_v_index", "the v index of each actuated coordinate, comma-separated (-1 alone when none)"},
         {"body_names", "the bodies' names, quoted and comma-separated"},
-        {"num_limited_joints", "number of 1-DoF joints with a position range (control::joint_position_limits)"},
+        {"num_limited_joints", "number of 1-DoF joints with a position range (joint_position_limits)"},
         {"limited_joint_names", "their names as C string literals, comma-separated (\"\" alone when none)"},
         {"limited_q_index", "their q indices, comma-separated (-1 alone when none)"},
         {"limited_v_index", "their v indices, comma-separated (-1 alone when none)"},

@@ -224,7 +224,7 @@ TracedFunction trace_frame_jacobians(const Model& model, const std::vector<Frame
   return f;
 }
 
-TracedFunction trace_contact_points(const Model& model, const std::vector<sim::ContactSphere>& spheres) {
+TracedFunction trace_contact_points(const Model& model, const std::vector<ContactSphere>& spheres) {
   const int n = static_cast<int>(spheres.size());
   TracedFunction f;
   f.name = "contact_points";
@@ -245,7 +245,7 @@ TracedFunction trace_contact_points(const Model& model, const std::vector<sim::C
   return f;
 }
 
-TracedFunction trace_contact_accelerations(const Model& model, const std::vector<sim::ContactSphere>& spheres, double exponent) {
+TracedFunction trace_contact_accelerations(const Model& model, const std::vector<ContactSphere>& spheres, double exponent) {
   const int n = static_cast<int>(spheres.size());
   TracedFunction f;
   f.name = "contact_accelerations";
@@ -257,18 +257,18 @@ TracedFunction trace_contact_accelerations(const Model& model, const std::vector
       exponent);
   f.inputs = {closed_q_spec(model), v_spec(model, "v", "velocities of every tree joint (only the independent ones are read: the dependent ones are T vy)"),
               v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through G^T)"),
-              {"ground", sim::kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
-              {"law", sim::kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
+              {"ground", kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
+              {"law", kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
   f.outputs = {v_spec(model, "qdd", "accelerations of every tree joint, joint_names order"),
-               {"contacts", sim::kContactOutputs * n,
+               {"contacts", kContactOutputs * n,
                 fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
                             "there (3, N, world), slip velocity (3, m/s)",
                             n)}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), tau = inputs(2, model.nv()),
-               ground = inputs(3, sim::kGroundInputs), law = inputs(4, sim::kLawInputs);
-  std::vector<Sym> contacts(static_cast<std::size_t>(sim::kContactOutputs * n));
+               ground = inputs(3, kGroundInputs), law = inputs(4, kLawInputs);
+  std::vector<Sym> contacts(static_cast<std::size_t>(kContactOutputs * n));
   const std::vector<int> qdd =
       ids_of(contact_forward_dynamics<Sym>(model, data, spheres, exponent, q, v, tau, ground.data(), law.data(), contacts.data()));
   std::vector<int> contact_ids;

@@ -7,7 +7,7 @@
 #include "codegen/traced_function.hpp"
 #include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/model.hpp"
-#include "mbgen/sim/contact.hpp"
+#include "mbgen/contact_model.hpp"
 
 namespace mbgen::codegen {
 
@@ -34,12 +34,12 @@ TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameInde
 /// Jacobians (6 x nv row-major each, LocalWorldAligned) of the given frames.
 TracedFunction trace_frame_jacobians(const Model& model, const std::vector<FrameIndex>& frames);
 /// Centres and body Jacobians (6 x nv, LocalWorldAligned) of the ground-contact spheres.
-TracedFunction trace_contact_points(const Model& model, const std::vector<sim::ContactSphere>& spheres);
+TracedFunction trace_contact_points(const Model& model, const std::vector<ContactSphere>& spheres);
 /// The closed system's accelerations (as full_accelerations) under tau plus the ground's joint
 /// forces through the contact spheres (algorithm/contact_points.hpp: contact_joint_forces, the
 /// law of sim/contact.hpp for `exponent`), and per sphere what the law gave. Nothing stored in
 /// between: the kinematics of the contacts and of the dynamics are one graph.
-TracedFunction trace_contact_accelerations(const Model& model, const std::vector<sim::ContactSphere>& spheres, double exponent);
+TracedFunction trace_contact_accelerations(const Model& model, const std::vector<ContactSphere>& spheres, double exponent);
 TracedFunction trace_center_of_mass(const Model& model);
 TracedFunction trace_centroidal_momentum_matrix(const Model& model);
 /// The frames' poses and Jacobians (as the two functions above), the centre of mass and the

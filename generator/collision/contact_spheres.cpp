@@ -4,8 +4,8 @@
 
 namespace mbgen::gen {
 
-std::vector<sim::ContactSphere> contact_spheres(const Description& d) {
-  std::vector<sim::ContactSphere> spheres;
+std::vector<ContactSphere> contact_spheres(const Description& d) {
+  std::vector<ContactSphere> spheres;
   if (!d.scene || !d.scene->contact) return spheres;
   for (const std::string& link : d.scene->contact->links) {
     // The loader checked that the link exists and has SSVs (load_extras.cpp, read_contact).

@@ -4,12 +4,12 @@
 #include <vector>
 
 #include "load/description.hpp"
-#include "mbgen/sim/contact.hpp"
+#include "mbgen/contact_model.hpp"
 
 namespace mbgen::gen {
 
 /// In the order of the scene's links, then of each link's SSVs, then of their vertices; named
 /// "<link>/<ssv index>/<vertex index>". Empty when the scene has no `contact`.
-std::vector<sim::ContactSphere> contact_spheres(const Description& d);
+std::vector<ContactSphere> contact_spheres(const Description& d);
 
 }  // namespace mbgen::gen

@@ -9,7 +9,7 @@
 
 #include "load/check_values.hpp"
 #include "mbgen/model.hpp"
-#include "mbgen/sim/contact.hpp"
+#include "mbgen/contact_model.hpp"
 
 namespace mbgen::gen {
 
@@ -64,14 +64,18 @@ struct MeshGeometry {
 /// law's parameters and the ground plane.
 struct ContactSpec {
   std::vector<std::string> links;
-  sim::ContactParameters parameters;
-  sim::GroundPlane ground;
+  ContactParameters parameters;
+  GroundPlane ground;
 };
 
 /// What the generated code must provide (`scene:` of the extras). Kept as given; later issues
 /// (planning, collision) interpret it.
 struct SceneSpec {
-  std::vector<std::string> outputs;         ///< forward_dynamics, mass_matrix, ..., in the order given
+  /// forward_dynamics, mass_matrix, ..., in the order given. Checked against the generator's
+  /// catalogue (codegen/function_catalog.hpp) when a generation or `inspect` selects functions:
+  /// the loader knows no list of its own.
+  std::vector<std::string> outputs;
+  std::vector<int> output_lines;            ///< the extras file's line of each output (0: unknown)
   std::vector<std::string> jacobian_frames; ///< from `jacobians: [frame, ...]`
   double collision_margin = 0.0;
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;

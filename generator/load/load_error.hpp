@@ -1,6 +1,7 @@
 #pragma once
 // The one error type of loading: where (file, line when the format gives one), which element,
-// what is wrong, and how to fix it. The CLI prints what() and exits with status 2.
+// what is wrong, and how to fix it. The CLI prints what() and exits with status 1 (bad input:
+// generator/cli/exit_codes.hpp).
 #include <stdexcept>
 #include <string>
 

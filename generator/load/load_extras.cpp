@@ -20,9 +20,6 @@ using namespace yaml;
 const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "independent", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
-const std::vector<std::string> kOutputs = {"center_of_mass",   "centroidal_momentum", "distances", "forward_dynamics",
-                                           "forward_kinematics", "inverse_dynamics",  "jacobians", "mass_matrix", "simulation"};
-
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
   return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) { return static_cast<bool>(root[k]); });
 }
@@ -204,8 +201,11 @@ void read_outputs(const ExtrasFile& x, const YAML::Node& node, Description& d, S
       }
       scene.outputs.push_back("jacobians");
     } else {
-      scene.outputs.push_back(one_of(x.path, n, element, kOutputs));
+      // The name is checked against the generator's catalogue of functions when they are
+      // selected (codegen/scene_functions.cpp), with this line in the message.
+      scene.outputs.push_back(to_string(x.path, n, element));
     }
+    scene.output_lines.push_back(line_of(n));
   }
 }
 
@@ -228,7 +228,7 @@ ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Descrip
            fmt::format("give it one under `ssv:`, e.g. {}: [{{line: [[-0.05, 0, -0.05], [0.1, 0, -0.05]], radius: 0.02}}]", link));
     contact.links.push_back(link);
   }
-  sim::ContactParameters& p = contact.parameters;
+  ContactParameters& p = contact.parameters;
   struct Number {
     const char* key;
     double* value;

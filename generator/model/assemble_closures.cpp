@@ -230,7 +230,7 @@ bool better(const Attempt& x, const Attempt& y, double conditioning) {
 
 }  // namespace
 
-void assemble_closures(Description& d, const AssemblyOptions& options) {
+Assembled assemble_closures(const Description& d, const AssemblyOptions& options) {
   const Model& model = d.model;
   Data<double> data(model);
   AssemblyResidual residual(model);
@@ -264,27 +264,30 @@ void assemble_closures(Description& d, const AssemblyOptions& options) {
     if (best->dependent_conditioning >= options.conditioning && seeds >= options.min_seeds) break;
   }
   if (!best) report_open(d, model, data, closest_open, seeds);
-  d.assembly.q = best->q;
-  d.assembly.max_joint_change = best->displacement;
-  d.assembly.max_change_joint = best->moved_most;
-  d.assembly.residual = best->phi;
-  d.assembly.sigma_min = best->sigma_min;
-  d.assembly.sigma_max = best->sigma_max;
-  d.assembly.seeds = seeds;
-  d.assembly.iterations = iterations;
+  Assembled out;
+  AssemblyReport& report = out.report;
+  report.q = best->q;
+  report.max_joint_change = best->displacement;
+  report.max_change_joint = best->moved_most;
+  report.residual = best->phi;
+  report.sigma_min = best->sigma_min;
+  report.sigma_max = best->sigma_max;
+  report.seeds = seeds;
+  report.iterations = iterations;
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
     const double x = joint.nq == 1 ? best->q[joint.idx_q] : 0.0;
     if (joint.bounded && (x < joint.lower || x > joint.upper))
-      d.warnings.push_back(fmt::format("assembly: joint '{}' is at {:.6g}, outside its limits [{:.6g}, {:.6g}], in the "
+      out.warnings.push_back(fmt::format("assembly: joint '{}' is at {:.6g}, outside its limits [{:.6g}, {:.6g}], in the "
                                        "closed pose (limits are not imposed on the assembly)",
                                        joint.name, x, joint.lower, joint.upper));
   }
-  d.assembly.dependent_conditioning = best->dependent_conditioning;
+  report.dependent_conditioning = best->dependent_conditioning;
   if (best->dependent_conditioning < options.conditioning / 10)
-    d.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned: a dependent block Phi_z "
+    out.warnings.push_back(fmt::format("assembly: the best closed pose found is poorly conditioned: a dependent block Phi_z "
                                      "has condition {:.3g} (smallest kept singular value of Phi_q {:.3g}, largest {:.3g})",
                                      1 / best->dependent_conditioning, best->sigma_min, best->sigma_max));
+  return out;
 }
 
 }  // namespace mbgen::gen

@@ -1,4 +1,4 @@
-// Closures as given (ClosureSpec) into the Model (LoopClosure), and the topology stage in order.
+// Closures as given (ClosureSpec) as the Model's (LoopClosure), and the topology stage composed.
 #include <fmt/format.h>
 
 #include "mbgen/algorithm/closure.hpp"
@@ -22,9 +22,9 @@ ClosureType closure_type(const Description& d, const ClosureSpec& spec) {
 
 }  // namespace
 
-void add_closures_to_model(Description& d) {
-  Model& model = d.model;
-  model.closures.clear();
+std::vector<LoopClosure> closures_of(const Description& d) {
+  const Model& model = d.model;
+  std::vector<LoopClosure> closures;
   int offset = 0;
   for (const ClosureSpec& spec : d.closures) {
     LoopClosure c;
@@ -40,8 +40,9 @@ void add_closures_to_model(Description& d) {
     c.axis_b = closure_axis_basis(c.axis).col(0);
     c.row_offset = offset;
     offset += c.rows();
-    model.closures.push_back(c);
+    closures.push_back(c);
   }
+  return closures;
 }
 
 std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure) {
@@ -63,14 +64,18 @@ std::string coordinate_name(const Model& model, int v_index) {
   return fmt::format("v[{}]", v_index);
 }
 
-void build_topology(Description& d) {
-  if (d.closures.empty()) {
-    d.closed_dof = d.model.nv();
-    return;
-  }
-  add_closures_to_model(d);
-  assemble_closures(d);
-  find_subsystems(d);
+Description build_topology(Description d) {
+  d.closed_dof = d.model.nv();
+  if (d.closures.empty()) return d;
+  d.model.closures = closures_of(d);
+  const Assembled assembled = assemble_closures(d);
+  d.assembly = assembled.report;
+  d.warnings.insert(d.warnings.end(), assembled.warnings.begin(), assembled.warnings.end());
+  SubSystemChoice choice = choose_subsystems(d, d.assembly.q);
+  d.model.subsystems = std::move(choice.subsystems);
+  d.warnings.insert(d.warnings.end(), choice.warnings.begin(), choice.warnings.end());
+  d.closed_dof = d.model.nv() - choice.total_rank;
+  return d;
 }
 
 }  // namespace mbgen::gen

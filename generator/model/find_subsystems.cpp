@@ -277,11 +277,5 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
   return out;
 }
 
-void find_subsystems(Description& d, const AssemblyOptions& options) {
-  SubSystemChoice choice = choose_subsystems(d, d.assembly.q, options);
-  d.model.subsystems = std::move(choice.subsystems);
-  d.warnings.insert(d.warnings.end(), choice.warnings.begin(), choice.warnings.end());
-  d.closed_dof = d.model.nv() - choice.total_rank;
-}
 
 }  // namespace mbgen::gen

@@ -7,12 +7,14 @@
 
 namespace mbgen::gen {
 
+// The pipeline from a file to a model with its loops, each stage a function of the last one's
+// value: read (load/), reduce (the scene's lock, merge_below and loops, before the checks see
+// the model), validate (checks only), and the topology (closures, assembly, sub-systems).
 Description load_description(const std::string& path, const LoadOptions& options) {
   Description d = read_description(path, options);
-  if (options.reduce) reduce_model(d);  // the scene's lock and merge_below, before the checks see the model
+  if (options.reduce) d = reduce_model(std::move(d));
   validate_description(d);
-  build_topology(d);
-  return d;
+  return build_topology(std::move(d));
 }
 
 }  // namespace mbgen::gen

@@ -90,8 +90,8 @@ std::map<int, std::string> loop_bodies(const Description& d) {
 
 }  // namespace
 
-void reduce_model(Description& d) {
-  if (!d.scene || (d.scene->lock.empty() && d.scene->merge_below <= 0 && d.scene->loops != "transmission")) return;
+Description reduce_model(Description d) {
+  if (!d.scene || (d.scene->lock.empty() && d.scene->merge_below <= 0 && d.scene->loops != "transmission")) return d;
   const Model& m = d.model;
   const std::map<int, std::string> on_loop = loop_bodies(d);  // the loops as read, transmissions or not
   std::map<std::string, double> values;
@@ -167,6 +167,7 @@ void reduce_model(Description& d) {
                                      d.model.nv(), bodies_before - (d.model.num_bodies() - 1), bodies_before,
                                      d.model.num_bodies() - 1,
                                      dropped_drives.empty() ? "" : fmt::format(", the drives of {}", fmt::join(dropped_drives, ", "))));
+  return d;
 }
 
 }  // namespace mbgen::gen

@@ -24,9 +24,9 @@ namespace mbgen::gen {
 /// of the input stay valid. Throws std::invalid_argument for an unknown or multi-DoF joint.
 Model weld_joints(const Model& model, const std::map<std::string, double>& values);
 
-/// Applies the scene's `lock`, `merge_below` and `loops` to the description (model, drives, hints,
-/// closures), and
-/// records what each removed in description.reductions. Nothing happens without a scene asking.
-void reduce_model(Description& description);
+/// The description with the scene's `lock`, `merge_below` and `loops` applied (model, drives,
+/// hints, closures), and what each removed recorded in its `reductions`. The same description
+/// when its scene asks for none.
+Description reduce_model(Description description);
 
 }  // namespace mbgen::gen

@@ -34,8 +34,7 @@ std::map<std::string, double> plan_transmissions(Description& d) {
     return LoadError(d.extras_file, d.scene->loops_line, "scene: loops: transmission", problem, fix);
   };
   // The exact loops as read, assembled and partitioned (the same stages load_description runs).
-  Description whole = d;
-  build_topology(whole);
+  const Description whole = build_topology(d);
   const Model& m = whole.model;
   std::map<std::string, double> weld;
   std::set<std::string> actuators, outputs, replaced;
@@ -114,7 +113,7 @@ std::map<std::string, double> plan_transmissions(Description& d) {
   mapped.actuated_joints = hints;
   mapped.reductions.clear();
   mapped.transmissions.clear();
-  build_topology(mapped);
+  mapped = build_topology(std::move(mapped));
   std::set<std::string> mapped_independent;
   for (const SubSystem& sub : mapped.model.subsystems)
     for (int v : sub.independent) mapped_independent.insert(mapped.model.joint(mapped.model.joint_of_v(v)).name);

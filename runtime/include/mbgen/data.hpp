@@ -1,6 +1,7 @@
 #pragma once
 // Data<S>: work memory of the algorithms for scalar S. Making it allocates; after that no
 // algorithm allocates (tests/test_no_allocation.cpp proves it with a malloc guard).
+#include "mbgen/model_structure.hpp"
 #include "mbgen/subsystem_work.hpp"
 
 namespace mbgen {
@@ -36,33 +37,16 @@ template <typename S> struct Data {
         gamma(VecX<S>::Zero(model.num_constraint_rows())),
         zero_v(VecX<S>::Zero(model.nv())),
         v_full(VecX<S>::Zero(model.nv())),
-        subsystem_of_body(model.num_bodies(), -1) {
+        independent_v(independent_coordinates(model)),
+        column_of_v(column_of_coordinates(model)),
+        subsystem_of_body(subsystem_of_bodies(model)),
+        cycle_bodies(mbgen::cycle_bodies(model)) {
     for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
-    std::vector<bool> dependent(static_cast<std::size_t>(model.nv()), false);
-    for (const SubSystem& s : model.subsystems)
-      for (int z : s.dependent) dependent[static_cast<std::size_t>(z)] = true;
-    column_of_v.assign(static_cast<std::size_t>(model.nv()), -1);
-    for (int i = 0; i < model.nv(); ++i)
-      if (!dependent[static_cast<std::size_t>(i)]) {
-        column_of_v[static_cast<std::size_t>(i)] = static_cast<int>(independent_v.size());
-        independent_v.push_back(i);
-      }
     const int ny = static_cast<int>(independent_v.size());
     tau_y = VecX<S>::Zero(ny);
     scratch_y = VecX<S>::Zero(ny);
     scratch_nv = VecX<S>::Zero(model.nv());
     M_y = MatX<S>::Zero(ny, ny);
-    for (std::size_t k = 0; k < model.subsystems.size(); ++k)
-      for (BodyIndex b : model.subsystems[k].bodies) subsystem_of_body[b] = static_cast<int>(k);
-    // Each closure's two branches up to their common ancestor.
-    std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
-    for (const LoopClosure& c : model.closures) {
-      const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
-      for (BodyIndex b : {c.body_a, c.body_b})
-        for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
-    }
-    for (int k = 1; k < model.num_bodies(); ++k)
-      if (on_cycle[static_cast<std::size_t>(k)]) cycle_bodies.push_back(BodyIndex(k));
   }
 
   IndexedVector<BodyIndex, SE3<S>> X_J;    ///< joint transform: pose of each body in its joint frame

@@ -18,12 +18,12 @@
 namespace mbgen {
 
 /// Accelerations of every tree joint (data.ddq, nv) at (q, v) under joint forces tau (nv) and the
-/// ground's forces on the spheres; writes sim::kContactOutputs numbers per sphere to out. ground
-/// and law as sim::contact_inputs writes them, exponent the law's. With loops, q must be closed
+/// ground's forces on the spheres; writes kContactOutputs numbers per sphere to out. ground
+/// and law as contact_inputs writes them, exponent the law's. With loops, q must be closed
 /// and only the independent entries of v (Data::independent_v) are read: the dependent ones,
 /// for the dynamics and the contacts alike, are T vy (as forward_dynamics_loops_independent).
 template <typename S>
-const VecX<S>& contact_forward_dynamics(const Model& model, Data<S>& data, const std::vector<sim::ContactSphere>& spheres,
+const VecX<S>& contact_forward_dynamics(const Model& model, Data<S>& data, const std::vector<ContactSphere>& spheres,
                                         double exponent, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                                         const ConstVecRef<S>& tau, const S* ground, const S* law, S* out) {
   if (model.subsystems.empty()) {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "mbgen/algorithm/jacobian.hpp"
-#include "mbgen/sim/contact.hpp"
+#include "mbgen/algorithm/contact_law.hpp"
 
 namespace mbgen {
 
@@ -15,12 +15,12 @@ namespace mbgen {
 /// (LocalWorldAligned), row-major at jacobians[6 nv k]. The generic twin of the generated
 /// contact_points.
 template <typename S>
-void contact_points(const Model& model, Data<S>& data, const std::vector<sim::ContactSphere>& spheres,
+void contact_points(const Model& model, Data<S>& data, const std::vector<ContactSphere>& spheres,
                     const ConstVecRef<S>& q, S* positions, S* jacobians) {
   compute_joint_jacobians<S>(model, data, q);
   const int nv = model.nv();
   for (std::size_t k = 0; k < spheres.size(); ++k) {
-    const sim::ContactSphere& s = spheres[k];
+    const ContactSphere& s = spheres[k];
     const Vec3<S> c = data.X_WB[s.body].act(cast<S>(s.center));
     for (int i = 0; i < 3; ++i) positions[3 * k + static_cast<std::size_t>(i)] = c[i];
     // The columns of the joints that carry the body: data.J holds them in world axes at the
@@ -43,13 +43,13 @@ void contact_points(const Model& model, Data<S>& data, const std::vector<sim::Co
 }
 
 namespace detail {
-/// The law (sim::contact_force) at the spheres of one body: spheres[k] and the ones after it on
+/// The law (contact_force) at the spheres of one body: spheres[k] and the ones after it on
 /// the same body (contact_spheres lists a body's spheres together). X_WB: the body's pose;
 /// v_origin, omega: the velocity of its origin and its angular velocity, world axes. Writes
-/// sim::kContactOutputs numbers per sphere to out, adds their force (world) to `force` and their
+/// kContactOutputs numbers per sphere to out, adds their force (world) to `force` and their
 /// moment about the body's origin (world axes) to `moment`, and returns the index after them.
 template <typename S>
-std::size_t body_ground_wrench(const std::vector<sim::ContactSphere>& spheres, std::size_t k, double exponent, const SE3<S>& X_WB,
+std::size_t body_ground_wrench(const std::vector<ContactSphere>& spheres, std::size_t k, double exponent, const SE3<S>& X_WB,
                                const Vec3<S>& v_origin, const Vec3<S>& omega, const S* ground, const S* law, S* out,
                                Vec3<S>& force, Vec3<S>& moment) {
   const BodyIndex body = spheres[k].body;
@@ -57,9 +57,9 @@ std::size_t body_ground_wrench(const std::vector<sim::ContactSphere>& spheres, s
   for (; k < spheres.size() && spheres[k].body == body; ++k) {
     // origin to witness (the sphere's lowest point w = c - r n), world axes
     const Vec3<S> r = X_WB.rotation * cast<S>(spheres[k].center) - S(spheres[k].radius) * n;
-    const sim::ContactForce<S> f =
-        sim::contact_force_at_witness<S>(X_WB.translation + r, v_origin + omega.cross(r), ground, law, exponent);
-    S* o = out + sim::kContactOutputs * k;
+    const ContactForce<S> f =
+        contact_force_at_witness<S>(X_WB.translation + r, v_origin + omega.cross(r), ground, law, exponent);
+    S* o = out + kContactOutputs * k;
     o[0] = f.penetration;
     for (int i = 0; i < 3; ++i) o[1 + i] = f.point[i], o[4 + i] = f.force[i], o[7 + i] = f.slip_velocity[i];
     force += f.force;
@@ -74,9 +74,9 @@ std::size_t body_ground_wrench(const std::vector<sim::ContactSphere>& spheres, s
 /// velocities data.v (body frame), its wrench about the body origin in body axes subtracted from
 /// the bias force data.pA. Needs data.X_WB (world poses) and aba_velocity_pass's data.v and
 /// data.pA at the same state; run between aba_velocity_pass and aba_force_passes
-/// (contact_dynamics.hpp). Writes sim::kContactOutputs numbers per sphere to out.
+/// (contact_dynamics.hpp). Writes kContactOutputs numbers per sphere to out.
 template <typename S>
-void subtract_contact_forces(const std::vector<sim::ContactSphere>& spheres, double exponent, Data<S>& data, const S* ground,
+void subtract_contact_forces(const std::vector<ContactSphere>& spheres, double exponent, Data<S>& data, const S* ground,
                              const S* law, S* out) {
   std::size_t k = 0;
   while (k < spheres.size()) {
@@ -90,17 +90,17 @@ void subtract_contact_forces(const std::vector<sim::ContactSphere>& spheres, dou
   }
 }
 
-/// The ground's joint forces, added to tau (nv): for each sphere the law (sim::contact_force) at
+/// The ground's joint forces, added to tau (nv): for each sphere the law (contact_force) at
 /// its centre, moving with the velocities v (nv, every tree joint's), and J^T of its force at the
-/// witness. Writes sim::kContactOutputs numbers per sphere to `out` (penetration, witness,
-/// force, slip velocity). ground and law as sim::contact_inputs writes them. What the
+/// witness. Writes kContactOutputs numbers per sphere to `out` (penetration, witness,
+/// force, slip velocity). ground and law as contact_inputs writes them. What the
 /// joint-space backends (KKT, independent coordinates) add to their forces; the articulated-body
 /// one takes the same law as body forces (subtract_contact_forces). No Jacobian is stored: the
 /// spheres of one body add their wrench about the world origin, and one pass down the body's
 /// chain maps it to its joints: tau_i += J_i^T [f; m], J_i the joint's world-axes column at the
 /// origin.
 template <typename S>
-void contact_joint_forces(const Model& model, Data<S>& data, const std::vector<sim::ContactSphere>& spheres, double exponent,
+void contact_joint_forces(const Model& model, Data<S>& data, const std::vector<ContactSphere>& spheres, double exponent,
                           const ConstVecRef<S>& q, const S* v, const S* ground, const S* law, S* tau, S* out) {
   compute_joint_jacobians<S>(model, data, q);
   std::size_t k = 0;
