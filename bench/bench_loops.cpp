@@ -43,13 +43,13 @@ std::shared_ptr<const std::vector<Sample>> consistent_pool(const Model& model, c
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   Data<double> data(model);
-  const int ny = static_cast<int>(data.independent_v.size());
+  const int ny = model.structure().num_independent();
   auto pool = std::make_shared<std::vector<Sample>>();
   for (int attempt = 0; pool->size() < kPoolSize; ++attempt) {
     if (attempt > 100 * static_cast<int>(kPoolSize)) throw std::runtime_error("bench: cannot close the loops of " + model.name);
     Sample s;
     s.q = q_closed;
-    for (int y : data.independent_v)
+    for (int y : model.structure().independent_v)
       if (model.q_index_of_v(y) >= 0) s.q[model.q_index_of_v(y)] += 0.05 * unit(rng);
     if (closure_positions<double>(model, data, s.q).status != ClosureStatus::Converged) continue;
     s.v.resize(model.nv());
@@ -150,11 +150,10 @@ void add_closed_loop_robot(const std::string& name, const std::string& urdf, con
     return forward_dynamics_kkt<double>(*model, w->data, w->ws, s.q, s.v, s.tau).data();
   });
   if (generated) {
-    const Data<double> layout(*model);
     auto pool = std::make_shared<std::vector<IndependentSample>>();
     for (const Sample& sample : *robot->pool) {
-      IndependentSample x{sample.q, VecX<double>(static_cast<int>(layout.independent_v.size())), sample.tau};
-      for (std::size_t i = 0; i < layout.independent_v.size(); ++i) x.vy[static_cast<int>(i)] = sample.v[layout.independent_v[i]];
+      IndependentSample x{sample.q, VecX<double>(static_cast<int>(model->structure().independent_v.size())), sample.tau};
+      for (std::size_t i = 0; i < model->structure().independent_v.size(); ++i) x.vy[static_cast<int>(i)] = sample.v[model->structure().independent_v[i]];
       pool->push_back(std::move(x));
     }
     add_benchmark<IndependentSample>(algorithm, label, "generated", pool,

@@ -52,7 +52,7 @@ int main() {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   VecX<double> q = description.assembly.q.size() ? description.assembly.q : neutral_configuration<double>(model);
-  for (int y : data.independent_v) {
+  for (int y : model.structure().independent_v) {
     const int i = model.q_index_of_v(y);
     if (i >= 0) q[i] += (model.joint(model.joint_of_v(y)).type == JointType::Prismatic ? 0.002 : 0.05) * unit(rng);
   }

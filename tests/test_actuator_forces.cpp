@@ -20,29 +20,29 @@ namespace {
 /// Independent accelerations of the closed system under joint forces tau (nv).
 VecX<double> independent_accelerations(const Model& model, Data<double>& data, const VecX<double>& q, const VecX<double>& vy,
                                        const VecX<double>& tau) {
-  VecX<double> ydd(static_cast<int>(data.independent_v.size()));
+  VecX<double> ydd(static_cast<int>(model.structure().independent_v.size()));
   if (model.subsystems.empty()) {
     VecX<double> v = vy;
     ydd = aba<double>(model, data, q, v, tau);
     return ydd;
   }
   forward_dynamics_loops_independent<double>(model, data, q, vy, tau);
-  for (int i = 0; i < ydd.size(); ++i) ydd[i] = data.ddq[data.independent_v[static_cast<std::size_t>(i)]];
+  for (int i = 0; i < ydd.size(); ++i) ydd[i] = data.ddq[model.structure().independent_v[static_cast<std::size_t>(i)]];
   return ydd;
 }
 
 /// Joint forces (nv) of the actuators' forces f and the residual r (placed at the independent
 /// coordinates, whose rows of T are those of the identity).
-VecX<double> joint_forces(const Model& model, const Data<double>& data, const Actuation& act, const VecX<double>& f, const VecX<double>& r) {
+VecX<double> joint_forces(const Model& model, const Actuation& act, const VecX<double>& f, const VecX<double>& r) {
   VecX<double> tau = VecX<double>::Zero(model.nv());
   for (int i = 0; i < act.num_actuators(); ++i) tau[act.actuated_v[static_cast<std::size_t>(i)]] += f[i];
-  for (int i = 0; i < r.size(); ++i) tau[data.independent_v[static_cast<std::size_t>(i)]] += r[i];
+  for (int i = 0; i < r.size(); ++i) tau[model.structure().independent_v[static_cast<std::size_t>(i)]] += r[i];
   return tau;
 }
 
-VecX<double> independent_of(const Data<double>& data, const VecX<double>& v) {
-  VecX<double> vy(static_cast<int>(data.independent_v.size()));
-  for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+VecX<double> independent_of(const Model& model, const VecX<double>& v) {
+  VecX<double> vy(static_cast<int>(model.structure().independent_v.size()));
+  for (int i = 0; i < vy.size(); ++i) vy[i] = v[model.structure().independent_v[static_cast<std::size_t>(i)]];
   return vy;
 }
 
@@ -58,11 +58,11 @@ double worst_round_trip(const gen::Description& d, const Actuation& act, int sta
     VecX<double> q, v;
     if (!consistent_state(model, d.assembly.q, rng, 0.05, q, v)) continue;
     ++done;
-    const VecX<double> vy = independent_of(data, v);
+    const VecX<double> vy = independent_of(model, v);
     const VecX<double> ydd = random_vector<double>(vy.size(), rng, 5.0);
     VecX<double> f(act.num_actuators()), r(vy.size());
     EXPECT_TRUE(actuator_forces<double>(model, data, act, q, vy, ydd, f, r));
-    const VecX<double> back = independent_accelerations(model, data, q, vy, joint_forces(model, data, act, f, r));
+    const VecX<double> back = independent_accelerations(model, data, q, vy, joint_forces(model, act, f, r));
     // Normwise backward error: M_y (ydd' - ydd) against the terms of the equation, which the
     // conditioning of M_y does not amplify (wl16_like's forward error reaches 1e-11..1e-10).
     const MatX<double> My = mass_matrix_loops<double>(model, data, q);
@@ -94,7 +94,7 @@ TEST(ActuatorForces, LolaTheResidualIsTheFloatingBase) {
   // The residual: the base's six entries, the rest exactly zero; standing still in gravity, the
   // base's force is the weight (the whole robot's, world z along the base's z at the assembled pose).
   Data<double> data(d.model);
-  const int ny = static_cast<int>(data.independent_v.size());
+  const int ny = static_cast<int>(d.model.structure().independent_v.size());
   VecX<double> f(24), r(ny);
   VecX<double> q = d.assembly.q;
   const VecX<double> zero = VecX<double>::Zero(ny);
@@ -119,7 +119,7 @@ TEST(ActuatorForces, ADependentActuatorIsSolvedThroughItsLoop) {
   SliderCrank sc;
   const Model& model = sc.d.model;
   Data<double> data(model);
-  ASSERT_EQ(data.column_of_v[static_cast<std::size_t>(sc.slider)], -1) << "the slider must be dependent here";
+  ASSERT_EQ(model.structure().column_of_v[static_cast<std::size_t>(sc.slider)], -1) << "the slider must be dependent here";
   const Actuation by_slider = make_actuation(model, {sc.slider});
   const Actuation by_crank = make_actuation(model, {sc.crank});
   ASSERT_EQ(by_slider.blocks.size(), 1u);
@@ -129,7 +129,7 @@ TEST(ActuatorForces, ADependentActuatorIsSolvedThroughItsLoop) {
   for (int k = 0; k < 20; ++k) {
     VecX<double> q, v;
     ASSERT_TRUE(consistent_state(model, sc.d.assembly.q, rng, 0.5, q, v));
-    const VecX<double> vy = independent_of(data, v), ydd = random_vector<double>(vy.size(), rng, 5.0);
+    const VecX<double> vy = independent_of(model, v), ydd = random_vector<double>(vy.size(), rng, 5.0);
     VecX<double> f_slider(1), f_crank(1), r(vy.size());
     ASSERT_TRUE(actuator_forces<double>(model, data, by_slider, q, vy, ydd, f_slider, r));
     EXPECT_EQ(r.norm(), 0.0);
@@ -235,8 +235,8 @@ TEST(ActuatorForces, WithoutNamedActuatorsEveryIndependentCoordinateButTheBase) 
   d.actuated_joints.clear();
   const std::vector<int> v = gen::actuated_coordinates(d);
   Data<double> data(d.model);
-  ASSERT_EQ(v.size(), data.independent_v.size() - 6);
-  for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], data.independent_v[i + 6]);
+  ASSERT_EQ(v.size(), d.model.structure().independent_v.size() - 6);
+  for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], d.model.structure().independent_v[i + 6]);
 }
 
 }  // namespace

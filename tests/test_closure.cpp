@@ -116,11 +116,11 @@ TEST_P(ClosureTest, RowsDependOnTheCyclesAlone) {
     for (BodyIndex b : {c.body_a, c.body_b})
       for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
   }
-  // Data::cycle_bodies, which Newton places (closure_positions), is the same set.
+  // ModelStructure::cycle_bodies, which Newton places (closure_positions), is the same set.
   std::vector<BodyIndex> cycle_bodies;
   for (int k = 1; k < model.num_bodies(); ++k)
     if (on_cycle[static_cast<std::size_t>(k)]) cycle_bodies.push_back(BodyIndex(k));
-  EXPECT_EQ(data.cycle_bodies, cycle_bodies);
+  EXPECT_EQ(model.structure().cycle_bodies, cycle_bodies);
   std::mt19937_64 rng(15);
   int moved = 0;
   for (int trial = 0; trial < 4; ++trial) {

@@ -32,7 +32,7 @@ int q_index(const Model& model, const std::string& joint) { return model.joint(*
 
 /// T (nv x ny) at q.
 MatX<double> velocity_map_at(const Model& model, Data<double>& data, const VecX<double>& q) {
-  MatX<double> T(model.nv(), static_cast<int>(data.independent_v.size()));
+  MatX<double> T(model.nv(), static_cast<int>(model.structure().independent_v.size()));
   velocity_map<double>(model, data, q, T);
   return T;
 }
@@ -52,8 +52,8 @@ class LoopMapsTest : public ::testing::TestWithParam<LoopCase> {
 };
 
 TEST_P(LoopMapsTest, IndependentCoordinatesCountTheClosedDof) {
-  EXPECT_EQ(static_cast<int>(data.independent_v.size()), d.closed_dof);
-  EXPECT_EQ(static_cast<int>(data.independent_v.size() + dependent_coordinates(model).size()), model.nv());
+  EXPECT_EQ(static_cast<int>(model.structure().independent_v.size()), d.closed_dof);
+  EXPECT_EQ(static_cast<int>(model.structure().independent_v.size() + dependent_coordinates(model).size()), model.nv());
 }
 
 TEST_P(LoopMapsTest, VelocityMapIsInTheNullSpaceOfTheConstraints) {
@@ -67,9 +67,9 @@ TEST_P(LoopMapsTest, VelocityMapIsInTheNullSpaceOfTheConstraints) {
     const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
     EXPECT_LT((Phi_q * T).norm(), 1e-10 * Phi_q.norm() * T.norm());
     // T is the identity on the independent coordinates.
-    for (std::size_t i = 0; i < data.independent_v.size(); ++i) EXPECT_EQ(T(data.independent_v[i], i), 1.0);
+    for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) EXPECT_EQ(T(model.structure().independent_v[i], i), 1.0);
     // full_velocities is T vy without forming T (the same products: 1e-15 relative).
-    const VecX<double> vy = random_vector<double>(static_cast<int>(data.independent_v.size()), rng);
+    const VecX<double> vy = random_vector<double>(static_cast<int>(model.structure().independent_v.size()), rng);
     VecX<double> v_full(model.nv());
     full_velocities<double>(model, data, q, vy, v_full);
     EXPECT_LT(relative_error(v_full, VecX<double>(T * vy)), 1e-15);
@@ -82,12 +82,12 @@ TEST_P(LoopMapsTest, AccelerationBiasSatisfiesTheAccelerationConstraint) {
   VecX<double> q, v;
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
   const MatX<double> T = velocity_map_at(model, data, q);
-  VecX<double> vy(static_cast<int>(data.independent_v.size())), g(model.nv());
-  for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+  VecX<double> vy(static_cast<int>(model.structure().independent_v.size())), g(model.nv());
+  for (int i = 0; i < vy.size(); ++i) vy[i] = v[model.structure().independent_v[static_cast<std::size_t>(i)]];
   acceleration_bias<double>(model, data, q, vy, g);
   const VecX<double> gamma = closure_bias<double>(model, data, q, v);
   const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
-  const VecX<double> ydd = random_vector<double>(static_cast<int>(data.independent_v.size()), rng);
+  const VecX<double> ydd = random_vector<double>(static_cast<int>(model.structure().independent_v.size()), rng);
   EXPECT_LT(relative_error(Phi_q * (T * ydd + g), gamma), 1e-9);
 }
 
@@ -108,7 +108,7 @@ TEST_P(LoopMapsTest, NewtonRecoversTheDependentCoordinates) {
 }
 
 TEST_P(LoopMapsTest, NewtonReadsNoPoseItDidNotPlace) {
-  // closure_positions places only the cycles' bodies (Data::cycle_bodies): a body it missed would
+  // closure_positions places only the cycles' bodies (ModelStructure::cycle_bodies): a body it missed would
   // be read as the last pass left it. From the same start, a fresh Data and one whose every pose
   // is another configuration's must give the same iterates, bit for bit.
   std::mt19937_64 rng(29);
@@ -133,8 +133,8 @@ TEST_P(LoopMapsTest, MapsReadNoPoseTheyDidNotPlace) {
   std::mt19937_64 rng(31);
   VecX<double> q, v;
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  VecX<double> vy(static_cast<int>(data.independent_v.size()));
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) vy[static_cast<int>(i)] = v[data.independent_v[i]];
+  VecX<double> vy(static_cast<int>(model.structure().independent_v.size()));
+  for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) vy[static_cast<int>(i)] = v[model.structure().independent_v[i]];
   Data<double> stale(model);
   forward_kinematics<double>(model, stale, random_configuration<double>(model, rng));
   VecX<double> g_fresh(model.nv()), g_stale(model.nv());
@@ -162,8 +162,8 @@ TEST_P(LoopMapsTest, CloseLoopsProjectsTheVelocitiesAsFullVelocitiesDoes) {
   ASSERT_EQ(result.status, ClosureStatus::Converged);
   EXPECT_LE(std::abs(result.iterations - expected.iterations), 1);
   EXPECT_LT((q_both - q_closed).cwiseAbs().maxCoeff(), 1e-10);
-  VecX<double> vy(static_cast<int>(data.independent_v.size())), v_expected(model.nv());
-  for (int i = 0; i < vy.size(); ++i) vy[i] = v_moved[data.independent_v[static_cast<std::size_t>(i)]];
+  VecX<double> vy(static_cast<int>(model.structure().independent_v.size())), v_expected(model.nv());
+  for (int i = 0; i < vy.size(); ++i) vy[i] = v_moved[model.structure().independent_v[static_cast<std::size_t>(i)]];
   full_velocities<double>(model, data, q_both, vy, v_expected);
   EXPECT_LT((v_both - v_expected).cwiseAbs().maxCoeff(), 1e-13 * v_expected.cwiseAbs().maxCoeff());
   EXPECT_GT((v_moved - v_expected).cwiseAbs().maxCoeff(), 1e-3) << "the projection did something";
@@ -297,7 +297,7 @@ TEST_P(LoopMapsTest, MapsDoNotAllocate) {
   std::mt19937_64 rng(24);
   VecX<double> q, v;
   ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
-  MatX<double> T(model.nv(), static_cast<int>(data.independent_v.size()));
+  MatX<double> T(model.nv(), static_cast<int>(model.structure().independent_v.size()));
   VecX<double> vy = VecX<double>::Ones(T.cols()), v_full(model.nv()), g(model.nv());
   ClosureStatus status;
   {
@@ -328,7 +328,7 @@ TEST_P(LoopMapsTest, NonFiniteCoordinateOffTheLoopsIsNotConverged) {
   // as it was. (A NaN on a loop is Newton's to find: NanStateIsNotConvergedNeverConverged.)
   int off_loop = -1;
   for (int k = 1; k < model.num_bodies() && off_loop < 0; ++k)
-    if (data.subsystem_of_body[BodyIndex(k)] < 0) off_loop = model.joint(model.body(BodyIndex(k)).joint).idx_q;
+    if (model.structure().subsystem_of_body[BodyIndex(k)] < 0) off_loop = model.joint(model.body(BodyIndex(k)).joint).idx_q;
   if (off_loop < 0) GTEST_SKIP() << "every joint is on a loop";
   for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
     VecX<double> q = d.assembly.q;
@@ -387,7 +387,7 @@ TEST(LoopMapsClosedForm, FourBarFollowsFreudenstein) {
   const gen::Description d = load(kMechanisms + "four_bar.urdf", kMechanisms + "four_bar.yaml");
   const Model& model = d.model;
   Data<double> data(model);
-  ASSERT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("crank_joint")).idx_v});
+  ASSERT_EQ(model.structure().independent_v, std::vector<int>{model.joint(*model.find_joint("crank_joint")).idx_v});
   const int crank = q_index(model, "crank_joint"), rocker = q_index(model, "rocker_joint");
   const int coupler = q_index(model, "coupler_joint");
   const double theta20 = M_PI / 2, theta40 = std::atan2(0.12, -0.022), theta30 = std::atan2(0.07, 0.168);
@@ -440,7 +440,7 @@ template <typename S> ClosureResult<S> approach_the_stroke_end(const ClosureOpti
   const Model& model = d.model;
   Data<S> data(model);
   const int slider = q_index(model, "slider_joint");
-  EXPECT_EQ(data.independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
+  EXPECT_EQ(model.structure().independent_v, std::vector<int>{model.joint(*model.find_joint("slider_joint")).idx_v});
   VecX<S> q = VecX<S>::Zero(model.nq());
   // Warm-started approach: regular until close to the stroke end.
   for (double x : {0.01, 0.02, 0.03, 0.04, 0.05}) {

@@ -65,7 +65,6 @@ void expect_closed_samples(const gen::Description& d, int draws, const std::stri
   if (some_close) {
     EXPECT_FALSE(samples.empty()) << what;
   }
-  const Data<double> loops(model);
   double worst = 0;
   int beyond = 0;
   for (const VecX<double>& q : samples) {
@@ -76,7 +75,7 @@ void expect_closed_samples(const gen::Description& d, int draws, const std::stri
       const Joint& joint = model.joint(JointIndex(j));
       if (joint.nq != 1 || !joint.bounded || !(joint.upper > joint.lower)) continue;
       const double x = q[joint.idx_q];
-      if (loops.column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {  // independent: drawn within the limits
+      if (model.structure().column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {  // independent: drawn within the limits
         EXPECT_GE(x, joint.lower) << what << ": " << joint.name;
         EXPECT_LE(x, joint.upper) << what << ": " << joint.name;
       } else if (x < joint.lower - 1e-9 || x > joint.upper + 1e-9) {

@@ -88,7 +88,7 @@ TEST(ContactDynamics, LoopBodyForcesEqualTheRecursionWithJointForces) {
   Data<double> data(d.model), reference(d.model);
   for (int trial = 0; trial < 4; ++trial) {
     const VecX<double> q = sunk_into_ground(d, spheres, 1e-3);
-    const int ny = static_cast<int>(reference.independent_v.size());
+    const int ny = static_cast<int>(d.model.structure().independent_v.size());
     VecX<double> vy(ny), v(nv), tau(nv);
     for (int i = 0; i < ny; ++i) vy[i] = 0.3 * unit(rng);
     for (int i = 0; i < nv; ++i) tau[i] = 20 * unit(rng);

@@ -49,6 +49,7 @@ class GeneratedTest : public ::testing::Test {
   static Model tree_of(Model m) {
     m.closures.clear();
     m.subsystems.clear();
+    m.update_structure();
     return m;
   }
   static std::vector<FrameIndex> frame_indices(const Model& model) {
@@ -166,7 +167,7 @@ class GeneratedTest : public ::testing::Test {
   template <typename T> void compare_closed(double tolerance, int trials) {
     std::mt19937_64 rng(2025);
     const int nv = closed.nv(), ny = robot.ny;
-    ASSERT_EQ(ny, static_cast<int>(closed_data.independent_v.size()));
+    ASSERT_EQ(ny, static_cast<int>(closed.structure().independent_v.size()));
     std::vector<T> ydd(ny), qdd(nv);
     double worst_y = 0, worst_full = 0;
     int states = 0;
@@ -175,7 +176,7 @@ class GeneratedTest : public ::testing::Test {
       if (!draw_state(rng, q, v)) continue;
       ++states;
       VecX<double> vy(ny);
-      for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      for (int i = 0; i < ny; ++i) vy[i] = v[closed.structure().independent_v[static_cast<std::size_t>(i)]];
       const VecX<double> tau = random_vector<double>(nv, rng, 10.0);
       forward_dynamics_loops_independent<double>(closed, closed_data, q, vy, tau);
       const VecX<double> expected = closed_data.ddq;
@@ -187,7 +188,7 @@ class GeneratedTest : public ::testing::Test {
       const double scale = M.norm() * expected.norm() + tau.norm() + nonlinear_effects<double>(model, data, q, v).norm();
       worst_full = std::max(worst_full, (M * (widen(qdd) - expected)).norm() / scale);
       VecX<double> expected_y(ny);
-      for (int i = 0; i < ny; ++i) expected_y[i] = expected[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      for (int i = 0; i < ny; ++i) expected_y[i] = expected[closed.structure().independent_v[static_cast<std::size_t>(i)]];
       worst_y = std::max(worst_y, (widen(ydd) - expected_y).norm() / std::max(1.0, expected.norm()));
     }
     EXPECT_GE(states, trials / 2);
@@ -214,7 +215,7 @@ class GeneratedTest : public ::testing::Test {
       if (!draw_state(rng, q, v)) continue;
       ++states;
       VecX<double> vy(ny), g(nv), v_full(nv);
-      for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+      for (int i = 0; i < ny; ++i) vy[i] = v[closed.structure().independent_v[static_cast<std::size_t>(i)]];
       MatX<double> T_expected(nv, ny);
       velocity_map<double>(closed, closed_data, q, T_expected);
       full_velocities<double>(closed, closed_data, q, vy, v_full);
@@ -299,7 +300,7 @@ TEST_F(GeneratedTest, SizesAndNamesMatchTheModel) {
   for (int k = 1; k < model.num_bodies(); ++k) EXPECT_EQ(model.body(BodyIndex(k)).name, robot.body_names[k - 1]);
   ASSERT_EQ(robot.joint_names_full.size, names.size());
   ASSERT_EQ(robot.independent_v_index.size, static_cast<std::size_t>(robot.ny));
-  for (int i = 0; i < robot.ny; ++i) EXPECT_EQ(robot.independent_v_index[i], closed_data.independent_v[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < robot.ny; ++i) EXPECT_EQ(robot.independent_v_index[i], closed.structure().independent_v[static_cast<std::size_t>(i)]);
 }
 
 // The header's joint ranges are the description's, as the runtime reads them from the Model
@@ -344,7 +345,7 @@ TEST_F(GeneratedTest, ActuatorForcesEqualGenericAndGiveBackTheAccelerations) {
     if (!draw_state(rng, q, v)) continue;
     ++states;
     VecX<double> vy(ny);
-    for (int i = 0; i < ny; ++i) vy[i] = v[closed_data.independent_v[static_cast<std::size_t>(i)]];
+    for (int i = 0; i < ny; ++i) vy[i] = v[closed.structure().independent_v[static_cast<std::size_t>(i)]];
     const VecX<double> ydd = random_vector<double>(ny, rng, 5.0);
     VecX<double> f_expected(na), r_expected(ny);
     actuator_forces<double>(closed, closed_data, act, q, vy, ydd, f_expected, r_expected);

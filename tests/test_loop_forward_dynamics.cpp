@@ -40,8 +40,8 @@ TEST_P(LoopForwardDynamicsTest, EqualsTheKktReference) {
     worst_plain = std::max(worst_plain, relative_error(VecX<double>(aba<double>(model, data, q, v, tau)), expected));
     // The same from the independent velocities alone (the form the generator traces).
     const VecX<double> qdd = data.ddq;
-    VecX<double> vy(static_cast<int>(data.independent_v.size()));
-    for (int i = 0; i < vy.size(); ++i) vy[i] = v[data.independent_v[static_cast<std::size_t>(i)]];
+    VecX<double> vy(static_cast<int>(model.structure().independent_v.size()));
+    for (int i = 0; i < vy.size(); ++i) vy[i] = v[model.structure().independent_v[static_cast<std::size_t>(i)]];
     forward_dynamics_loops_independent<double>(model, data, q, vy, tau);
     worst_independent = std::max(worst_independent, relative_error(data.ddq, qdd));
     ++states;
@@ -66,9 +66,9 @@ TEST_P(LoopForwardDynamicsTest, InverseDynamicsAndMassMatrixInIndependentCoordin
     ++states;
     const VecX<double> tau = random_vector<double>(model.nv(), rng, 5.0);
     ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged);
-    const int ny = static_cast<int>(data.independent_v.size());
+    const int ny = static_cast<int>(model.structure().independent_v.size());
     VecX<double> ydd(ny), tau_projected(ny);
-    for (int i = 0; i < ny; ++i) ydd[i] = data.ddq[data.independent_v[static_cast<std::size_t>(i)]];
+    for (int i = 0; i < ny; ++i) ydd[i] = data.ddq[model.structure().independent_v[static_cast<std::size_t>(i)]];
     detail::project_independent<double>(model, data, tau, tau_projected);
     const VecX<double> tau_y = inverse_dynamics_loops<double>(model, data, q, v, ydd);
     const VecX<double> bias = inverse_dynamics_loops<double>(model, data, q, v, VecX<double>::Zero(ny));
@@ -135,7 +135,7 @@ TEST_P(PassiveLoopSimulation, ClosesTheLoopsAndConservesEnergyOverFiveSeconds) {
   const gen::Description d = load_loop_case(GetParam());
   const Model& model = d.model;
   Data<double> data(model);
-  const std::vector<int>& y_index = data.independent_v;  // 1-DoF joints: q index = v index here
+  const std::vector<int>& y_index = model.structure().independent_v;  // 1-DoF joints: q index = v index here
   const int ny = static_cast<int>(y_index.size());
   const VecX<double> zero_tau = VecX<double>::Zero(model.nv());
   VecX<double> q = d.assembly.q, yd(ny);

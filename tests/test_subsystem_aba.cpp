@@ -98,6 +98,7 @@ TEST_P(SubsystemAba, EqualsProjectedEquationsOfMotion) {
     joint.rotor_gear_ratio = 50.0 + 20.0 * static_cast<double>(k);
     joint.rotor_inertia = 2e-4 * static_cast<double>(k + 1);
   }
+  model.update_structure();  // the rotors change which bodies are rigid
   Data<double> data(model), reference(model);
   std::mt19937_64 rng(23);
   double worst = 0, worst_ydd = 0;
@@ -170,6 +171,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(SubsystemAbaMemory, DoesNotAllocate) {
   Model model = load_tree(shared_robot("hyq/hyq_no_sensors.urdf"), gen::BaseType::Floating);
   model.subsystems.push_back(make_subsystem(model, {"lf_hipassembly", "lf_upperleg", "rf_hipassembly"}, "base_link", 2));
+  model.update_structure();
   Data<double> data(model);
   std::mt19937_64 rng(29);
   const Maps maps = random_maps(model, data, rng);
@@ -198,7 +200,7 @@ TEST(SubsystemWork, RigidBodiesHaveOnlyRigidSubsystemBodiesBelow) {
     for (std::size_t j = 0; j < sub.bodies.size(); ++j) {
       const std::string& name = model.body(sub.bodies[j]).name;
       if (name.back() != 'l') continue;  // the left leg; the right one mirrors it
-      (data.subsystem[k].rigid[j] ? rigid : not_rigid).push_back(name);
+      (model.structure().subsystems[k].rigid[j] ? rigid : not_rigid).push_back(name);
     }
   }
   std::sort(rigid.begin(), rigid.end());
@@ -209,11 +211,11 @@ TEST(SubsystemWork, RigidBodiesHaveOnlyRigidSubsystemBodiesBelow) {
   EXPECT_EQ(not_rigid, (std::vector<std::string>{"ankle_cross_l", "foot_body_l", "shank_l"}));
 }
 
-TEST(SubsystemWork, RefusesABodyHangingOutsideTheSubsystem) {
+TEST(ModelStructure, RefusesABodyHangingOutsideTheSubsystem) {
   Model model = load_tree(shared_robot("hyq/hyq_no_sensors.urdf"), gen::BaseType::Floating);
   model.subsystems.push_back(make_subsystem(model, {"lf_upperleg", "lf_lowerleg"}, "base_link", 1));
   try {
-    Data<double> data(model);
+    model.update_structure();
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(),

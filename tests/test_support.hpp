@@ -151,7 +151,7 @@ bool consistent_state_once(const Model& model, const VecX<double>& q_closed, Rng
   // simulation would): one jump could leave Newton's basin on the ill-conditioned models.
   std::vector<double> target(model.nq());
   for (int i = 0; i < model.nq(); ++i) target[i] = q[i];
-  for (int y : data.independent_v) {
+  for (int y : model.structure().independent_v) {
     const int i = model.q_index_of_v(y);
     if (i < 0) continue;  // inside a floating base: left where it is
     const Joint& joint = model.joint(model.joint_of_v(y));
@@ -164,13 +164,13 @@ bool consistent_state_once(const Model& model, const VecX<double>& q_closed, Rng
   }
   const VecX<double> start = q;
   for (int step = 1; step <= 10; ++step) {
-    for (int y : data.independent_v) {
+    for (int y : model.structure().independent_v) {
       const int i = model.q_index_of_v(y);
       if (i >= 0) q[i] = start[i] + (target[i] - start[i]) * step / 10.0;
     }
     if (closure_positions<double>(model, data, q).status != ClosureStatus::Converged) return false;
   }
-  VecX<double> vy(static_cast<int>(data.independent_v.size()));
+  VecX<double> vy(static_cast<int>(model.structure().independent_v.size()));
   for (int i = 0; i < vy.size(); ++i) vy[i] = unit(rng);
   v.resize(model.nv());
   full_velocities<double>(model, data, q, vy, v);

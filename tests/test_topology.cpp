@@ -215,6 +215,7 @@ TEST(JointTypeOverrides, MassMatrixAndAbaStayRegularWithTheMasslessChainLinks) {
     const Description d = load(urdf, extras);
     Model m = d.model;  // the tree's ABA: aba() with sub-systems needs their maps (loop_forward_dynamics.hpp)
     m.subsystems.clear();
+    m.update_structure();
     Data<double> data(m);
     std::mt19937_64 rng(51);
     for (int trial = 0; trial < 5; ++trial) {

@@ -176,9 +176,9 @@ double transmission_error(bool massless) {
     // The exact model's independent velocities: the actuators' rates J v, the rest as given;
     // its tree forces: f at the actuators, tau at the joints both models share.
     const VecX<double> a_dot = J * v;
-    VecX<double> vy(static_cast<int>(de.independent_v.size())), tau_exact = VecX<double>::Zero(E.nv());
-    for (std::size_t k = 0; k < de.independent_v.size(); ++k) {
-      const int w = de.independent_v[k];
+    VecX<double> vy(static_cast<int>(E.structure().independent_v.size())), tau_exact = VecX<double>::Zero(E.nv());
+    for (std::size_t k = 0; k < E.structure().independent_v.size(); ++k) {
+      const int w = E.structure().independent_v[k];
       const Joint& joint = E.joint(E.joint_of_v(w));
       const auto it = std::find(actuators.begin(), actuators.end(), joint.name);
       vy[static_cast<int>(k)] = it != actuators.end() ? a_dot[it - actuators.begin()] : v[R.joint(*R.find_joint(joint.name)).idx_v + w - joint.idx_v];

@@ -225,7 +225,7 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
            "// entries of the joints on no loop (num_off_loop_q of them; the array has at least one).\n";
     out += fmt::format("constexpr int R = {};\nconstexpr int num_subsystems = {};\n", num_dependent(model), model.subsystems.size());
     // The runtime's test (close_positions): a body of no sub-system is off the loops.
-    const IndexedVector<BodyIndex, int> subsystem_of_body = subsystem_of_bodies(model);
+    const IndexedVector<BodyIndex, int> subsystem_of_body = model.structure().subsystem_of_body;
     std::vector<int> off_loop_q;
     for (int k = 1; k < model.num_bodies(); ++k) {
       const Joint& joint = model.joint(model.body(BodyIndex(k)).joint);

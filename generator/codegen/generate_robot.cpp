@@ -130,9 +130,10 @@ struct Generation {
         tree(d.model),
         actuation(gen::description_actuation(d, o.notes)),
         contacts(gen::contact_spheres(d)),
-        independent(independent_coordinates(d.model)) {
+        independent(d.model.structure().independent_v) {
     tree.closures.clear();
     tree.subsystems.clear();
+    tree.update_structure();
     if (!contacts.empty()) contact_exponent = description.scene->contact->parameters.exponent;
     selection = select_functions(description, options.outputs, &left_out_reason);
   }

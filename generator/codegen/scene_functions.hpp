@@ -1,9 +1,9 @@
 #pragma once
 // Which functions a generation emits (docs/extras.md, `scene: outputs`), from the catalogue
 // (function_catalog.hpp): each output the scene lists brings the rows that name it, and what
-// those need in turn; the rest are left out. A
-// left-out function is not declared in the header, and its source file holds only a note, so
-// that the file list still follows from mbgen_add_robot's arguments alone.
+// those need in turn; the rest are left out. A left-out function is not declared in the header,
+// and its source file holds only a note, so that the file list still follows from
+// mbgen_add_robot's arguments alone.
 #include <set>
 #include <string>
 #include <vector>
@@ -22,10 +22,10 @@ struct FunctionSelection {
 };
 
 /// The functions for `outputs` (scene output names: forward_dynamics, mass_matrix, jacobians,
-/// simulation, ...; scene_outputs()). An empty list selects everything (a description without `scene: outputs`
-/// gets every function, as before outputs were honoured); `contact` (the scene has `contact:`)
-/// adds the simulation's functions. closure_positions is always emitted: the position level of
-/// the loops, which every function of a closed system presumes (it returns at once without loops).
+/// simulation, ...; scene_outputs()). An empty list selects everything (a description without
+/// `scene: outputs` gets every function); `contact` (the scene has `contact:`) adds the
+/// simulation's functions. Rows marked `always` (closure_positions: the position level of the
+/// loops, which every function of a closed system presumes) are emitted whatever the outputs.
 /// An output the catalogue does not know throws std::invalid_argument naming the known ones.
 FunctionSelection select_functions(const std::vector<std::string>& outputs, bool contact);
 

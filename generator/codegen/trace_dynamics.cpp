@@ -47,7 +47,7 @@ TracedFunction trace_forward_dynamics(const Model& model) {
 namespace {
 /// Symbolic inputs and the O(n) recursion with sub-systems, shared by the two loop functions.
 void trace_loop_recursion(const Model& model, Data<Sym>& data) {
-  const SymVec q = inputs(0, model.nq()), vy = inputs(1, static_cast<int>(data.independent_v.size())), tau = inputs(2, model.nv());
+  const SymVec q = inputs(0, model.nq()), vy = inputs(1, model.structure().num_independent()), tau = inputs(2, model.nv());
   forward_dynamics_loops_independent<Sym>(model, data, q, vy, tau);
 }
 }  // namespace
@@ -56,6 +56,7 @@ TracedFunction trace_generated_forward_dynamics(const Model& model) {
   if (!model.subsystems.empty()) return trace_forward_dynamics_loops(model);
   Model tree = model;
   tree.closures.clear();
+  tree.update_structure();
   return trace_forward_dynamics(tree);
 }
 
@@ -72,7 +73,7 @@ TracedFunction trace_forward_dynamics_loops(const Model& model) {
   Data<Sym> data(model);
   trace_loop_recursion(model, data);
   std::vector<int> ids;
-  for (int i : data.independent_v) ids.push_back(data.ddq[i].id());
+  for (int i : model.structure().independent_v) ids.push_back(data.ddq[i].id());
   f.output_ids = {ids};
   return f;
 }

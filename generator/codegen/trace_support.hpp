@@ -37,7 +37,7 @@ inline std::vector<int> ids_of(const Eigen::Ref<const MatX<Sym>>& m) {
   return ids;
 }
 
-inline int num_independent(const Model& m) { return static_cast<int>(independent_coordinates(m).size()); }
+inline int num_independent(const Model& m) { return m.structure().num_independent(); }
 
 inline ArraySpec q_spec(const Model& m) { return {"q", m.nq(), fmt::format("[{}] joint positions", m.nq())}; }
 inline ArraySpec closed_q_spec(const Model& m) {

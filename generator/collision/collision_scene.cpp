@@ -130,7 +130,7 @@ struct ConfigurationSampler::Loops {
     for (int j = 1; j < m.num_joints(); ++j) {
       const Joint& joint = m.joint(JointIndex(j));
       if (joint.nv != 1) continue;
-      if (data.column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {
+      if (model->structure().column_of_v[static_cast<std::size_t>(joint.idx_v)] >= 0) {
         independent_q.push_back(joint.idx_q);
         // A revolute joint free to turn a full circle walks the short way round.
         const bool turns = !joint.bounded || !(joint.upper > joint.lower) || joint.upper - joint.lower >= 2 * M_PI;

@@ -48,7 +48,7 @@ Actuation description_actuation(const Description& d, std::vector<std::string>* 
     bool solvable = inside.size() == s.independent.size();
     if (solvable) {  // regular at the assembled pose?
       const Actuation block = make_actuation(model, inside);
-      const int ny = static_cast<int>(data.independent_v.size());
+      const int ny = model.structure().num_independent();
       VecX<double> f(static_cast<int>(inside.size())), r(ny);
       const VecX<double> zero = VecX<double>::Zero(ny);
       solvable = actuator_forces<double>(model, data, block, d.assembly.q, zero, zero, f, r);

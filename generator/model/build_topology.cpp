@@ -68,11 +68,13 @@ Description build_topology(Description d) {
   d.closed_dof = d.model.nv();
   if (d.closures.empty()) return d;
   d.model.closures = closures_of(d);
+  d.model.update_structure();
   const Assembled assembled = assemble_closures(d);
   d.assembly = assembled.report;
   d.warnings.insert(d.warnings.end(), assembled.warnings.begin(), assembled.warnings.end());
   SubSystemChoice choice = choose_subsystems(d, d.assembly.q);
   d.model.subsystems = std::move(choice.subsystems);
+  d.model.update_structure();
   d.warnings.insert(d.warnings.end(), choice.warnings.begin(), choice.warnings.end());
   d.closed_dof = d.model.nv() - choice.total_rank;
   return d;

@@ -1,7 +1,7 @@
 #pragma once
 // Data<S>: work memory of the algorithms for scalar S. Making it allocates; after that no
-// algorithm allocates (tests/test_no_allocation.cpp proves it with a malloc guard).
-#include "mbgen/model_structure.hpp"
+// algorithm allocates (tests/test_no_allocation.cpp proves it with a malloc guard). What depends
+// on the model alone (index tables, the sub-systems' layouts) is the Model's: model.structure().
 #include "mbgen/subsystem_work.hpp"
 
 namespace mbgen {
@@ -36,13 +36,15 @@ template <typename S> struct Data {
         Phi_q(MatX<S>::Zero(model.num_constraint_rows(), model.nv())),
         gamma(VecX<S>::Zero(model.num_constraint_rows())),
         zero_v(VecX<S>::Zero(model.nv())),
-        v_full(VecX<S>::Zero(model.nv())),
-        independent_v(independent_coordinates(model)),
-        column_of_v(column_of_coordinates(model)),
-        subsystem_of_body(subsystem_of_bodies(model)),
-        cycle_bodies(mbgen::cycle_bodies(model)) {
+        v_full(VecX<S>::Zero(model.nv())) {
+    // The algorithms read the model's structure; one left behind by a change of its loops (or of
+    // a rotor in a loop) would index this workspace wrongly.
+    if (!model.structure_is_current())
+      throw std::logic_error("Data: model '" + model.name +
+                             "' changed after its structure was computed: call model.update_structure() after changing its "
+                             "closures, sub-systems or joints");
     for (const SubSystem& s : model.subsystems) subsystem.emplace_back(model, s);
-    const int ny = static_cast<int>(independent_v.size());
+    const int ny = model.structure().num_independent();
     tau_y = VecX<S>::Zero(ny);
     scratch_y = VecX<S>::Zero(ny);
     scratch_nv = VecX<S>::Zero(model.nv());
@@ -90,17 +92,9 @@ template <typename S> struct Data {
   VecX<S> v_full;  ///< nv: every tree joint's velocity, built from independent ones (loop_forward_dynamics.hpp)
 
   std::vector<SubSystemWork<S>> subsystem;          ///< one per Model::subsystems entry (aba with loops)
-  /// v indices of the closed system's coordinates y: every coordinate not dependent in a
-  /// sub-system, ascending (all of them for a tree). The order of independent velocities.
-  std::vector<int> independent_v;
-  std::vector<int> column_of_v;  ///< v index -> its place in independent_v, or -1 (dependent)
   VecX<S> tau_y;                 ///< ny: forces on the independent coordinates (inverse_dynamics_loops)
   MatX<S> M_y;                   ///< ny x ny: mass matrix in independent coordinates (mass_matrix_loops)
   VecX<S> scratch_y, scratch_nv;
-  IndexedVector<BodyIndex, int> subsystem_of_body;  ///< index into subsystem, or -1 for a tree body
-  /// The bodies strictly below a closure's top on its cycle, ascending: all the loops' rows read
-  /// (closure.hpp, detail::cycle_placements).
-  std::vector<BodyIndex> cycle_bodies;
 };
 
 }  // namespace mbgen

@@ -42,6 +42,7 @@ template <typename Index, typename T> class IndexedVector {
   auto begin() const { return items_.begin(); }
   auto end() const { return items_.end(); }
   T& back() { return items_.back(); }
+  bool operator==(const IndexedVector& o) const { return items_ == o.items_; }
 
  private:
   std::vector<T> items_;

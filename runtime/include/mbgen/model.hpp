@@ -17,6 +17,7 @@
 
 #include "mbgen/index.hpp"
 #include "mbgen/loop_closure.hpp"
+#include "mbgen/model_structure.hpp"
 #include "mbgen/spatial/inertia.hpp"
 
 namespace mbgen {
@@ -73,9 +74,20 @@ class Model {
   std::string name;
   Vec3<double> gravity{0.0, 0.0, -9.81};
   /// Loop closures on top of the tree, and the sub-systems they form (empty for a tree).
-  /// Filled by the loader's topology stage; see loop_closure.hpp.
+  /// Filled by the loader's topology stage; see loop_closure.hpp. After changing them, call
+  /// update_structure(): a Data made from a model whose structure is not current is refused.
   std::vector<LoopClosure> closures;
   std::vector<SubSystem> subsystems;
+
+  /// What the algorithms read of the model's structure (model_structure.hpp): the closed
+  /// system's coordinates, the loops' bodies, the sub-systems' layouts.
+  const ModelStructure& structure() const { return structure_; }
+  /// Computes structure() from the bodies, joints, closures and sub-systems as they are now
+  /// (add_body does it; so must whoever changes the loops, or a joint's rotor, afterwards).
+  /// Throws std::invalid_argument if a sub-system is not one the O(n) recursion can treat.
+  void update_structure();
+  /// structure() equals what update_structure() would compute now.
+  bool structure_is_current() const;
   /// Total number of stacked constraint rows of all closures (redundant ones included).
   int num_constraint_rows() const {
     int m = 0;
@@ -133,6 +145,7 @@ class Model {
   IndexedVector<FrameIndex, Frame> frames_;
   int nq_ = 0, nv_ = 0;
   std::vector<int> velocity_parents_;
+  ModelStructure structure_;
 };
 
 inline const char* to_string(JointType type) {
@@ -185,6 +198,7 @@ inline BodyIndex Model::add_body(BodyIndex parent, Joint joint, std::string body
   bodies_.push_back(std::move(body));
   joints_.push_back(std::move(joint));
   bodies_[parent].children.push_back(index);
+  update_structure();
   return index;
 }
 
@@ -252,5 +266,77 @@ inline BodyIndex common_ancestor(const Model& model, BodyIndex a, BodyIndex b) {
   }
   return a;
 }
+
+/// The structure of `model` as it is now (Model::update_structure stores it).
+inline ModelStructure compute_structure(const Model& model) {
+  ModelStructure out;
+  const std::size_t nv = static_cast<std::size_t>(model.nv());
+  std::vector<bool> dependent(nv, false);
+  for (const SubSystem& s : model.subsystems)
+    for (int z : s.dependent)
+      if (z >= 0 && static_cast<std::size_t>(z) < nv) dependent[static_cast<std::size_t>(z)] = true;
+  out.column_of_v.assign(nv, -1);
+  for (std::size_t i = 0; i < nv; ++i)
+    if (!dependent[i]) {
+      out.column_of_v[i] = static_cast<int>(out.independent_v.size());
+      out.independent_v.push_back(static_cast<int>(i));
+    }
+  out.subsystem_of_body = IndexedVector<BodyIndex, int>(static_cast<std::size_t>(model.num_bodies()), -1);
+  for (std::size_t k = 0; k < model.subsystems.size(); ++k)
+    for (BodyIndex b : model.subsystems[k].bodies) out.subsystem_of_body[b] = static_cast<int>(k);
+  std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
+  for (const LoopClosure& c : model.closures) {
+    const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+    for (BodyIndex b : {c.body_a, c.body_b})
+      for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
+  }
+  for (int k = 1; k < model.num_bodies(); ++k)
+    if (on_cycle[static_cast<std::size_t>(k)]) out.cycle_bodies.push_back(BodyIndex(k));
+  for (const SubSystem& s : model.subsystems) {
+    SubSystemLayout layout;
+    const auto fail = [&](const std::string& what) {
+      throw std::invalid_argument("sub-system of closure(s) rooted at body '" + model.body(s.root).name + "': " + what);
+    };
+    if (s.coordinates.size() != s.bodies.size()) fail("needs one coordinate per body");
+    for (std::size_t j = 0; j < s.bodies.size(); ++j) {
+      const Body& body = model.body(s.bodies[j]);
+      const Joint& joint = model.joint(body.joint);
+      if (joint.nv != 1 || joint.idx_v != s.coordinates[j])
+        fail("body '" + body.name + "' must be moved by the 1-DoF joint of coordinate " + std::to_string(s.coordinates[j]));
+      int parent = -1;
+      for (std::size_t i = 0; i < j; ++i)
+        if (s.bodies[i] == body.parent) parent = static_cast<int>(i);
+      if (parent < 0 && body.parent != s.root)
+        fail("body '" + body.name + "' hangs from '" + model.body(body.parent).name + "', which is neither in the sub-system nor its root");
+      layout.parent_local.push_back(parent);
+      bool found = false;
+      int role = 0;
+      for (std::size_t c = 0; c < s.independent.size(); ++c)
+        if (s.independent[c] == s.coordinates[j]) role = static_cast<int>(c), found = true;
+      for (std::size_t d = 0; d < s.dependent.size(); ++d)
+        if (s.dependent[d] == s.coordinates[j]) role = -1 - static_cast<int>(d), found = true;
+      if (!found) fail("coordinate " + std::to_string(s.coordinates[j]) + " is neither independent nor dependent");
+      layout.coordinate_role.push_back(role);
+    }
+    // Leaves first: a body is rigid when every child is a rigid body of the sub-system whose
+    // joint carries no rotor body (a rotor's inertia would join this body's).
+    layout.rigid.assign(s.bodies.size(), 1);
+    for (std::size_t j = s.bodies.size(); j-- > 0;)
+      for (const BodyIndex child : model.body(s.bodies[j]).children) {
+        std::size_t c = 0;
+        while (c < s.bodies.size() && s.bodies[c] != child) ++c;
+        if (c == s.bodies.size() || model.joint(model.body(child).joint).has_rotor_body() || !layout.rigid[c]) layout.rigid[j] = 0;
+      }
+    if (!s.closures.empty() && static_cast<int>(s.dependent.size()) != s.rank())
+      fail("has " + std::to_string(s.dependent.size()) + " dependent coordinates for " + std::to_string(s.rank()) +
+           " independent constraint rows: Phi_z must be square");
+    out.subsystems.push_back(std::move(layout));
+  }
+  return out;
+}
+
+inline void Model::update_structure() { structure_ = compute_structure(*this); }
+
+inline bool Model::structure_is_current() const { return structure_ == compute_structure(*this); }
 
 }  // namespace mbgen

@@ -1,7 +1,8 @@
 #pragma once
 // Work memory of one sub-system (loop_closure.hpp) for the articulated-body algorithm with
 // sub-systems (algorithm/subsystem_aba.hpp), sized once from the model: k coordinates, p
-// independent coordinates, m bodies. Part of Data<S>.
+// independent coordinates, m bodies. Part of Data<S>; the sub-system's layout is the Model's
+// (ModelStructure::subsystems).
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,10 +13,9 @@ namespace mbgen {
 
 template <typename S> struct SubSystemWork {
   SubSystemWork() = default;
-  /// Throws std::invalid_argument if the sub-system is not one aba() can treat: its bodies must
-  /// be moved by 1-DoF joints (coordinates[j] the joint of bodies[j]), each body's parent must be
-  /// in the sub-system or be its root. Drives may use either rotor model (subsystem_aba.hpp).
-  SubSystemWork(const Model& model, const SubSystem& s)
+  /// Sized for `s`; the Model has checked that aba() can treat it (Model::update_structure) and
+  /// holds its layout (ModelStructure::subsystems).
+  SubSystemWork(const Model&, const SubSystem& s)
       : G(MatX<S>::Zero(k(s), p(s))),
         g(VecX<S>::Zero(k(s))),
         H(MatX<S>::Zero(6 * m(s), p(s))),
@@ -37,43 +37,7 @@ template <typename S> struct SubSystemWork {
         actuator_f(VecX<S>::Zero(p(s))),
         actuator_c(VecX<S>::Zero(p(s) * (p(s) - 1) / 2 + 1)),
         actuator_s(actuator_c) {
-    auto fail = [&](const std::string& what) {
-      throw std::invalid_argument("sub-system of closure(s) rooted at body '" + model.body(s.root).name + "': " + what);
-    };
-    if (s.coordinates.size() != s.bodies.size()) fail("needs one coordinate per body");
-    for (std::size_t j = 0; j < s.bodies.size(); ++j) {
-      const Body& body = model.body(s.bodies[j]);
-      const Joint& joint = model.joint(body.joint);
-      if (joint.nv != 1 || joint.idx_v != s.coordinates[j])
-        fail("body '" + body.name + "' must be moved by the 1-DoF joint of coordinate " + std::to_string(s.coordinates[j]));
-      int parent = -1;
-      for (std::size_t i = 0; i < j; ++i)
-        if (s.bodies[i] == body.parent) parent = static_cast<int>(i);
-      if (parent < 0 && body.parent != s.root)
-        fail("body '" + body.name + "' hangs from '" + model.body(body.parent).name + "', which is neither in the sub-system nor its root");
-      parent_local.push_back(parent);
-      bool found = false;
-      int role = 0;
-      for (std::size_t c = 0; c < s.independent.size(); ++c)
-        if (s.independent[c] == s.coordinates[j]) role = static_cast<int>(c), found = true;
-      for (std::size_t d = 0; d < s.dependent.size(); ++d)
-        if (s.dependent[d] == s.coordinates[j]) role = -1 - static_cast<int>(d), found = true;
-      if (!found) fail("coordinate " + std::to_string(s.coordinates[j]) + " is neither independent nor dependent");
-      coordinate_role.push_back(role);
-    }
-    // Leaves first: a body is rigid when every child is a rigid body of the sub-system whose
-    // joint carries no rotor body (a rotor's inertia would join this body's).
-    rigid.assign(s.bodies.size(), 1);
-    for (std::size_t j = s.bodies.size(); j-- > 0;)
-      for (const BodyIndex child : model.body(s.bodies[j]).children) {
-        std::size_t c = 0;
-        while (c < s.bodies.size() && s.bodies[c] != child) ++c;
-        if (c == s.bodies.size() || model.joint(model.body(child).joint).has_rotor_body() || !rigid[c]) rigid[j] = 0;
-      }
     moments.resize(s.bodies.size());
-    if (!s.closures.empty() && static_cast<int>(s.dependent.size()) != s.rank())
-      fail("has " + std::to_string(s.dependent.size()) + " dependent coordinates for " + std::to_string(s.rank()) +
-           " independent constraint rows: Phi_z must be square");
   }
 
   /// Inputs of a step, set by the closure maps for the current state: the coordinates' rates are
@@ -105,15 +69,9 @@ template <typename S> struct SubSystemWork {
   VecX<S> actuator_rhs, actuator_f;
   VecX<S> actuator_c, actuator_s;
 
-  std::vector<int> parent_local;    ///< per body: its parent's position in bodies, or -1 (the root)
-  /// Per body: 1 when nothing but rigid bodies of this sub-system hangs below it (no tree
-  /// subtree, no other sub-system, no rotor body), so that its gathered inertia is a rigid body's
-  /// and moves to the parent as mass moments (subsystem_backward).
-  std::vector<char> rigid;
-  std::vector<InertiaMoments<S>> moments;  ///< per rigid body: it and the rigid bodies below it, in its frame
-  /// Per coordinate: its column among the independent coordinates (>= 0), or -1 - its row among
-  /// the dependent ones.
-  std::vector<int> coordinate_role;
+  /// Per rigid body of the layout (SubSystemLayout::rigid): it and the rigid bodies below it, in
+  /// its frame.
+  std::vector<InertiaMoments<S>> moments;
 
  private:
   static int k(const SubSystem& s) { return static_cast<int>(s.coordinates.size()); }

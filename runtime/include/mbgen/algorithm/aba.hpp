@@ -58,7 +58,7 @@ template <typename S> const VecX<S>& aba_force_passes(const Model& model, Data<S
   // Pass 2, leaves to root: articulated inertias and bias forces.
   for (int k = model.num_bodies() - 1; k >= 1; --k) {
     const BodyIndex i(k);
-    if (const int s = data.subsystem_of_body[i]; s >= 0) {  // a sub-system: once, at its first body
+    if (const int s = model.structure().subsystem_of_body[i]; s >= 0) {  // a sub-system: once, at its first body
       if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_backward<S>(model, data, s, v, tau);
       continue;
     }
@@ -127,7 +127,7 @@ template <typename S> const VecX<S>& aba_force_passes(const Model& model, Data<S
   data.a[kWorldBody] = Motion<S>{-model.gravity.cast<S>(), Vec3<S>::Zero()};
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex i(k);
-    if (const int s = data.subsystem_of_body[i]; s >= 0) {
+    if (const int s = model.structure().subsystem_of_body[i]; s >= 0) {
       if (model.subsystems[static_cast<std::size_t>(s)].bodies.front() == i) detail::subsystem_forward<S>(model, data, s);
       continue;
     }

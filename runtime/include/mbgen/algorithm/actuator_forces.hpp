@@ -2,7 +2,7 @@
 // Closed-system inverse dynamics for the actuators: the forces the actuated joints must apply
 // for given independent accelerations, with the loops closed and the dependent joints passive.
 //
-// With the independent coordinates y (Data::independent_v) and the velocity map T (v = T vy),
+// With the independent coordinates y (ModelStructure::independent_v) and the velocity map T (v = T vy),
 // the generalized forces on y are (loop_inverse_dynamics.hpp)
 //   tau_y = T^T RNEA(q, T vy, T ydd + g).
 // Actuator forces f (na, one per actuated coordinate, S_a its columns of the identity) reach y as
@@ -153,16 +153,17 @@ bool actuator_forces(const Model& model, Data<S>& data, const Actuation& act, co
   for (const Actuation::Block& b : act.blocks) {
     const SubSystem& sub = model.subsystems[static_cast<std::size_t>(b.subsystem)];
     SubSystemWork<S>& w = data.subsystem[static_cast<std::size_t>(b.subsystem)];
+    const SubSystemLayout& layout = model.structure().subsystems[static_cast<std::size_t>(b.subsystem)];
     const int p = static_cast<int>(sub.independent.size());
     // B (c, j) = d q_actuator_j / d y_c: G's row for a dependent actuator, e_c for an independent one.
     MatX<S>& B = w.actuator_B;
     for (int j = 0; j < p; ++j) {
       const int local = b.local[static_cast<std::size_t>(j)];
-      const int role = w.coordinate_role[static_cast<std::size_t>(local)];
+      const int role = layout.coordinate_role[static_cast<std::size_t>(local)];
       for (int c = 0; c < p; ++c) B(c, j) = role >= 0 ? S(role == c ? 1 : 0) : w.G(local, c);
     }
     for (int c = 0; c < p; ++c) {
-      const int col = data.column_of_v[static_cast<std::size_t>(sub.independent[static_cast<std::size_t>(c)])];
+      const int col = model.structure().column_of_v[static_cast<std::size_t>(sub.independent[static_cast<std::size_t>(c)])];
       w.actuator_rhs[c] = tau_y[col];
       residual[col] = S(0);
     }

@@ -45,12 +45,12 @@ template <typename S> Vec3<S> rotation_skew_vee(const Mat3<S>& R) {
   return Vec3<S>(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / S(2);
 }
 
-/// X_J and X_PB of the bodies on the closures' cycles (Data::cycle_bodies), the only poses the
+/// X_J and X_PB of the bodies on the closures' cycles (ModelStructure::cycle_bodies), the only poses the
 /// loops' rows read: cycle_kinematics places a cycle from X_PB alone, its top at rest. Newton on
 /// the loops places these rather than the whole tree (Lola: 22 of its 46 bodies, and no world
 /// poses).
 template <typename S> void cycle_placements(const Model& model, Data<S>& data, const S* q) {
-  for (BodyIndex b : data.cycle_bodies) place_in_parent<S>(model, data, q, b);
+  for (BodyIndex b : model.structure().cycle_bodies) place_in_parent<S>(model, data, q, b);
 }
 
 /// Fills data.X_TB (and, with v, data.v_T and data.a_T at zero joint accelerations) for the

@@ -233,7 +233,7 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   for (int k = 1; k < model.num_bodies(); ++k) {
     const BodyIndex b(k);
     const Joint& joint = model.joint(model.body(b).joint);
-    if (data.subsystem_of_body[b] < 0 && !q.segment(joint.idx_q, joint.nq).allFinite()) {
+    if (model.structure().subsystem_of_body[b] < 0 && !q.segment(joint.idx_q, joint.nq).allFinite()) {
       result.status = ClosureStatus::NotConverged;
       result.residual = std::numeric_limits<S>::quiet_NaN();
       return result;
@@ -247,13 +247,14 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
     for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
       const SubSystem& sub = model.subsystems[k];
       const SubSystemWork<S>& w = data.subsystem[k];
+      const SubSystemLayout& layout = model.structure().subsystems[k];
       const int p = static_cast<int>(sub.independent.size());
       S largest = S(0);
       for (int d = 0; d < sub.rank(); ++d)
         if (abs(w.rhs(d, p)) > largest) largest = abs(w.rhs(d, p));
       const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
       for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
-        if (w.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - w.coordinate_role[j], p);
+        if (layout.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - layout.coordinate_role[j], p);
     }
   };
   for (;; ++result.iterations) {

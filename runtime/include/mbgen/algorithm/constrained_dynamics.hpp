@@ -59,7 +59,7 @@ template <typename S>
 ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model)
     : rows(detail::kept_closure_rows(model)),
       kkt_lu(model.nv() + static_cast<int>(rows.size())),
-      Mr_llt(static_cast<Eigen::Index>(Data<S>(model).independent_v.size())) {
+      Mr_llt(static_cast<Eigen::Index>(model.structure().num_independent())) {
   const int n = model.nv(), r = static_cast<int>(rows.size()), y = static_cast<int>(Mr_llt.rows());
   K = MatX<S>::Zero(n + r, n + r);
   rhs = VecX<S>::Zero(n + r);

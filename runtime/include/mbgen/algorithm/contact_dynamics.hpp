@@ -20,7 +20,7 @@ namespace mbgen {
 /// Accelerations of every tree joint (data.ddq, nv) at (q, v) under joint forces tau (nv) and the
 /// ground's forces on the spheres; writes kContactOutputs numbers per sphere to out. ground
 /// and law as contact_inputs writes them, exponent the law's. With loops, q must be closed
-/// and only the independent entries of v (Data::independent_v) are read: the dependent ones,
+/// and only the independent entries of v (ModelStructure::independent_v) are read: the dependent ones,
 /// for the dynamics and the contacts alike, are T vy (as forward_dynamics_loops_independent).
 template <typename S>
 const VecX<S>& contact_forward_dynamics(const Model& model, Data<S>& data, const std::vector<ContactSphere>& spheres,
@@ -32,7 +32,7 @@ const VecX<S>& contact_forward_dynamics(const Model& model, Data<S>& data, const
     subtract_contact_forces<S>(spheres, exponent, data, ground, law, out);
     return detail::aba_force_passes<S>(model, data, v, tau);
   }
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) data.scratch_y[static_cast<int>(i)] = v[data.independent_v[i]];
+  for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) data.scratch_y[static_cast<int>(i)] = v[model.structure().independent_v[i]];
   // The maps place only the loops' bodies; the contact forces need every body's world pose. The
   // full velocity is left in data.v_full.
   detail::loop_maps<S>(model, data, q, data.scratch_y);

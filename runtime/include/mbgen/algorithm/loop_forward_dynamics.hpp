@@ -36,7 +36,7 @@ template <typename S> void loop_maps(const Model& model, Data<S>& data, const Co
 }  // namespace detail
 
 /// The same with the velocity given in independent coordinates: vy (ny) for the coordinates
-/// Data::independent_v (every v index not dependent in a sub-system, ascending); the full
+/// ModelStructure::independent_v (every v index not dependent in a sub-system, ascending); the full
 /// velocity T vy is built in data.v_full. The form the generator traces.
 template <typename S>
 void forward_dynamics_loops_independent(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, const ConstVecRef<S>& tau) {

@@ -1,6 +1,6 @@
 #pragma once
 // Inverse dynamics and mass matrix of a closed-loop system in its independent coordinates y
-// (Data::independent_v): with qd = T yd and qdd = T ydd + g_full (T: identity off the loops, each
+// (ModelStructure::independent_v): with qd = T yd and qdd = T ydd + g_full (T: identity off the loops, each
 // sub-system's G on its coordinates; g_full: each sub-system's g),
 //   tau_y = T^T RNEA(q, qd, T ydd + g_full),   M_y = T^T M T.
 // tau_y are the generalized forces on y that produce ydd: what the actuators of the independent
@@ -15,14 +15,14 @@ namespace mbgen {
 namespace detail {
 /// out_y = T^T f_full.
 template <typename S> void project_independent(const Model& model, const Data<S>& data, const VecX<S>& f_full, VecX<S>& out_y) {
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) out_y[static_cast<int>(i)] = f_full[data.independent_v[i]];
+  for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) out_y[static_cast<int>(i)] = f_full[model.structure().independent_v[i]];
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     const SubSystemWork<S>& w = data.subsystem[k];
     for (std::size_t c = 0; c < sub.independent.size(); ++c) {
       S x = S(0);
       for (std::size_t j = 0; j < sub.coordinates.size(); ++j) x += w.G(static_cast<int>(j), static_cast<int>(c)) * f_full[sub.coordinates[j]];
-      out_y[data.column_of_v[static_cast<std::size_t>(sub.independent[c])]] = x;
+      out_y[model.structure().column_of_v[static_cast<std::size_t>(sub.independent[c])]] = x;
     }
   }
 }

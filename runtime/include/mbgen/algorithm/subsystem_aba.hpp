@@ -50,10 +50,9 @@ template <typename S> struct RotorTarget {
 /// P outside the sub-system is its root: H_P = 0 and bias_P = 0 there (the root's acceleration
 /// enters through U). The tree ABA's add_rotor_to_parent is the same body with p = 1, G = 1.
 template <typename S>
-void add_subsystem_rotor(const Model& model, const Data<S>& data, SubSystemWork<S>& w, int j, const Joint& joint,
+void add_subsystem_rotor(const Model& model, const Data<S>& data, SubSystemWork<S>& w, int j, int parent, const Joint& joint,
                          const S& qd, const RotorTarget<S>& target) {
   const int p = static_cast<int>(w.G.cols());
-  const int parent = w.parent_local[static_cast<std::size_t>(j)];
   const BodyIndex P = model.body(joint.child).parent;
   const Vec3<S> axis = rotor_axis_in_parent(joint).template cast<S>();
   const S N(joint.rotor_gear_ratio), I(joint.rotor_inertia);
@@ -81,6 +80,7 @@ template <typename S>
 void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   const SubSystem& sub = model.subsystems[static_cast<std::size_t>(s)];
   SubSystemWork<S>& w = data.subsystem[static_cast<std::size_t>(s)];
+  const SubSystemLayout& layout = model.structure().subsystems[static_cast<std::size_t>(s)];
   const int m = static_cast<int>(sub.bodies.size());
   const int p = static_cast<int>(sub.independent.size());
 
@@ -88,7 +88,7 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
   for (int j = 0; j < m; ++j) {
     const BodyIndex b = sub.bodies[static_cast<std::size_t>(j)];
     const Joint& joint = model.joint(model.body(b).joint);
-    const int parent = w.parent_local[static_cast<std::size_t>(j)];
+    const int parent = layout.parent_local[static_cast<std::size_t>(j)];
     for (int col = 0; col < p; ++col) {
       const S rate = w.G(j, col);
       Motion<S> h = joint_velocity<S>(joint, &rate);
@@ -130,37 +130,37 @@ void subsystem_backward(const Model& model, Data<S>& data, int s, const ConstVec
         for (int col = r; col < p; ++col) w.D(r, col) += S(joint.armature) * w.G(j, r) * w.G(j, col);
       }
     if (joint.has_rotor_body()) {
-      const int parent = w.parent_local[static_cast<std::size_t>(j)];
+      const int parent = layout.parent_local[static_cast<std::size_t>(j)];
       const RotorTarget<S> target = parent >= 0 ? RotorTarget<S>{data.IA[sub.bodies[static_cast<std::size_t>(parent)]],
                                                                  data.pA[sub.bodies[static_cast<std::size_t>(parent)]].angular,
                                                                  w.F, 6 * parent}
                                                 : RotorTarget<S>{I_S, p_S.angular, w.U, 0};
-      add_subsystem_rotor<S>(model, data, w, j, joint, v[joint.idx_v], target);
+      add_subsystem_rotor<S>(model, data, w, j, parent, joint, v[joint.idx_v], target);
     }
   }
   for (int r = 0; r < p; ++r)
     for (int col = 0; col < r; ++col) w.D(r, col) = w.D(col, r);
 
   // Leaves to root inside the sub-system: I_S, U = sum X^T F_b, p_S, gathered in the root frame.
-  // A rigid body's gathered inertia (SubSystemWork::rigid: the drive linkage's rods, nuts and
+  // A rigid body's gathered inertia (SubSystemLayout::rigid: the drive linkage's rods, nuts and
   // housings) is a rigid body's, so it moves as 10 mass moments (a rotation and a parallel-axis
   // shift) and becomes a 6x6 only where it joins a body that is not rigid; the 6x6 congruence
   // costs about three times as much, and traced it does not see that the mass block stays m 1.
   // data.IA of a rigid body keeps its own inertia only.
   for (int j = 0; j < m; ++j)
-    if (w.rigid[static_cast<std::size_t>(j)])
+    if (layout.rigid[static_cast<std::size_t>(j)])
       w.moments[static_cast<std::size_t>(j)] = InertiaMoments<S>::of_body(model.body(sub.bodies[static_cast<std::size_t>(j)]).inertia);
   for (int j = m - 1; j >= 0; --j) {
     const BodyIndex b = sub.bodies[static_cast<std::size_t>(j)];
     const Joint& joint = model.joint(model.body(b).joint);
-    const int parent = w.parent_local[static_cast<std::size_t>(j)];
+    const int parent = layout.parent_local[static_cast<std::size_t>(j)];
     const Force<S> p_up = force_child_to_parent<S>(joint, data.X_J[b], data.pA[b]);
     Mat6<S>& I_target = parent >= 0 ? data.IA[sub.bodies[static_cast<std::size_t>(parent)]] : I_S;
-    if (!w.rigid[static_cast<std::size_t>(j)]) {
+    if (!layout.rigid[static_cast<std::size_t>(j)]) {
       I_target += inertia_child_to_parent<S>(joint, data.X_J[b], data.IA[b]);
     } else {
       const InertiaMoments<S> up = moments_child_to_parent<S>(joint, data.X_J[b], w.moments[static_cast<std::size_t>(j)]);
-      if (parent >= 0 && w.rigid[static_cast<std::size_t>(parent)]) w.moments[static_cast<std::size_t>(parent)] += up;
+      if (parent >= 0 && layout.rigid[static_cast<std::size_t>(parent)]) w.moments[static_cast<std::size_t>(parent)] += up;
       else I_target += up.matrix();
     }
     if (parent >= 0) {

@@ -90,6 +90,7 @@ template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& 
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
+    const SubSystemLayout& layout = model.structure().subsystems[k];
     const int r = sub.rank(), p = static_cast<int>(sub.independent.size());
     detail::load_dependent_block<S>(model, data, k);
     for (int i = 0; i < r; ++i)
@@ -98,7 +99,7 @@ template <typename S> void subsystem_velocity_maps(const Model& model, Data<S>& 
     givens_qr_apply<S>(w.rotation_c, w.rotation_s, r, w.rhs, p);
     upper_triangular_solve<S>(w.R, r, w.rhs, p);
     for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      const int role = w.coordinate_role[j];
+      const int role = layout.coordinate_role[j];
       for (int c = 0; c < p; ++c) w.G(static_cast<int>(j), c) = role >= 0 ? S(role == c ? 1 : 0) : -w.rhs(-1 - role, c);
     }
   }
@@ -114,26 +115,28 @@ void subsystem_acceleration_biases(const Model& model, Data<S>& data, const Cons
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     SubSystemWork<S>& w = data.subsystem[k];
+    const SubSystemLayout& layout = model.structure().subsystems[k];
     const int p = static_cast<int>(sub.independent.size());
     detail::solve_kept_rows<S>(model, data, k, data.gamma);
     for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      const int role = w.coordinate_role[j];
+      const int role = layout.coordinate_role[j];
       w.g[static_cast<int>(j)] = role >= 0 ? S(0) : w.rhs(-1 - role, p);
     }
   }
 }
 
 namespace detail {
-/// x_full = T x_y (+ g_full if with_bias), x_y in Data::independent_v order. Needs the
+/// x_full = T x_y (+ g_full if with_bias), x_y in ModelStructure::independent_v order. Needs the
 /// sub-systems' G (and g with the bias).
 template <typename S, typename In, typename Out>
 void expand_independent(const Model& model, const Data<S>& data, const In& x_y, bool with_bias, Out&& x_full) {
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) x_full[data.independent_v[i]] = x_y[static_cast<int>(i)];
+  for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) x_full[model.structure().independent_v[i]] = x_y[static_cast<int>(i)];
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     const SubSystemWork<S>& w = data.subsystem[k];
+    const SubSystemLayout& layout = model.structure().subsystems[k];
     for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      if (w.coordinate_role[j] >= 0) continue;  // independent: set above (its g is 0)
+      if (layout.coordinate_role[j] >= 0) continue;  // independent: set above (its g is 0)
       S x = with_bias ? w.g[static_cast<int>(j)] : S(0);
       for (std::size_t c = 0; c < sub.independent.size(); ++c) x += w.G(static_cast<int>(j), static_cast<int>(c)) * x_full[sub.independent[c]];
       x_full[sub.coordinates[j]] = x;
@@ -143,7 +146,7 @@ void expand_independent(const Model& model, const Data<S>& data, const In& x_y, 
 }  // namespace detail
 
 /// Velocities of every tree joint, v = T vy (nv), from the independent ones vy (ny,
-/// Data::independent_v order) at a closed configuration q: the velocity that keeps the loops
+/// ModelStructure::independent_v order) at a closed configuration q: the velocity that keeps the loops
 /// closed (Phi_q v = 0). Computes the sub-systems' G.
 template <typename S, typename Out>
 void full_velocities(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& vy, Out&& v) {
@@ -156,14 +159,15 @@ void full_velocities(const Model& model, Data<S>& data, const ConstVecRef<S>& q,
 template <typename S, typename Out> void velocity_map(const Model& model, Data<S>& data, const ConstVecRef<S>& q, Out&& T) {
   subsystem_velocity_maps<S>(model, data, q);
   T.setZero();
-  for (std::size_t i = 0; i < data.independent_v.size(); ++i) T(data.independent_v[i], static_cast<int>(i)) = S(1);
+  for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) T(model.structure().independent_v[i], static_cast<int>(i)) = S(1);
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
     const SubSystem& sub = model.subsystems[k];
     const SubSystemWork<S>& w = data.subsystem[k];
+    const SubSystemLayout& layout = model.structure().subsystems[k];
     for (std::size_t j = 0; j < sub.coordinates.size(); ++j) {
-      if (w.coordinate_role[j] >= 0) continue;
+      if (layout.coordinate_role[j] >= 0) continue;
       for (std::size_t c = 0; c < sub.independent.size(); ++c)
-        T(sub.coordinates[j], data.column_of_v[static_cast<std::size_t>(sub.independent[c])]) = w.G(static_cast<int>(j), static_cast<int>(c));
+        T(sub.coordinates[j], model.structure().column_of_v[static_cast<std::size_t>(sub.independent[c])]) = w.G(static_cast<int>(j), static_cast<int>(c));
     }
   }
 }

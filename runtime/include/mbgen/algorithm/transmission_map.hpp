@@ -44,7 +44,7 @@ template <typename S> class TransmissionMap {
       actuator_q_.push_back(linkage_.joint(*j).idx_q);
       actuator_v_.push_back(linkage_.joint(*j).idx_v);
     }
-    T_ = MatX<S>::Zero(linkage_.nv(), static_cast<Eigen::Index>(data_.independent_v.size()));
+    T_ = MatX<S>::Zero(linkage_.nv(), static_cast<Eigen::Index>(linkage_.structure().independent_v.size()));
   }
 
   /// Actuator positions a (na) for the reduced model's q (and J, na x reduced nv row-major, when
@@ -58,8 +58,8 @@ template <typename S> class TransmissionMap {
     if (J) {
       velocity_map<S>(linkage_, data_, q_, T_);
       for (std::size_t i = 0; i < actuator_v_.size() * static_cast<std::size_t>(reduced_nv_); ++i) J[i] = S(0);
-      for (std::size_t k = 0; k < data_.independent_v.size(); ++k) {
-        const int w = data_.independent_v[k];
+      for (std::size_t k = 0; k < linkage_.structure().independent_v.size(); ++k) {
+        const int w = linkage_.structure().independent_v[k];
         for (const auto& [lw, r] : v_of_linkage_)
           if (lw == w)
             for (std::size_t i = 0; i < actuator_v_.size(); ++i) J[i * static_cast<std::size_t>(reduced_nv_) + static_cast<std::size_t>(r)] = T_(actuator_v_[i], static_cast<Eigen::Index>(k));

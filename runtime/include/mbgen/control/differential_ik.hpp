@@ -4,7 +4,7 @@
 // "Controller side"; thesis ch. 4, 5, 7).
 //
 // Coordinates. The controller solves for c = the velocity coordinates v (nv) of a tree, or the
-// independent velocities y (ny, Data::independent_v order) of a model with closed loops, whose
+// independent velocities y (ny, ModelStructure::independent_v order) of a model with closed loops, whose
 // full velocity is v = T y (T from velocity_map): every Jacobian row J becomes J T, so the
 // result keeps the loops closed to first order (Phi_q v = 0). Weights and velocity limits are
 // per solved coordinate. A floating base is part of c: feet and torso tasks move it.

@@ -108,7 +108,7 @@ template <typename S> class ModelBackend {
     for (const ContactSphere& c : contacts_)
       if (!c.body.valid() || c.body == kWorldBody || c.body.value() >= model.num_bodies())
         throw std::invalid_argument("sim backend: contact sphere '" + c.name + "' is not on a moving body of '" + model.name + "'");
-    vy_ = VecX<S>::Zero(static_cast<int>(data_.independent_v.size()));
+    vy_ = VecX<S>::Zero(static_cast<int>(model_.structure().independent_v.size()));
     actuation_ = make_actuation(model, default_actuated_v(model));
     tau_contact_ = VecX<S>::Zero(model.nv());
     for (const SubSystem& s : model.subsystems) {
@@ -121,9 +121,9 @@ template <typename S> class ModelBackend {
 
   int nq() const { return model_.nq(); }
   int nv() const { return model_.nv(); }
-  int ny() const { return static_cast<int>(data_.independent_v.size()); }
+  int ny() const { return static_cast<int>(model_.structure().independent_v.size()); }
   bool floating_base() const { return model_.floating_base(); }
-  const int* independent_v_index() const { return data_.independent_v.data(); }
+  const int* independent_v_index() const { return model_.structure().independent_v.data(); }
   int na() const { return actuation_.num_actuators(); }
   const int* actuated_v_index() const { return actuation_.actuated_v.data(); }
   /// The actuated coordinates (v indices; default: the independent ones but a floating base, as
@@ -272,7 +272,7 @@ template <typename S> class ModelBackend {
   }
 
   void gather_independent(const S* v) {
-    for (int i = 0; i < ny(); ++i) vy_[i] = v[data_.independent_v[static_cast<std::size_t>(i)]];
+    for (int i = 0; i < ny(); ++i) vy_[i] = v[model_.structure().independent_v[static_cast<std::size_t>(i)]];
   }
 
   const Model& model_;
