@@ -39,6 +39,29 @@ TEST_P(ConstrainedDynamicsTest, KktAndIndependentCoordinatesAgree) {
   }
 }
 
+// A workspace copied and moved before its first solve (the study moves one into its backend) is
+// a whole object: every factorisation's status is set, and the copies compute what a fresh
+// workspace does, bit for bit. Before the fix the copy read LLT's unset status enum, which the
+// sanitized build reports (scripts/test_sanitized.sh; issue 61).
+TEST_P(ConstrainedDynamicsTest, WorkspaceCopiedAndMovedBeforeFirstUseIsWhole) {
+  ConstrainedDynamicsWorkspace<double> fresh(model);
+  const ConstrainedDynamicsWorkspace<double> copied(fresh);
+  ConstrainedDynamicsWorkspace<double> moved(std::move(fresh));
+  EXPECT_EQ(copied.Mr_llt.info(), Eigen::Success);
+  EXPECT_EQ(moved.Mr_llt.info(), Eigen::Success);
+  ConstrainedDynamicsWorkspace<double> from_copy(copied);
+  std::mt19937_64 rng(33);
+  VecX<double> q, v;
+  ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+  const VecX<double> tau = random_vector<double>(model.nv(), rng);
+  const VecX<double> expected = forward_dynamics_kkt<double>(model, data, ws, q, v, tau);
+  EXPECT_EQ(forward_dynamics_kkt<double>(model, data, moved, q, v, tau), expected);
+  EXPECT_EQ(forward_dynamics_kkt<double>(model, data, from_copy, q, v, tau), expected);
+  ClosureStatus status;
+  const VecX<double> independent = forward_dynamics_independent<double>(model, data, ws, q, v, tau, &status);
+  EXPECT_EQ(forward_dynamics_independent<double>(model, data, moved, q, v, tau, &status), independent);
+}
+
 TEST_P(ConstrainedDynamicsTest, KktSatisfiesTheConstraintsAndTheEquationsOfMotion) {
   std::mt19937_64 rng(32);
   VecX<double> q, v;

@@ -64,6 +64,27 @@ TEST(DampedLeastSquares, ConstantDampingIsTheClassicalClosedForm) {
   }
 }
 
+// Copied and moved before its first compute() (a controller built by value), the solver is a
+// whole object: the copies give a fresh solver's solution bit for bit, and the sanitized build
+// finds no unset status read (Eigen's sized LLT and eigen-solver leave theirs unset; issue 61).
+TEST(DampedLeastSquares, CopiedAndMovedBeforeFirstComputeIsWhole) {
+  const MatX<double> A = random_matrix(6, 10, 5);
+  const VecX<double> e = random_matrix(6, 1, 6);
+  const DampingOptions options{0.0, 1e-1, 0.1, 1e-10};
+  DampedLeastSquares<double> original(6, 10, options);
+  DampedLeastSquares<double> copied(original);
+  DampedLeastSquares<double> moved(std::move(original));
+  DampedLeastSquares<double> fresh(6, 10, options);
+  VecX<double> expected(10), x(10);
+  ASSERT_TRUE(fresh.compute(A));
+  fresh.solve(e, expected);
+  for (DampedLeastSquares<double>* dls : {&copied, &moved}) {
+    ASSERT_TRUE(dls->compute(A));
+    dls->solve(e, x);
+    EXPECT_EQ(x, expected);
+  }
+}
+
 TEST(DampedLeastSquares, RegularMatrixGivesTheExactMinimumNormSolution) {
   const MatX<double> A = random_matrix(6, 10, 3);
   const VecX<double> e = random_matrix(6, 1, 4);

@@ -53,8 +53,11 @@ inline std::vector<int> kept_closure_rows(const Model& model) {
 }
 }  // namespace detail
 
-// The factorisations are sized in place: Eigen's LLT(Index) leaves its status member unset, so
-// assigning a temporary one would read it (UndefinedBehaviorSanitizer: an invalid enum value).
+// The factorisations are sized in place, and the Cholesky factor is computed once, of the
+// identity: Eigen's LLT(Index) leaves its status (an enum) and norm unset, and the workspace's
+// implicit copy and move read every member, so a workspace moved before its first solve read an
+// indeterminate enum (UndefinedBehaviorSanitizer: "not a valid value for type
+// 'ComputationInfo'"; issue 61). PartialPivLU(Index) sets all of its own.
 template <typename S>
 ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model)
     : rows(detail::kept_closure_rows(model)),
@@ -74,6 +77,7 @@ ConstrainedDynamicsWorkspace<S>::ConstrainedDynamicsWorkspace(const Model& model
   ydd = VecX<S>::Zero(y);
   G = MatX<S>::Zero(n, y);
   g = VecX<S>::Zero(n);
+  Mr_llt.compute(MatX<S>::Identity(y, y));
 }
 
 /// Full-coordinate forward dynamics with Lagrange multipliers at (q, v) with joint forces tau:

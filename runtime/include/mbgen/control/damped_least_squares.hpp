@@ -118,6 +118,13 @@ template <typename S> class DampedLeastSquares {
     if (m < 0 || n < 0) throw std::invalid_argument("DampedLeastSquares: negative size " + std::to_string(m) + " x " + std::to_string(n));
     if (!(options.constant >= 0) || !(options.singular_region >= 0) || !(options.max_damping >= 0) || !(options.rank_tolerance >= 0))
       throw std::invalid_argument("DampedLeastSquares: damping options must be non-negative (constant, singular_region, max_damping, rank_tolerance)");
+    // Eigen's sized constructors of LLT and SelfAdjointEigenSolver leave their status enum unset
+    // (ColPivHouseholderQR its pivot count and threshold), and copying or moving this object
+    // before its first compute() would read them: each is computed once, of the identity, so
+    // that every member holds a value (issue 61). PartialPivLU's sized constructor sets all.
+    qr_.compute(MatX<S>::Identity(qr_.rows(), qr_.cols()));
+    eig_.compute(MatX<S>::Identity(std::max(k_, 1), std::max(k_, 1)), Eigen::EigenvaluesOnly);
+    llt_.compute(MatX<S>::Identity(llt_.rows(), llt_.rows()));
   }
 
   int rows() const { return m_; }
