@@ -38,10 +38,15 @@
 # function the scene's outputs leave out gets a file holding only a note; self_distances,
 # contact_points and contact_accelerations, when generated, are empty (num_distance_pairs or
 # num_contact_spheres = 0, or a call of full_accelerations) for a description without SSV pairs
-# or a scene without contact. In this project's build the lists come from the catalogue's source
-# (cmake/mbgen_function_catalog.cmake); an installed package reads the copy made from it.
+# or a scene without contact. An installed package reads the lists from the copy made at mbgen's
+# build; a source checkout (this project's build, or a project that includes this file from one)
+# reads them from the catalogue's source (cmake/mbgen_function_catalog.cmake).
 if(NOT DEFINED MBGEN_GENERATED_FUNCTIONS)
-  include(${CMAKE_CURRENT_LIST_DIR}/mbgen_functions.cmake)
+  if(EXISTS ${CMAKE_CURRENT_LIST_DIR}/mbgen_functions.cmake)
+    include(${CMAKE_CURRENT_LIST_DIR}/mbgen_functions.cmake)
+  else()
+    include(${CMAKE_CURRENT_LIST_DIR}/mbgen_function_catalog.cmake)
+  endif()
 endif()
 
 function(mbgen_add_robot)

@@ -51,6 +51,10 @@ if(MBGEN_BUILD_BENCH)
   set_tests_properties(bench.instructions_per_call PROPERTIES TIMEOUT 300 COST 50)
 endif()
 add_test(NAME bench.scaling_chart COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_scaling_chart.py)
+# mbgen_add_robot included from a source checkout reads the catalogue's lists from its source.
+add_test(NAME cmake.catalogue_from_source
+         COMMAND ${CMAKE_COMMAND} -DMBGEN_SOURCE=${PROJECT_SOURCE_DIR} -DBUILT_LISTS=${PROJECT_BINARY_DIR}/mbgen_functions.cmake
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/catalogue_from_source.cmake)
 # The docs' figures that come from a program, against the program's output.
 add_test(NAME docs.figures COMMAND ${MBGEN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/test_docs_figures.py)
 
