@@ -61,6 +61,11 @@ TEST(ExitCodes, FitSsv) {
   EXPECT_EQ(mbgen("fit-ssv " + kArm + " --quiet --out " + out.string()), kSuccess);
   EXPECT_EQ(mbgen("fit-ssv " + kData + "/bad/negative_mass.urdf --quiet --out " + out.string()), kBadInput);
   EXPECT_EQ(mbgen("fit-ssv " + kArm + " --budget 0 --out " + out.string()), kUsage);
+  // --repair-inertia acts in fit-ssv as in the other commands: an indefinite inertia is refused
+  // without it and repaired with it.
+  const std::string indefinite = kData + "/inertia/indefinite_antenna.urdf";
+  EXPECT_EQ(mbgen("fit-ssv " + indefinite + " --quiet --out " + out.string()), kBadInput);
+  EXPECT_EQ(mbgen("fit-ssv " + indefinite + " --repair-inertia --quiet --out " + out.string()), kSuccess);
   const fs::path foreign = fresh("fit_foreign") / "fit.yaml";
   std::ofstream(foreign) << "robot: mine\n";
   EXPECT_EQ(mbgen("fit-ssv " + kArm + " --quiet --out " + foreign.string()), kOutputRefused);

@@ -44,6 +44,11 @@ TEST(SceneFunctions, EachOutputBringsWhatItNeeds) {
   for (const std::string& f : all_functions())
     if (!jac.emits(f)) expected.push_back(f);
   EXPECT_EQ(jac.left_out, expected);
+  // generated is the emitted set in the same order.
+  std::vector<std::string> emitted;
+  for (const std::string& f : all_functions())
+    if (jac.emits(f)) emitted.push_back(f);
+  EXPECT_EQ(jac.generated, emitted);
 }
 
 TEST(SceneFunctions, AnUnknownOutputIsAClearError) {

@@ -187,10 +187,7 @@ void print_text(const Description& d, const codegen::FunctionSelection& selectio
   }
   if (d.scene) out << fmt::format("scene outputs: {}\n", fmt::join(d.scene->outputs, ", "));
   {
-    std::vector<std::string> emitted;
-    for (const std::string& f : codegen::all_functions())
-      if (selection.emits(f)) emitted.push_back(f);
-    out << fmt::format("generated functions: {}{}\n", fmt::join(emitted, ", "), selection.backend ? ", Backend" : "");
+    out << fmt::format("generated functions: {}{}\n", fmt::join(selection.generated, ", "), selection.backend ? ", Backend" : "");
     if (!selection.left_out.empty() || !selection.backend)
       out << fmt::format("left out by the scene: {}{}{}\n", fmt::join(selection.left_out, ", "),
                          selection.left_out.empty() || selection.backend ? "" : ", ", selection.backend ? "" : "Backend");
@@ -394,10 +391,7 @@ int run_inspect(const InspectOptions& options, std::ostream& out, std::ostream& 
     if (options.json) {
       Json j = to_json(d);
       if (collision) j["collision_pairs"] = collision_scene_json(*collision);
-      std::vector<std::string> generated;  // in the catalogue's order
-      for (const std::string& f : codegen::all_functions())
-        if (selection.emits(f)) generated.push_back(f);
-      j["functions"] = {{"generated", generated},
+      j["functions"] = {{"generated", selection.generated},
                         {"left_out", selection.left_out},
                         {"backend", selection.backend}};
       out << j.dump(2) << "\n";

@@ -49,7 +49,7 @@ FunctionSelection select_functions(const std::vector<std::string>& outputs, bool
   close_over_needs(s);
   s.backend = true;
   for (const GeneratedFunction& f : function_catalog()) {
-    if (!s.emits(f.name)) s.left_out.push_back(f.name);
+    (s.emits(f.name) ? s.generated : s.left_out).push_back(f.name);
     for (const std::string& output : f.outputs)
       if (output == kSimulationOutput) s.backend = s.backend && s.emits(f.name);
   }

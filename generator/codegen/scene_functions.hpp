@@ -15,7 +15,8 @@ namespace mbgen::codegen {
 
 struct FunctionSelection {
   std::set<std::string> emitted;
-  std::vector<std::string> left_out;  ///< catalogue order
+  std::vector<std::string> generated;  ///< `emitted` in catalogue order
+  std::vector<std::string> left_out;   ///< the rest, catalogue order
   /// NAME::Backend, the simulator's adapter (mbgen/sim/backend.hpp): every function it calls is emitted.
   bool backend = false;
   bool emits(const std::string& function) const { return emitted.count(function) > 0; }
