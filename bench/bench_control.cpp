@@ -12,6 +12,10 @@
 //                        (bench/lola_ik_scenario.hpp), on DifferentialIk (the generic runtime) and
 //                        on BasicDifferentialIk<lola::Backend> (the generated functions), over the
 //                        same 64 poses of the controller's own motion from the bent-knee pose.
+//   ik_step/lola/generated/qp  the same step in the QP form (QpStepOptions, dense_qp.hpp): the
+//                        description's joint ranges (activation 0.1), velocity limits (3 rad/s or
+//                        m/s) and a 15 mm smallest distance (activation 5 cm: the arms start 20 mm
+//                        from the body) as inequalities, on the generated backend.
 // Both dls implementations run on the same 64 seeded random matrices (entries uniform in
 // [-1, 1]) with the differential IK's damping (singular region 0.01, max damping 0.01);
 // registration checks that they agree on every sample. Sizes: m = 12 .. 24 task rows,
@@ -174,8 +178,8 @@ struct LolaIkFixture {
   gen::Description d;
   collision::CollisionModel cm;
   std::unique_ptr<control::DifferentialIk<double>> generic;
-  std::unique_ptr<control::BasicDifferentialIk<lola::Backend>> generated;
-  std::vector<VecX<double>> poses;
+  std::unique_ptr<control::BasicDifferentialIk<lola::Backend>> generated, qp;
+  std::vector<VecX<double>> poses, qp_poses;  ///< along the potential form's motion, along the QP form's
   VecX<double> v;
 
   LolaIkFixture() : d(scenario::lola_description(MBGEN_SOURCE_DIR)), cm(scenario::generated_collision_scene(d)) {
@@ -183,24 +187,46 @@ struct LolaIkFixture {
     const control::DifferentialIkOptions options = scenario::lola_ik_options();
     generic = std::make_unique<control::DifferentialIk<double>>(model, scenario::lola_tasks(), options, &cm);
     generated = std::make_unique<control::BasicDifferentialIk<lola::Backend>>(lola::Backend{}, scenario::lola_tasks(), options);
+    control::DifferentialIkOptions qp_options = options;
+    qp_options.qp.enabled = true;
+    qp_options.joint_limits.limits = joint_position_limits(lola::num_limited_joints, lola::limited_joint_names, lola::limited_q_index,
+                                                           lola::limited_v_index, lola::limited_lower, lola::limited_upper);
+    qp_options.velocity_limits.assign(static_cast<std::size_t>(lola::ny), 3.0);
+    qp_options.collision.activation_distance = 0.05;  // as tests/test_differential_ik_qp.cpp: rows bind as the arms swing
+    qp_options.qp.min_distance = 0.015;
+    qp = std::make_unique<control::BasicDifferentialIk<lola::Backend>>(lola::Backend{}, scenario::lola_tasks(), qp_options);
     VecX<double> q = scenario::lola_bent_pose(d), next(model.nq());
     scenario::set_targets_near(*generic, model, q, 11);
-    for (int i = 0; i < generic->num_tasks(); ++i) generated->target(i) = generic->target(i);
-    generic->angular_momentum_target = generated->angular_momentum_target = Vec3<double>(0.5, 0.2, -0.3);
+    for (int i = 0; i < generic->num_tasks(); ++i) qp->target(i) = generated->target(i) = generic->target(i);
+    generic->angular_momentum_target = generated->angular_momentum_target = qp->angular_momentum_target = Vec3<double>(0.5, 0.2, -0.3);
     v = VecX<double>::Zero(model.nv());
     Data<double> data(model);
     for (std::size_t k = 0; k < kPoolSize; ++k) {
       poses.push_back(q);
-      if (!generic->step(q, v).ok || !generated->step(q, v).ok) throw std::runtime_error("ik_step/lola: a step failed");
+      if (!generated->step(q, v).ok || !generic->step(q, v).ok) throw std::runtime_error("ik_step/lola: a step failed");
       integrate<double>(model, q, v * 1e-3, next);
       q = next;
       if (closure_positions<double>(model, data, q).status != ClosureStatus::Converged)
         throw std::runtime_error("ik_step/lola: the loops did not close along the motion");
     }
+    // The QP form along its own motion: the potential form's leaves the joint ranges, where the
+    // QP's inequalities would ask more than the velocity limits allow.
+    q = scenario::lola_bent_pose(d);
+    for (std::size_t k = 0; k < kPoolSize; ++k) {
+      qp_poses.push_back(q);
+      const control::StepReport r = qp->step(q, v);
+      if (!r.ok) throw std::runtime_error(std::string("ik_step/lola/generated/qp: a step failed: ") + control::to_string(r.qp_status));
+      integrate<double>(model, q, v * 1e-3, next);
+      q = next;
+      if (closure_positions<double>(model, data, q).status != ClosureStatus::Converged)
+        throw std::runtime_error("ik_step/lola/generated/qp: the loops did not close along the motion");
+    }
   }
 };
 
-template <bool Generated> void ik_step_lola(benchmark::State& state) {
+enum class LolaStep { generic, generated, generated_qp };
+
+template <LolaStep Which> void ik_step_lola(benchmark::State& state) {
   static std::unique_ptr<LolaIkFixture> fixture;
   if (!fixture) {
     try {
@@ -213,8 +239,10 @@ template <bool Generated> void ik_step_lola(benchmark::State& state) {
   LolaIkFixture& f = *fixture;
   std::size_t k = 0;
   for (auto _ : state) {
-    if constexpr (Generated) {
+    if constexpr (Which == LolaStep::generated) {
       benchmark::DoNotOptimize(f.generated->step(f.poses[k], f.v));
+    } else if constexpr (Which == LolaStep::generated_qp) {
+      benchmark::DoNotOptimize(f.qp->step(f.qp_poses[k], f.v));
     } else {
       benchmark::DoNotOptimize(f.generic->step(f.poses[k], f.v));
     }
@@ -232,8 +260,9 @@ const bool registered = [] {
   add_dls(18, 38);
   add_dls(24, 50);
   benchmark::RegisterBenchmark("ik_step/talos/generic", ik_step);
-  benchmark::RegisterBenchmark("ik_step/lola/generic", ik_step_lola<false>);
-  benchmark::RegisterBenchmark("ik_step/lola/generated", ik_step_lola<true>);
+  benchmark::RegisterBenchmark("ik_step/lola/generic", ik_step_lola<LolaStep::generic>);
+  benchmark::RegisterBenchmark("ik_step/lola/generated", ik_step_lola<LolaStep::generated>);
+  benchmark::RegisterBenchmark("ik_step/lola/generated/qp", ik_step_lola<LolaStep::generated_qp>);
   return true;
 }();
 

@@ -139,6 +139,24 @@ TEST(DampedLeastSquares, NullSpaceCoordinatesComposeToTheProjector) {
   }
 }
 
+TEST(DampedLeastSquares, NullSpaceBasisIsOrthonormalAndSpansTheProjector) {
+  MatX<double> deficient = random_matrix(6, 10, 24);
+  deficient.row(5) = deficient.row(0) - 0.5 * deficient.row(2);
+  for (const MatX<double>& A : {deficient, random_matrix(6, 10, 25), random_matrix(12, 30, 26)}) {
+    const int m = static_cast<int>(A.rows()), n = static_cast<int>(A.cols());
+    DampedLeastSquares<double> dls(m, n, DampingOptions{0.0, 1e-3, 1e-3, 1e-10});
+    ASSERT_TRUE(dls.compute(A));
+    MatX<double> Z = MatX<double>::Constant(n, n, 7.0);
+    const int k = dls.null_space_basis(Z);
+    ASSERT_EQ(k, n - dls.rank());
+    const MatX<double> basis = Z.leftCols(k);
+    EXPECT_LT((basis.transpose() * basis - MatX<double>::Identity(k, k)).cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_LT((basis * basis.transpose() - projector(dls, n)).cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_LT((A * basis).cwiseAbs().maxCoeff(), 1e-14 * A.norm());
+    EXPECT_EQ(Z.rightCols(n - k), MatX<double>::Constant(n, n - k, 7.0)) << "the columns past k stay untouched";
+  }
+}
+
 /// U diag(s) V^T (m x n) with seeded random orthogonal U, V; returns V too.
 MatX<double> with_singular_values(int m, int n, const VecX<double>& s, unsigned seed, MatX<double>& V) {
   const MatX<double> U = Eigen::HouseholderQR<MatX<double>>(random_matrix(m, m, seed)).householderQ();

@@ -339,18 +339,29 @@ TEST(DenseQp, InvalidInputIsReportedNotSolved) {
 
 TEST(DenseQp, SolveDoesNotAllocate) {
   std::mt19937 rng(6);
-  const Problem p = random_problem(rng, 30, 3, 100);
+  const Problem p = random_problem(rng, 30, 3, 100), small = random_problem(rng, 12, 0, 40), flat = random_problem(rng, 10, 0, 0, 4);
+  Problem boxed = flat;
+  boxed.C = Mat(20, 10);
+  boxed.C << Mat::Identity(10, 10), -Mat::Identity(10, 10);
+  boxed.c = -Vec::Ones(20);
   DenseQp<double> qp(30, 3, 100);
   ASSERT_EQ(solve(qp, p), QpStatus::solved);
   std::size_t allocations = 0;
+  QpStatus statuses[4];
   {
     const mbgen::test::MallocGuard guard;
-    (void)qp.solve(p.G, p.a, p.E, p.e, p.C.topRows(60), p.c.head(60));
-    (void)qp.solve(p.G, p.a, p.E, p.e, p.C, p.c, true);
+    statuses[0] = qp.solve(p.G, p.a, p.E, p.e, p.C.topRows(60), p.c.head(60));
+    statuses[1] = qp.solve(p.G, p.a, p.E, p.e, p.C, p.c, true);
+    statuses[2] = solve(qp, small);  // fewer variables: a corner of the same storage
+    statuses[3] = solve(qp, boxed);  // semi-definite: proximal iterations
     allocations = guard.count();
   }
   EXPECT_EQ(allocations, 0u);
-  EXPECT_EQ(qp.status(), QpStatus::solved);
+  for (const QpStatus s : statuses) EXPECT_EQ(s, QpStatus::solved);
+  DenseQp<double> fresh(12, 0, 40);
+  ASSERT_EQ(solve(fresh, small), QpStatus::solved);
+  ASSERT_EQ(solve(qp, small), QpStatus::solved);
+  EXPECT_EQ(qp.solution(), fresh.solution());  // the same arithmetic whatever the capacity
 }
 
 TEST(DenseQp, FloatSolvesToItsPrecision) {

@@ -66,6 +66,7 @@ inline double quintic_rate(double u) { return 30 * u * u * (1 - u) * (1 - u); }
 
 class WalkingPattern {
  public:
+  const PatternOptions& options() const { return options_; }
   /// left, right: the feet's frames at the standing pose (world), com: the CoM there.
   WalkingPattern(const Vec3<double>& left, const Vec3<double>& right, const Vec3<double>& com, const PatternOptions& o, double dt)
       : options_(o), dt_(dt) {

@@ -267,6 +267,19 @@ template <typename S> class DampedLeastSquares {
     S* y = Y.data();
     for (int j = rank_ - 1; j >= 0; --j) reflect_rows<K>(j, y);
   }
+  /// An orthonormal basis of the null space of A in the first cols() - rank() columns of Z (at
+  /// least cols() x (cols() - rank()); the rest untouched): Z = P^T [0; I], so N = Z Z^T. The QP
+  /// form of the differential IK solves in these coordinates. Returns the number of columns.
+  int null_space_basis(MatX<S>& Z) const {
+    const int k = n_ - rank_;
+    for (int c = 0; c < k; ++c) {
+      S* z = Z.col(c).data();
+      for (int i = 0; i < n_; ++i) z[i] = S(0);
+      z[rank_ + c] = S(1);
+      for (int j = rank_ - 1; j >= 0; --j) reflect_rows<1>(j, z);
+    }
+    return k;
+  }
 
  private:
   /// The fast path's test and factor on R (r_; see the file comment): true when it applies, that

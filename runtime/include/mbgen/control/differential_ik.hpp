@@ -30,6 +30,28 @@
 //     that respects them (direction kept: primary and secondary are slowed together, the
 //     null-space property holds). v = T c.
 //
+// The QP form (DifferentialIkOptions::qp, QpStepOptions; dense_qp.hpp) keeps the same objective
+// and adds hard inequalities in u: each joint limit within its activation margin as
+// v_i >= -(q_i - lower - margin) / h (velocity damper; the upper alike; v = T c reaches the dependent
+// joints of the loops), each near pair as d + h_d d' >= d_min (the generated distance Jacobian), and
+// the velocity limits |c_i| <= l_i (instead of the uniform scaling). The tasks are equalities:
+//  stage 1, u = u1 + Z t with Z an orthonormal basis of null(A) (DampedLeastSquares::
+//    null_space_basis): min over t of the secondary cost above (the momentum rows and the released
+//    task rows as soft rows) subject to the inequalities. Without a binding inequality its
+//    minimiser is the potential form's u2 (the same cost on the same subspace): the QP form is the
+//    thesis' step plus the inequalities. The tasks hold exactly (to round-off) whenever some
+//    null-space motion satisfies the inequalities;
+//  stage 2, only when stage 1 is infeasible: min relaxation/2 |W (A u - xd)|^2 + 1/2 |u - u_ref|^2
+//    over all u subject to the inequalities, W the tasks' weights (TaskSpec::weight), u_ref the
+//    stage-1 optimum without inequalities. The tasks give the least the inequalities force, the
+//    lightest task most (StepReport::tasks_relaxed). A weighted formulation throughout would never
+//    achieve the tasks exactly; strict priorities everywhere would let an inequality the tasks
+//    almost fix (a knee the feet and CoM nearly determine) demand an unbounded null-space speed.
+// The joint-limit potential stays in the objective (it keeps an objective such as momentum
+// tracking from pinning a joint at its stop, where the stop would then block the tasks).
+// Released task rows (TaskTarget::released) leave the primary stack in both forms; the QP form
+// tracks them softly (QpStepOptions::released_weight), the potential form leaves them free.
+//
 // Backends. The step reads the robot through a backend (sim/backend.hpp: task_kinematics,
 // velocity_map, self_distances_near, the sizes): BasicDifferentialIk<NAME::Backend> runs on the
 // generated functions, DifferentialIk<S> on the generic runtime (GenericBackend<S> over a Model,
@@ -53,6 +75,7 @@
 
 #include "mbgen/control/collision_potential.hpp"
 #include "mbgen/control/damped_least_squares.hpp"
+#include "mbgen/control/dense_qp.hpp"
 #include "mbgen/control/joint_limit_potential.hpp"
 #include "mbgen/control/task.hpp"
 #include "mbgen/sim/backend.hpp"
@@ -67,6 +90,29 @@ struct AngularMomentumOptions {
   std::array<double, 3> axis_weights{1.0, 1.0, 1.0};
 };
 
+/// The step as a QP (control/dense_qp.hpp): the same objectives, with joint position limits, pair
+/// distances and velocity limits as hard inequalities (velocity-damper form). Off: the potential
+/// form above, the thesis' own.
+struct QpStepOptions {
+  bool enabled = false;
+  /// s: each limit of DifferentialIkOptions::joint_limits within its activation margin becomes
+  /// v_i >= -(q_i - lower - limit_margin) / limit_horizon (the upper one alike): the margin may
+  /// shrink by at most dt / limit_horizon of itself per step of dt, so it stays >= limit_margin
+  /// for dt <= limit_horizon (to first order: exactly for a joint that is an independent coordinate).
+  double limit_horizon = 0.05;
+  double limit_margin = 0.0;  ///< rad or m: kept from each limit
+  /// s: each pair within collision.activation_distance (collision avoidance on) becomes
+  /// d + collision_horizon * d' >= min_distance, d' from the generated distance Jacobian.
+  double collision_horizon = 0.05;
+  double min_distance = 0.005;  ///< m
+  /// When the inequalities leave no velocity that achieves every task exactly, the tasks' rows
+  /// enter the objective with this weight (times TaskSpec::weight) against the secondary
+  /// objectives' 1: the tasks give as little as the inequalities force, in proportion to 1/weight.
+  double relaxation_weight = 1e6;
+  /// Weight of a released task row (TaskTarget::released) in the secondary objective.
+  double released_weight = 100.0;
+};
+
 struct DifferentialIkOptions {
   DampingOptions damping{0.0, 1e-2, 1e-2, 1e-10};  ///< primary stack (singular region 0.01, max damping 0.01)
   std::vector<double> weights;          ///< per solved coordinate, > 0; empty: all 1
@@ -79,6 +125,9 @@ struct DifferentialIkOptions {
   /// space. Empty limits: off.
   JointLimitOptions joint_limits;
   AngularMomentumOptions angular_momentum;
+  /// The QP form: joint limits, distances and velocity limits as hard inequalities (with it, the
+  /// joint limits are constraints, not the potential).
+  QpStepOptions qp;
 };
 
 /// What a step did (no exceptions in the step: a failure is reported here, qd is then zero).
@@ -90,6 +139,11 @@ struct StepReport {
   int near_pairs = 0;       ///< pairs closer than it: those with Jacobian rows (active_pairs but for NaN distances)
   int active_limits = 0;    ///< joint limits within their activation margin
   double limit_scale = 1;   ///< factor applied to respect the velocity limits (1: none active)
+  // The QP form (QpStepOptions):
+  QpStatus qp_status = QpStatus::solved;  ///< of the last QP solved (ok is false unless solved)
+  int inequalities = 0;         ///< rows given to the QP: limits within their margin, near pairs, velocity limits
+  int active_inequalities = 0;  ///< of them, active at the solution
+  bool tasks_relaxed = false;   ///< no exact solution within the inequalities: the tasks were weighted
 };
 
 template <typename Backend> class BasicDifferentialIk {
@@ -151,7 +205,12 @@ template <typename Backend> class BasicDifferentialIk {
       check(options.collision);
       pairs_ = backend_.num_distance_pairs();
     }
+    qp_ = options.qp.enabled;
+    // In the QP form the joint limits are inequalities and, as in the potential form, a potential
+    // descended in the objective: without it an objective (momentum tracking) pins a joint at its
+    // stop, where the stop then blocks the tasks.
     repulsion_ = pairs_ > 0 || !options.joint_limits.limits.empty();
+    if (qp_) check_qp(options, tasks);
     if (options.angular_momentum.enabled && (!(options.angular_momentum.weight > 0) || !std::isfinite(options.angular_momentum.weight)))
       throw std::invalid_argument("DifferentialIk: angular_momentum.weight must be finite and > 0, got " +
                                   std::to_string(options.angular_momentum.weight));
@@ -193,6 +252,31 @@ template <typename Backend> class BasicDifferentialIk {
     c_ = VecX<S>::Zero(nc_);
     secondary_ = VecX<S>::Zero(nc_);
     collision_ = VecX<S>::Zero(nc_);
+    row_weight_ = VecX<S>::Ones(m_);
+    for (const Task& t : tasks_) row_weight_.segment(t.row, t.rows()).setConstant(std::sqrt(S(t.spec.weight)));
+    if (qp_) {
+      const int limits = static_cast<int>(options.joint_limits.limits.size());
+      const int velocity_rows = options.velocity_limits.empty() ? 0 : 2 * nc_;
+      max_inequalities_ = 2 * limits + pairs_ + velocity_rows;
+      solver_ = DenseQp<S>(nc_, 0, std::max(max_inequalities_, 1));
+      Z_ = MatX<S>::Zero(nc_, nc_);
+      velocity_row_.assign(static_cast<std::size_t>(2 * nc_), 0);
+      Cu_ = MatX<S>::Zero(std::max(max_inequalities_, 1), nc_);
+      Ct_ = MatX<S>::Zero(std::max(max_inequalities_, 1), nc_);
+      cu_ = VecX<S>::Zero(std::max(max_inequalities_, 1));
+      ct_ = VecX<S>::Zero(std::max(max_inequalities_, 1));
+      distance_T_ = RowMatX::Zero(std::max(pairs_, 1), nc_);
+      soft_ = MatX<S>::Zero(3 + m_, nc_);
+      soft_target_ = VecX<S>::Zero(3 + m_);
+      soft_residual_ = VecX<S>::Zero(3 + m_);
+      soft_Z_ = MatX<S>::Zero(3 + m_, nc_);
+      Gq_ = MatX<S>::Zero(nc_, nc_);
+      aq_ = VecX<S>::Zero(nc_);
+      Aw_ = MatX<S>::Zero(m_, nc_);
+      xw_ = VecX<S>::Zero(m_);
+      no_rows_ = MatX<S>::Zero(0, nc_);
+      no_values_ = VecX<S>::Zero(0);
+    }
   }
 
   int num_tasks() const { return static_cast<int>(tasks_.size()); }
@@ -226,6 +310,7 @@ template <typename Backend> class BasicDifferentialIk {
       A_ = J_;
     }
     A_.array().rowwise() *= scale_.transpose().array();
+    release_rows();
     if (!xd_.allFinite() || !dls_.compute(A_)) {
       v.setZero();
       return report;
@@ -254,14 +339,14 @@ template <typename Backend> class BasicDifferentialIk {
       to_coordinates(gradient_, gradient_c_);
       uc_ = -scale_.cwiseProduct(gradient_c_);
     }
-    if (options_.angular_momentum.enabled) {
-      if (loops_) {
-        times_velocity_map(Ag_.template bottomRows<3>(), Bk_);
-      } else {
-        Bk_ = Ag_.template bottomRows<3>();
+    if (qp_) {
+      if (!qp_secondary(q.data(), report.near_pairs, report)) {
+        v.setZero();
+        report.ok = false;
+        return report;
       }
-      Bk_.array().rowwise() *= scale_.transpose().array();
-      Bk_.array().colwise() *= axis_scale_.array();  // per-axis weights: rows scaled by their square roots
+    } else if (options_.angular_momentum.enabled) {
+      momentum_rows();
       // In the null space's coordinates (N = P^T D0 P, damped_least_squares.hpp): t_c = D0 P u_c and
       // t_B = D0 P (Bk D)^T, one pass over the reflectors for the four columns. With C = N (Bk D)^T,
       // C^T C = t_B^T t_B and C^T u_c = t_B^T t_c, and u2 = N u_c + C s = P^T (t_c + t_B s).
@@ -285,14 +370,14 @@ template <typename Backend> class BasicDifferentialIk {
     }
     secondary_ = scale_.cwiseProduct(u2_);
     collision_ = scale_.cwiseProduct(uc_);
-    c_ = scale_.cwiseProduct(u1_ + u2_);
+    c_ = scale_.cwiseProduct(u1_ + u2_);  // the QP's u1 + u2 is its solution (qp_secondary)
     if (!c_.allFinite()) {  // e.g. a distance that came out NaN: refuse rather than command it
       v.setZero();
       report.ok = false;
       return report;
     }
     S limit_scale = S(1);
-    for (int i = 0; i < nc_; ++i)
+    for (int i = 0; i < nc_ && !qp_; ++i)  // the QP form has them as inequalities
       if (std::abs(c_[i]) * limit_scale > limits_[i]) limit_scale = limits_[i] / std::abs(c_[i]);
     c_ *= limit_scale;
     report.limit_scale = static_cast<double>(limit_scale);
@@ -382,6 +467,179 @@ template <typename Backend> class BasicDifferentialIk {
       case TaskKind::CenterOfMass: break;
     }
   }
+  /// Bk_ = the angular rows of the centroidal momentum matrix times T D, each scaled by the square
+  /// root of its axis weight.
+  void momentum_rows() {
+    if (loops_) {
+      times_velocity_map(Ag_.template bottomRows<3>(), Bk_);
+    } else {
+      Bk_ = Ag_.template bottomRows<3>();
+    }
+    Bk_.array().rowwise() *= scale_.transpose().array();
+    Bk_.array().colwise() *= axis_scale_.array();  // per-axis weights: rows scaled by their square roots
+  }
+  /// The targets' released rows leave the primary stack (A_, J_ and xd_ zeroed there); the QP form
+  /// keeps each as a soft row of weight released_weight (soft_, from row 0).
+  void release_rows() {
+    num_soft_ = 0;
+    const S w = qp_ ? std::sqrt(S(options_.qp.released_weight)) : S(0);
+    for (std::size_t i = 0; i < tasks_.size(); ++i) {
+      const Task& task = tasks_[i];
+      for (int r = 0; r < task.rows(); ++r) {
+        if (!targets_[i].released[static_cast<std::size_t>(r)]) continue;
+        const int row = task.row + r;
+        if (qp_) {
+          soft_.row(num_soft_) = w * A_.row(row);
+          soft_target_[num_soft_] = w * xd_[row];
+          ++num_soft_;
+        }
+        A_.row(row).setZero();
+        J_.row(row).setZero();
+        xd_[row] = S(0);
+      }
+    }
+  }
+  void check_qp(const DifferentialIkOptions& o, const std::vector<TaskSpec>& tasks) const {
+    const QpStepOptions& qp = o.qp;
+    const auto positive = [](double x) { return x > 0 && std::isfinite(x); };
+    if (!positive(qp.limit_horizon) || !positive(qp.collision_horizon) || !positive(qp.relaxation_weight) || !positive(qp.released_weight))
+      throw std::invalid_argument("DifferentialIk: qp.limit_horizon, collision_horizon, relaxation_weight and released_weight must be finite and > 0");
+    if (!(qp.limit_margin >= 0) || !std::isfinite(qp.limit_margin) || !(qp.min_distance >= 0) || !std::isfinite(qp.min_distance))
+      throw std::invalid_argument("DifferentialIk: qp.limit_margin and qp.min_distance must be finite and >= 0");
+    if (!o.joint_limits.limits.empty() && !(qp.limit_margin < o.joint_limits.activation))
+      throw std::invalid_argument("DifferentialIk: qp.limit_margin (" + std::to_string(qp.limit_margin) +
+                                  ") must be below joint_limits.activation (" + std::to_string(o.joint_limits.activation) +
+                                  "): a limit gets its inequality only within the activation margin");
+    if (o.collision_avoidance && !(qp.min_distance < o.collision.activation_distance))
+      throw std::invalid_argument("DifferentialIk: qp.min_distance must be below collision.activation_distance");
+    for (const TaskSpec& t : tasks)
+      if (!positive(t.weight)) throw std::invalid_argument("task '" + t.name + "': weight must be finite and > 0, got " + std::to_string(t.weight));
+  }
+  /// The QP form's secondary step (after u1_ and uc_): writes u1_ + u2_ = the solution. Rows in the
+  /// weighted coordinates u (c = D u): Cu u >= cu for the inequalities; the soft rows (released
+  /// task rows, then the momentum rows times sqrt(rho)) and |u2 - u_c|^2 as the objective.
+  /// First in the null space of the primary stack, u = u1 + Z t (the tasks exact); if that is
+  /// infeasible, over all of u with the tasks weighted (tasks_relaxed).
+  bool qp_secondary(const S* q, int num_near, StepReport& report) {
+    if (options_.angular_momentum.enabled) {
+      momentum_rows();
+      const S root_rho = std::sqrt(S(options_.angular_momentum.weight));
+      soft_.middleRows(num_soft_, 3) = root_rho * Bk_;
+      soft_target_.segment(num_soft_, 3) = root_rho * axis_scale_.cwiseProduct(angular_momentum_target);
+    }
+    const int soft = num_soft_ + (options_.angular_momentum.enabled ? 3 : 0);
+    const int mi = inequality_rows(q, num_near);
+    const int general = general_rows_;  // the rows before the velocity limits' (unit rows times D)
+    report.inequalities = mi;
+    // Stage 1: t in the null space's coordinates. G = I + (S Z)^T (S Z), a = -Z^T u_c + (S Z)^T (S u1 - s).
+    const int k = dls_.null_space_basis(Z_);
+    const auto Z = Z_.leftCols(k);
+    soft_residual_.head(soft).noalias() = soft_.topRows(soft) * u1_;
+    soft_residual_.head(soft) -= soft_target_.head(soft);  // S u1 - s
+    QpStatus status = QpStatus::infeasible;
+    if (k > 0) {
+      soft_Z_.topLeftCorner(soft, k).noalias() = soft_.topRows(soft) * Z;
+      auto G = Gq_.topLeftCorner(k, k);
+      G.setIdentity();
+      G.noalias() += soft_Z_.topLeftCorner(soft, k).transpose() * soft_Z_.topLeftCorner(soft, k);
+      aq_.head(k).noalias() = soft_Z_.topLeftCorner(soft, k).transpose() * soft_residual_.head(soft);
+      aq_.head(k).noalias() -= Z.transpose() * uc_;
+      Ct_.topLeftCorner(general, k).noalias() = Cu_.topRows(general) * Z;
+      // A velocity limit's row is +-D_i e_i: its null-space row is +-D_i Z(i, :), no product.
+      for (int r = general; r < mi; ++r) Ct_.row(r).head(k) = Cu_(r, velocity_row_[static_cast<std::size_t>(r - general)]) * Z.row(velocity_row_[static_cast<std::size_t>(r - general)]);
+      ct_.head(mi) = cu_.head(mi);
+      ct_.head(mi).noalias() -= Cu_.topRows(mi) * u1_;
+      status = solver_.solve(G, aq_.head(k), no_rows_.leftCols(k), no_values_, Ct_.topLeftCorner(mi, k), ct_.head(mi));
+      if (status == QpStatus::solved) u2_.noalias() = Z * solver_.solution();
+    } else {
+      // No null space: u1 is the only velocity that achieves the tasks; it is feasible or not.
+      ct_.head(mi).noalias() = Cu_.topRows(mi) * u1_;
+      status = mi == 0 || (ct_.head(mi) - cu_.head(mi)).minCoeff() >= -S(1e-12) * (S(1) + cu_.head(mi).norm()) ? QpStatus::solved
+                                                                                                                 : QpStatus::infeasible;
+      u2_.setZero();
+    }
+    // The collision descent as the potential form has it, N u_c (for collision_velocity()).
+    if (repulsion_) dls_.project_to_null(uc_);
+    report.tasks_relaxed = false;
+    if (status == QpStatus::infeasible) {
+      // Stage 2: min relaxation/2 |W (A u - xd)|^2 + 1/2 |u - u_ref|^2, u_ref the stage-1 optimum
+      // without the inequalities (the tasks exact, the secondary objectives met as well as the
+      // null space allows). The secondary objectives enter only through u_ref: were their rows in
+      // this objective, an unreachable momentum target would pull on the tasks themselves.
+      report.tasks_relaxed = true;
+      u2_.setZero();
+      if (k > 0) {
+        if (solver_.solve(Gq_.topLeftCorner(k, k), aq_.head(k), no_rows_.leftCols(k), no_values_, Ct_.topLeftCorner(0, k), ct_.head(0)) !=
+            QpStatus::solved) {
+          report.qp_status = solver_.status();
+          return false;
+        }
+        u2_.noalias() = Z * solver_.solution();
+      }
+      const S w = std::sqrt(S(options_.qp.relaxation_weight));
+      Aw_ = A_;
+      Aw_.array().colwise() *= (w * row_weight_).array();
+      xw_ = (w * row_weight_).cwiseProduct(xd_);
+      Gq_.setIdentity();
+      Gq_.noalias() += Aw_.transpose() * Aw_;
+      aq_ = -(u1_ + u2_);
+      aq_.noalias() -= Aw_.transpose() * xw_;
+      status = solver_.solve(Gq_, aq_, no_rows_, no_values_, Cu_.topRows(mi), cu_.head(mi));
+      if (status == QpStatus::solved) u2_ = solver_.solution() - u1_;
+    }
+    report.qp_status = status;
+    report.active_inequalities = status == QpStatus::solved ? solver_.num_active_inequalities() : 0;
+    return status == QpStatus::solved;
+  }
+  /// Cu_ u >= cu_ (weighted coordinates u, c = D u): the limits within their activation margin,
+  /// the near pairs, the velocity limits. Returns the number of rows.
+  int inequality_rows(const S* q, int num_near) {
+    const QpStepOptions& o = options_.qp;
+    int mi = 0;
+    const S activation(options_.joint_limits.activation), margin(o.limit_margin), h(o.limit_horizon);
+    for (const JointLimit& l : options_.joint_limits.limits) {
+      const S x = q[l.q_index];
+      const S below = x - S(l.lower), above = S(l.upper) - x;
+      for (int side = 0; side < 2; ++side) {
+        const S gap = side == 0 ? below : above;
+        if (!(gap < activation)) continue;
+        const S sign = side == 0 ? S(1) : S(-1);
+        auto row = Cu_.row(mi);
+        if (loops_) {
+          row = sign * T_.row(l.v_index).cwiseProduct(scale_.transpose());
+        } else {
+          row.setZero();
+          row[l.v_index] = sign * scale_[l.v_index];
+        }
+        cu_[mi] = -(gap - margin) / h;
+        ++mi;
+      }
+    }
+    if (num_near > 0) {
+      auto out = distance_T_.topRows(num_near);
+      if (loops_) {
+        times_velocity_map(distance_J_.topRows(num_near), out);
+      } else {
+        out = distance_J_.topRows(num_near);
+      }
+      for (int i = 0; i < num_near; ++i, ++mi) {
+        Cu_.row(mi) = out.row(i).cwiseProduct(scale_.transpose());
+        cu_[mi] = (S(o.min_distance) - distance_[static_cast<std::size_t>(near_[static_cast<std::size_t>(i)])]) / S(o.collision_horizon);
+      }
+    }
+    general_rows_ = mi;
+    if (!options_.velocity_limits.empty())
+      for (int i = 0; i < nc_; ++i)
+        for (const S sign : {S(1), S(-1)}) {
+          if (!std::isfinite(limits_[i])) continue;
+          velocity_row_[static_cast<std::size_t>(mi - general_rows_)] = i;
+          Cu_.row(mi).setZero();
+          Cu_(mi, i) = sign * scale_[i];
+          cu_[mi] = -limits_[i];
+          ++mi;
+        }
+    return mi;
+  }
   /// The entries of T that are not zero, row by row: T is the identity off the loops and each
   /// sub-system's G on its coordinates (Lola: 42 of 46 x 30 entries), so J T as a dense product
   /// (Eigen's GEMM, its packing included) was a sixth of the step. Gathered at every step from T
@@ -440,6 +698,12 @@ template <typename Backend> class BasicDifferentialIk {
   bool loops_;
   int nc_, nf_, m_, pairs_ = 0;
   bool repulsion_ = false;  ///< a collision or joint-limit potential to descend
+  bool qp_ = false;         ///< the QP form (QpStepOptions)
+  int num_soft_ = 0, max_inequalities_ = 0, general_rows_ = 0;
+  std::vector<int> velocity_row_;  ///< per velocity-limit row, its coordinate
+  DenseQp<S> solver_{1, 0, 1};
+  MatX<S> Z_, Cu_, Ct_, soft_, soft_Z_, Gq_, Aw_, no_rows_;  ///< the QP form's: null basis, inequalities, soft rows, ...
+  VecX<S> cu_, ct_, soft_target_, soft_residual_, aq_, xw_, no_values_, row_weight_;
   DampedLeastSquares<S> dls_;
   std::vector<TaskTarget<S>> targets_;
   S mass_ = S(1);
@@ -448,7 +712,7 @@ template <typename Backend> class BasicDifferentialIk {
   std::vector<S> X_WF_, frame_J_, distance_, normal_, witness_;
   std::vector<int> near_;
   Vec3<S> com_ = Vec3<S>::Zero();
-  RowMatX Ag_, distance_J_, T_;
+  RowMatX Ag_, distance_J_, T_, distance_T_;
   std::vector<int> independent_column_;  ///< per v index, its independent coordinate (-1: a dependent one)
   std::vector<int> t_row_, t_col_;  ///< T's entries that are not zero (gather_velocity_map_entries)
   std::vector<S> t_value_;

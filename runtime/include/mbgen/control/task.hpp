@@ -6,6 +6,7 @@
 // (or of the centre of mass) and angular velocity of the frame. The orientation error is
 // log(R_ref R^T) in world axes, so that the angular velocity gain * error turns R towards R_ref
 // along the shortest arc (pose error in task space as in the thesis, Appendix C).
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -38,6 +39,10 @@ struct TaskSpec {
   TaskKind kind = TaskKind::FramePose;
   std::string frame;   ///< model frame name (ignored for CenterOfMass)
   double gain = 0.0;   ///< feedback gain on the pose error, 1/s (0: pure feed-forward)
+  /// The QP form of the step (QpStepOptions): the weight of this task's rows, relative to the
+  /// other tasks', when the inequalities leave no velocity that achieves every task exactly (the
+  /// task with the smallest weight gives most). > 0.
+  double weight = 1.0;
 };
 
 /// Where a task should be and how fast it should move (set every step), world axes.
@@ -45,6 +50,12 @@ template <typename S> struct TaskTarget {
   Vec3<S> position = Vec3<S>::Zero();         ///< frame origin or centre of mass
   Mat3<S> rotation = Mat3<S>::Identity();     ///< R_WF_ref (orientation tasks)
   Vec6<S> velocity = Vec6<S>::Zero();         ///< feed-forward [linear; angular] (the relevant half is used)
+  /// Rows of the task released from the primary stack for this step (world axes; FramePose:
+  /// linear x, y, z then angular x, y, z; the 3-row tasks use the first three): a released row
+  /// constrains nothing, so its direction joins the null space the secondary objectives use (the
+  /// thesis' swing foot turning about the vertical to make room for avoidance). The QP form still
+  /// tracks it, softly (QpStepOptions::released_weight); the potential form leaves it free.
+  std::array<bool, 6> released{};
 };
 
 /// A TaskSpec resolved: the task's first row in the stack, its frame among the backend's
