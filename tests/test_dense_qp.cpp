@@ -41,6 +41,16 @@ Problem random_problem(std::mt19937& rng, int n, int me, int mi, int rank = -1) 
   return p;
 }
 
+/// min 1/2 |x|^2 in n variables, no constraint yet: the start of the hand-written cases.
+Problem unit_problem(int n) {
+  Problem p;
+  p.G = Mat::Identity(n, n);
+  p.a = Vec::Zero(n);
+  p.E = Mat(0, n), p.e = Vec(0);
+  p.C = Mat(0, n), p.c = Vec(0);
+  return p;
+}
+
 /// The KKT residuals of (x, multipliers): stationarity, primal and dual feasibility,
 /// complementarity, each relative to the problem's size.
 struct Kkt {
@@ -258,10 +268,7 @@ TEST(DenseQp, UnboundedWithoutCurvatureOrConstraint) {
 
 TEST(DenseQp, InfeasibleProblemsAreReported) {
   DenseQp<double> qp(2, 2, 3);
-  Problem p;
-  p.G = Mat::Identity(2, 2);
-  p.a = Vec::Zero(2);
-  p.E = Mat(0, 2), p.e = Vec(0);
+  Problem p = unit_problem(2);
   p.C = Mat(2, 2);
   p.C << 1, 0, -1, 0;  // x >= 1 and x <= 0
   p.c = Vec(2);
@@ -319,10 +326,7 @@ TEST(DenseQp, WarmStartReachesTheSameSolutionInFewerIterations) {
 
 TEST(DenseQp, InvalidInputIsReportedNotSolved) {
   DenseQp<double> qp(2, 0, 1);
-  Problem p;
-  p.G = Mat::Identity(2, 2);
-  p.a = Vec::Zero(2);
-  p.E = Mat(0, 2), p.e = Vec(0);
+  Problem p = unit_problem(2);
   p.C = Mat(2, 2);  // more rows than the solver was sized for
   p.C.setIdentity();
   p.c = Vec::Zero(2);

@@ -95,7 +95,7 @@ TEST(DifferentialIkQp, AJointPushedIntoItsStopStaysInsideWhileTheTasksHold) {
   qp_options.joint_limits.activation = 0.1;
   const auto run = [&](const DifferentialIkOptions& options, double& worst_margin, double& worst_residual, int& relaxed, int& active) {
     DifferentialIk<double> ik(model, talos_tasks(), options);
-    VecX<double> q = inside(talos_pose(model, 3), limits), v(model.nv()), next(model.nq());
+    VecX<double> q = inside(talos_pose(model, 3), limits, 0.06), v(model.nv()), next(model.nq());
     set_targets_near(ik, model, q, 4);
     for (int i = 0; i < ik.num_tasks(); ++i) ik.target(i).velocity.setZero();
     worst_margin = smallest_margin(q, limits), worst_residual = 0, relaxed = 0, active = 0;
@@ -118,6 +118,15 @@ TEST(DifferentialIkQp, AJointPushedIntoItsStopStaysInsideWhileTheTasksHold) {
   std::printf("  TALOS, 1.5 s of yaw-momentum tracking: smallest joint margin %.4f rad without limits, %.2e with the QP form (%d "
               "inequalities active at most, %d steps relaxed); |J v - xd| <= %.1e\n",
               margin_free, margin_qp, active_qp, relaxed_qp, residual_qp);
+  // limit_margin keeps that much of every range free (its rows switch on within the activation).
+  DifferentialIkOptions kept = qp_options;
+  kept.qp.limit_margin = 0.05;
+  double margin_kept, residual_kept;
+  int relaxed_kept, active_kept;
+  run(kept, margin_kept, residual_kept, relaxed_kept, active_kept);
+  std::printf("  the same with limit_margin 0.05: smallest joint margin %.4f rad\n", margin_kept);
+  EXPECT_GE(margin_kept, 0.05 - 1e-12);
+  EXPECT_LT(margin_kept, 0.06);  // and it is reached: the margin, not the range, did the stopping
   EXPECT_LT(margin_free, -0.05);   // the motion does push past a stop
   EXPECT_GE(margin_qp, -1e-12);    // every stop held
   EXPECT_GT(active_qp, 0);
