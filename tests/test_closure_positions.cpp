@@ -236,6 +236,10 @@ TEST_P(LoopMapsTest, SimulatorStepLeavesItsProjectionOneNewtonStep) {
   sim::SimulatorOptions options;
   options.project = false;
   options.contact = false;
+  // The random states lie around the assembled pose, some past a joint's range: a stop's push
+  // there (Cassie's assembled pose is outside nine ranges) is a stiff force of its own, not the
+  // drift of a smooth step this test measures.
+  options.joint_stops.enabled = false;
   double worst_drift = 0;
   int within = 0;
   const int states = 8;

@@ -5,6 +5,7 @@
 #include "load/load_error.hpp"
 #include "load/name_match.hpp"
 #include "collision/contact_spheres.hpp"
+#include "mbgen/joint_limits.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {
@@ -156,6 +157,39 @@ TEST(LoadExtras, ContactParametersOutOfRangeAreErrors) {
   e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/contact_zero_normal.yaml");
   EXPECT_EQ(e.element(), "scene: contact: ground: normal");
   EXPECT_EQ(e.problem(), "is zero");
+}
+
+// scene: joint_limits (docs/extras.md): the law's numbers and the per-joint exceptions as given;
+// `false` turns the stops off; absent, the defaults (on).
+TEST(LoadExtras, JointLimitsSceneIsRead) {
+  const Description d = load_with(kData + "/tiny_arm.urdf", kData + "/extras/joint_limits.yaml");
+  ASSERT_TRUE(d.scene);
+  const JointStopParameters& p = d.scene->joint_limits;
+  EXPECT_TRUE(p.enabled);
+  EXPECT_EQ(p.frequency, 50);
+  EXPECT_EQ(p.damping, 1.5);
+  EXPECT_EQ(p.exponent, 1.5);
+  EXPECT_EQ(p.max_damping_ratio, 0.5);
+  ASSERT_EQ(p.joints.size(), 2u);
+  ASSERT_NE(p.setting("knee"), nullptr);
+  EXPECT_TRUE(p.setting("knee")->free);
+  ASSERT_NE(p.setting("shoulder"), nullptr);
+  EXPECT_FALSE(p.setting("shoulder")->free);
+  EXPECT_EQ(p.setting("shoulder")->stiffness, 2e4);
+  EXPECT_EQ(p.setting("shoulder")->damping, 4);
+  EXPECT_FALSE(load_with(kData + "/tiny_arm.urdf", kData + "/extras/joint_limits_off.yaml").scene->joint_limits.enabled);
+  EXPECT_TRUE(load_with(kData + "/tiny_arm.urdf", kData + "/extras/contact.yaml").scene->joint_limits.enabled);
+}
+
+TEST(LoadExtras, JointLimitsOnAJointWithoutRangeOrOutOfRangeAreErrors) {
+  LoadError e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/joint_limits_without_range.yaml");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.element(), "scene: joint_limits: free");
+  EXPECT_NE(e.problem().find("'elbow', which has no position range"), std::string::npos) << e.what();
+  e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/joint_limits_bad_numbers.yaml");
+  EXPECT_EQ(e.line(), 4);
+  EXPECT_EQ(e.element(), "scene: joint_limits: joints: shoulder: stiffness");
+  EXPECT_EQ(e.problem(), "is out of range");
 }
 
 TEST(LoadExtras, DriveOnAFixedJointIsAnError) {

@@ -43,6 +43,10 @@ constexpr const char* kUsage = R"(usage: mbgen_sim drop|push|swing [options]
   --damping-ratio Z    this damping ratio (default 1), scaled by each joint's inertia
   --baumgarte G        kkt backend: alpha = beta, 1/s (default 20)
   --no-projection      do not re-close the loops after each step (to measure the drift)
+  --whole-body-contact every link with an SSV touches the ground (not only the scene's contact links),
+                       and a fall runs to its end instead of stopping when the CoM is half down
+                       (the generated backend has the scene's contacts only: generic by default)
+  --no-joint-limits    no end stops at the joints' ranges (as `scene: joint_limits: false`)
   --out DIR            where the CSV and PNG go (default .)
   --no-plot            CSV only
 )";
@@ -70,7 +74,7 @@ int main(int argc, char** argv) {
   std::string urdf = o.scenario == Scenario::swing ? MBGEN_SOURCE_DIR "/robots/mechanisms/four_bar.urdf" : MBGEN_SIM_DESCRIPTION;
   std::string extras, out_dir = ".", backend;
   gen::LoadOptions load;
-  bool plot = true;
+  bool plot = true, whole_body = false, joint_limits = true;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -103,6 +107,8 @@ int main(int argc, char** argv) {
     else if (a == "--damping-ratio") o.damping_ratio = number();
     else if (a == "--baumgarte") o.baumgarte = number();
     else if (a == "--no-projection") o.simulator.project = false;
+    else if (a == "--whole-body-contact") whole_body = true;
+    else if (a == "--no-joint-limits") joint_limits = false;
     else if (a == "--out") out_dir = value();
     else if (a == "--no-plot") plot = false;
     else usage_error("unknown option '" + a + "'");
@@ -121,6 +127,19 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
   }
+  if (whole_body && d.scene && d.scene->contact) {
+    // Every link with SSVs, in the model's frame order (deterministic), touches the ground.
+    std::vector<std::string> links;
+    for (int f = 0; f < d.model.num_frames(); ++f) {
+      const std::string& name = d.model.frame(FrameIndex(f)).name;
+      if (d.ssv.count(name) && !d.ssv.at(name).empty()) links.push_back(name);
+    }
+    d.scene->contact->links = links;
+    o.stop_when_fallen = false;
+  } else if (whole_body) {
+    fmt::print(stderr, "mbgen_sim: --whole-body-contact needs `scene: contact:` in the extras (the ground's law)\n");
+    return 1;
+  }
   const std::vector<ContactSphere> spheres = gen::contact_spheres(d);
   if (o.scenario != Scenario::swing) {
     if (spheres.empty()) {
@@ -136,9 +155,11 @@ int main(int argc, char** argv) {
       o.simulator.ground = d.scene->contact->ground;
     }
   }
+  if (d.scene) o.simulator.joint_stops = d.scene->joint_limits;  // the end stops: the scene's law, or off
+  if (!joint_limits) o.simulator.joint_stops.enabled = false;
   // The compiled-in robot is the generated backend's only robot: the same description only.
   const bool is_compiled_robot = std::filesystem::weakly_canonical(urdf) == std::filesystem::weakly_canonical(MBGEN_SIM_DESCRIPTION) &&
-                                 d.model.nq() == robot::nq && d.model.nv() == robot::nv;
+                                 d.model.nq() == robot::nq && d.model.nv() == robot::nv && !whole_body;
   if (backend.empty()) backend = is_compiled_robot ? "generated" : "generic";
   if (backend == "generated" && !is_compiled_robot) {
     fmt::print(stderr, "mbgen_sim: the generated backend compiled in is {}'s; for {} use --backend generic (or build your own "
@@ -167,6 +188,12 @@ int main(int argc, char** argv) {
   fmt::print("{} {} ({} backend, {}, step {:g} s): {} at t = {:.4f} s\n", scenario, d.model.name, backend,
              sim::to_string(o.simulator.integrator), o.simulator.step, sim::to_string(r.status), r.end_time);
   if (r.fell) fmt::print("  the robot fell: its centre of mass sank below half its start height; stopped there\n");
+  if (!o.stop_when_fallen && d.model.floating_base())
+    fmt::print("  centre of mass from {:.3f} m to {:.3f} m; kinetic energy at the end {:.3g} J\n", r.start_com_height, r.final_com_height,
+               r.final_kinetic_energy);
+  if (r.stops > 0)
+    fmt::print("  end stops: {} ({} touched), deepest {:.2g} rad (or m), {}\n", r.stops, r.stops_touched, r.statistics.max_stop_penetration,
+               r.deepest_stop.empty() ? "none touched" : "at " + r.deepest_stop);
   if (r.status == sim::StepStatus::closure_lost)
     fmt::print("  the loops could not be closed: {}, in the sub-system of {}\n",
                r.closure_status == 2 ? "a linkage at (or too near) a dead point" : "Newton did not converge", r.closure_subsystem);
@@ -180,7 +207,9 @@ int main(int argc, char** argv) {
   fmt::print("  trajectory: {}\n", o.csv);
   if (plot) {
     const std::string png = (std::filesystem::path(out_dir) / (name + ".png")).string();
-    const std::string title = fmt::format("{} {}: {} backend, {}, h = {:g} s", scenario, d.model.name, backend,
+    const std::string title = fmt::format("{} {}{}{}: {} backend, {}, h = {:g} s", scenario, d.model.name,
+                                          o.scenario == Scenario::push ? fmt::format(" {:g} N s", o.impulse) : "",
+                                          whole_body ? ", every link touching the ground" : "", backend,
                                           sim::to_string(o.simulator.integrator), o.simulator.step);
     const std::string command = fmt::format("gnuplot -e \"csv='{}'; png='{}'; plot_title='{}'; contact={}\" {} 2>&1", o.csv, png, title,
                                             o.scenario == Scenario::swing ? 0 : 1, MBGEN_SOURCE_DIR "/scripts/plot_simulation.gp");

@@ -110,7 +110,8 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     link_of.push_back(static_cast<int>(it - links.begin()));
   }
   auto out = fmt::output_file(o.csv);
-  out.print("t,base_x,base_y,base_z,com_x,com_y,com_z,energy,energy_balance,max_penetration,normal_force,closure_residual,weight");
+  out.print("t,base_x,base_y,base_z,com_x,com_y,com_z,energy,energy_balance,max_penetration,normal_force,closure_residual,weight,"
+            "stop_penetration");
   for (const std::string& l : links) out.print(",force_{}", l);
   out.print("\n");
   std::vector<double> link_force(links.size());
@@ -135,9 +136,12 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     result.max_closure_drift = std::max(result.max_closure_drift, drift);
     result.max_penetration = std::max(result.max_penetration, penetration);
     const bool floating = b.floating_base();
-    out.print("{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.9g},{:.3g},{:.6g}", sim.time(),
+    double stop_penetration = 0;  // the deepest stop now
+    for (const auto& r : sim.joint_stops()) stop_penetration = std::max(stop_penetration, double(r.penetration));
+    out.print("{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.9g},{:.3g},{:.6g},{:.6g}", sim.time(),
               floating ? double(q[0]) : 0.0, floating ? double(q[1]) : 0.0, floating ? double(q[2]) : 0.0, double(com[0]),
-              double(com[1]), double(com[2]), double(sim.energy()), double(sim.energy_balance()), penetration, normal, drift, weight);
+              double(com[1]), double(com[2]), double(sim.energy()), double(sim.energy_balance()), penetration, normal, drift, weight,
+              stop_penetration);
     for (double f : link_force) out.print(",{:.6g}", f);
     out.print("\n");
     result.final_energy_balance = double(sim.energy_balance());
@@ -147,6 +151,7 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   };
   sample();
   const double com_start = result.final_com_height;
+  result.start_com_height = com_start;
   double cpu = 0;
   for (long k = 1;; ++k) {
     const double t_next = std::min(total, k * o.sample_period);
@@ -157,13 +162,25 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     if (result.status != sim::StepStatus::ok || t_next >= total) break;
     // A fall ends the scenario: the CoM below half its start height (only the contact links
     // touch the ground; the rest of the robot would sink through it).
-    if (contact && b.floating_base() && result.final_com_height < 0.5 * com_start) {
+    if (o.stop_when_fallen && contact && b.floating_base() && result.final_com_height < 0.5 * com_start) {
       result.fell = true;
       break;
     }
   }
   result.end_time = sim.time();
   result.cpu_seconds = cpu;
+  {  // kinetic energy 1/2 v' M v, and the stops' record
+    VecX<S> M(b.nv() * b.nv());
+    b.mass_matrix(sim.q().data(), M.data());
+    const Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Mm(M.data(), b.nv(), b.nv());
+    result.final_kinetic_energy = double(S(0.5) * sim.v().dot(Mm * sim.v()));
+    double deepest = 0;
+    for (const auto& r : sim.joint_stops()) {
+      ++result.stops;
+      if (r.time_active > 0 || r.max_penetration > S(0)) ++result.stops_touched;
+      if (double(r.max_penetration) > deepest) deepest = double(r.max_penetration), result.deepest_stop = r.joint;
+    }
+  }
   result.statistics = sim.statistics();
   result.closure_status = sim.closure_status();
   if (sim.closure_subsystem() >= 0) result.closure_subsystem = sim.backend().subsystem_name(sim.closure_subsystem());

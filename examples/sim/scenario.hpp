@@ -28,6 +28,9 @@ struct ScenarioOptions {
   double damping_ratio = 1;   ///< zeta
   double baumgarte = 20;     ///< kkt backend: alpha = beta (1/s)
   double sample_period = 1e-3;  ///< s: CSV rows
+  /// Stop a contact scenario when the CoM sinks below half its start height (when only the feet
+  /// touch the ground the rest of the robot would sink through it); false: run to the end.
+  bool stop_when_fallen = true;
   std::string csv;           ///< output file
 };
 
@@ -44,6 +47,10 @@ struct ScenarioResult {
   double final_normal_force = 0;    ///< N, summed over the contacts
   double final_com_height = 0;     ///< m
   bool fell = false;                ///< the CoM fell below half its start height: stopped there
+  double start_com_height = 0;      ///< m
+  double final_kinetic_energy = 0;  ///< J: near 0 when the robot lies at rest
+  int stops = 0, stops_touched = 0; ///< end stops, and how many were ever entered
+  std::string deepest_stop;         ///< the joint whose stop was entered deepest
   int closure_status = 0;           ///< the last closure_positions status (1 not converged, 2 singular)
   std::string closure_subsystem;    ///< the loop closures of the sub-system it failed in
 };

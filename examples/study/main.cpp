@@ -104,6 +104,7 @@ Scenario make_scenario(const std::string& name, simulate::Scenario kind, const s
     s.options.simulator.contact_parameters = s.description.scene->contact->parameters;
     s.options.simulator.ground = s.description.scene->contact->ground;
   }
+  if (s.description.scene) s.options.simulator.joint_stops = s.description.scene->joint_limits;
   s.duration = duration;
   s.generated = urdf == MBGEN_STUDY_DESCRIPTION && s.description.model.nq() == robot::nq;
   s.smooth = kind == simulate::Scenario::swing;

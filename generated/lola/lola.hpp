@@ -299,6 +299,13 @@ template <typename S> struct BasicBackend {
   double contact_radius(int k) const { return lola::contact_sphere_radius[k]; }
   const char* contact_name(int k) const { return lola::contact_sphere_names[k]; }
   double total_mass() const { return 55.71999999999999; }
+  /// The position ranges (limited_* above): the simulator's end stops.
+  int num_limited_joints() const { return lola::num_limited_joints; }
+  const char* limited_joint_name(int k) const { return lola::limited_joint_names[k]; }
+  const int* limited_q_index() const { return lola::limited_q_index; }
+  const int* limited_v_index() const { return lola::limited_v_index; }
+  const double* limited_lower() const { return lola::limited_lower; }
+  const double* limited_upper() const { return lola::limited_upper; }
   const double* gravity() const {
     static constexpr double g[3] = {0, 0, -9.81};
     return g;

@@ -246,6 +246,13 @@ template <typename S> struct BasicBackend {
   double contact_radius(int k) const { return (void)k, 0.0; }
   const char* contact_name(int k) const { return (void)k, ""; }
   double total_mass() const { return 1; }
+  /// The position ranges (limited_* above): the simulator's end stops.
+  int num_limited_joints() const { return slider_crank::num_limited_joints; }
+  const char* limited_joint_name(int k) const { return slider_crank::limited_joint_names[k]; }
+  const int* limited_q_index() const { return slider_crank::limited_q_index; }
+  const int* limited_v_index() const { return slider_crank::limited_v_index; }
+  const double* limited_lower() const { return slider_crank::limited_lower; }
+  const double* limited_upper() const { return slider_crank::limited_upper; }
   const double* gravity() const {
     static constexpr double g[3] = {0, 0, -9.81};
     return g;

@@ -10,6 +10,7 @@
 #include "load/check_values.hpp"
 #include "mbgen/model.hpp"
 #include "mbgen/contact_model.hpp"
+#include "mbgen/joint_limits.hpp"
 
 namespace mbgen::gen {
 
@@ -85,6 +86,8 @@ struct SceneSpec {
   std::string scalar;                       ///< double or float; empty: not given (then both are emitted)
   std::string rotors;                       ///< armature or body: overrides every drive's model; none: no rotor modelled; empty: each drive's own
   std::optional<ContactSpec> contact;       ///< `contact:`; absent: the robot touches nothing
+  /// `joint_limits:` the end stops of a simulation of the scene (false: none); absent: the defaults
+  JointStopParameters joint_limits;
   /// Model reductions (docs/extras.md, "Model reductions"; model/reduce_model.hpp):
   /// `lock:` welds these joints at these values (rad or m), in the order given;
   std::vector<std::pair<std::string, double>> lock;

@@ -260,6 +260,72 @@ ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Descrip
   return contact;
 }
 
+/// `scene: joint_limits`: false (no end stops in a simulation of the scene), true, or a map of the
+/// stops' law and per-joint exceptions (JointStopParameters); each joint named must have a range.
+JointStopParameters read_joint_limits(const ExtrasFile& x, const YAML::Node& node, const Description& d) {
+  const std::string element = "scene: joint_limits";
+  JointStopParameters p;
+  if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false")) {
+    p.enabled = node.Scalar() == "true";
+    return p;
+  }
+  require_map(x.path, node, element, "false, or {frequency: 100, damping: 3, free: [toe_l], joints: {knee_l: {stiffness: 2e4}}}");
+  reject_unknown_keys(x.path, node, element, {"damping", "exponent", "free", "frequency", "joints", "max_damping_ratio"});
+  struct Number {
+    const char* key;
+    double* value;
+    double lowest;
+    bool strict;
+    const char* fix;
+  };
+  const auto read_numbers = [&](const YAML::Node& map, const std::string& where, std::initializer_list<Number> numbers) {
+    for (const Number& k : numbers) {
+      if (!map[k.key]) continue;
+      *k.value = to_number(x.path, map[k.key], where + ": " + k.key);
+      if (k.strict ? !(*k.value > k.lowest) : !(*k.value >= k.lowest)) fail(x.path, map[k.key], where + ": " + k.key, "is out of range", k.fix);
+    }
+  };
+  read_numbers(node, element,
+               {Number{"frequency", &p.frequency, 0, true, "give f > 0 in Hz, e.g. 100 (each stop's default stiffness rings at f)"},
+                Number{"damping", &p.damping, 0, false, "give d >= 0 in s/rad, e.g. 3"},
+                Number{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring"},
+                Number{"max_damping_ratio", &p.max_damping_ratio, 0, false, "give zeta >= 0, e.g. 1 (0: Hunt-Crossley's damping uncapped)"}});
+  // A joint named must have a range for its stop to act at.
+  const auto limited_joint = [&](const YAML::Node& name, const std::string& where) {
+    const Joint& joint = d.model.joint(resolve_moving_joint(x.path, name, where, d.model));
+    if (!joint.bounded || joint.nv != 1 || !(joint.lower < joint.upper))
+      fail(x.path, name, where, fmt::format("names '{}', which has no position range", joint.name),
+           "name a revolute or prismatic joint with <limit lower upper> (its stop is where its range ends)");
+    for (const JointStopSetting& s : p.joints)
+      if (s.joint == joint.name) fail(x.path, name, where, fmt::format("names '{}' twice", joint.name), "keep one entry");
+    return joint.name;
+  };
+  if (const YAML::Node& f = node["free"]) {
+    require_sequence(x.path, f, element + ": free", "[toe_l, toe_r]");
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      JointStopSetting s;
+      s.joint = limited_joint(f[i], element + ": free");
+      s.free = true;
+      p.joints.push_back(s);
+    }
+  }
+  if (const YAML::Node& j = node["joints"]) {
+    require_map(x.path, j, element + ": joints", "{knee_l: {stiffness: 2e4, damping: 3}}");
+    for (const auto& entry : j) {
+      const std::string where = element + ": joints: " + entry.first.Scalar();
+      JointStopSetting s;
+      s.joint = limited_joint(entry.first, element + ": joints");
+      require_map(x.path, entry.second, where, "{stiffness: 2e4, damping: 3}");
+      reject_unknown_keys(x.path, entry.second, where, {"damping", "stiffness"});
+      read_numbers(entry.second, where,
+                   {Number{"stiffness", &s.stiffness, 0, true, "give k > 0 in N m/rad (N/m for a prismatic joint)"},
+                    Number{"damping", &s.damping, 0, false, "give d >= 0 in s/rad"}});
+      p.joints.push_back(s);
+    }
+  }
+  return p;
+}
+
 /// `lock: [joint, ...]` (each at 0) or `lock: {joint: value, ...}`: moving 1-DoF joints, each
 /// once, a finite value within the joint's limits.
 void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d, SceneSpec& scene) {
@@ -290,7 +356,8 @@ void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d
 
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
-  reject_unknown_keys(x.path, node, "scene", {"collision", "contact", "lock", "loops", "merge_below", "outputs", "rotors", "scalar"});
+  reject_unknown_keys(x.path, node, "scene",
+                      {"collision", "contact", "joint_limits", "lock", "loops", "merge_below", "outputs", "rotors", "scalar"});
   SceneSpec scene;
   if (node["lock"]) read_lock(x, node["lock"], d, scene);
   if (node["merge_below"]) {
@@ -299,6 +366,7 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
       fail(x.path, node["merge_below"], "scene: merge_below", "is negative", "give a mass in kg, e.g. 0.5 (0: merge nothing)");
   }
   if (node["contact"]) scene.contact = read_contact(x, node["contact"], d);
+  if (node["joint_limits"]) scene.joint_limits = read_joint_limits(x, node["joint_limits"], d);
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
   if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body", "none"});

@@ -9,6 +9,10 @@
 //   const int* independent_v_index();             ny v indices, ascending
 //   int num_contacts(); double contact_radius(k); const char* contact_name(k)
 //   double total_mass(); const double* gravity(); world, 3 entries
+//   int num_limited_joints(); const char* limited_joint_name(k)
+//   const int* limited_q_index(); const int* limited_v_index(); const double* limited_lower();
+//   const double* limited_upper()                 the position ranges (joint_limits.hpp): the
+//                                                 simulator's end stops (joint_stops.hpp)
 //   void accelerations(q, v, tau, qdd)            every tree joint's (nv) at (q, v), forces tau (nv)
 //   int closure_positions(q, subsystem = nullptr) closes the loops in place: 0 converged,
 //                                                 1 not converged, 2 singular (dead point); the
@@ -77,6 +81,7 @@
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/subsystem_maps.hpp"
 #include "mbgen/collision/compound_distance.hpp"
+#include "mbgen/joint_limits.hpp"
 
 namespace mbgen::sim {
 
@@ -117,6 +122,11 @@ template <typename S> class ModelBackend {
       subsystem_names_.push_back(name);
     }
     gravity_[0] = model.gravity.x(), gravity_[1] = model.gravity.y(), gravity_[2] = model.gravity.z();
+    for (const JointLimit& l : joint_position_limits(model)) {
+      limit_names_.push_back(l.joint);
+      limit_q_.push_back(l.q_index), limit_v_.push_back(l.v_index);
+      limit_lower_.push_back(l.lower), limit_upper_.push_back(l.upper);
+    }
   }
 
   int nq() const { return model_.nq(); }
@@ -135,6 +145,12 @@ template <typename S> class ModelBackend {
   const char* contact_name(int k) const { return contacts_[static_cast<std::size_t>(k)].name.c_str(); }
   double total_mass() const { return model_.total_mass(); }
   const double* gravity() const { return gravity_; }
+  int num_limited_joints() const { return static_cast<int>(limit_names_.size()); }
+  const char* limited_joint_name(int k) const { return limit_names_[static_cast<std::size_t>(k)].c_str(); }
+  const int* limited_q_index() const { return limit_q_.data(); }
+  const int* limited_v_index() const { return limit_v_.data(); }
+  const double* limited_lower() const { return limit_lower_.data(); }
+  const double* limited_upper() const { return limit_upper_.data(); }
   const Model& model() const { return model_; }
   const std::vector<ContactSphere>& contacts() const { return contacts_; }
   ClosureOptions& closure_options() { return closure_; }
@@ -288,6 +304,9 @@ template <typename S> class ModelBackend {
   Actuation actuation_;
   VecX<S> vy_, tau_contact_;
   double gravity_[3] = {0, 0, 0};
+  std::vector<std::string> limit_names_;  ///< joint_position_limits(model), by column
+  std::vector<int> limit_q_, limit_v_;
+  std::vector<double> limit_lower_, limit_upper_;
   double contact_exponent_ = ContactParameters{}.exponent;
 };
 

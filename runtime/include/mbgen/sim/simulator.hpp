@@ -10,6 +10,9 @@
 // them when the loops are closed on demand, closure_drift()) can be measured. A floating base's
 // quaternion is renormalised after every step and at every stage.
 //
+// The backend's joint ranges are end stops (sim/joint_stops.hpp; SimulatorOptions::joint_stops):
+// compliant, in the ground's law, their torques at every stage, their springs in the energy.
+//
 // Each step returns a status and never leaves a NaN in the state: a failing step restores the
 // state it started from, and the simulation is meant to stop there (run_until() does).
 #include <algorithm>
@@ -26,6 +29,7 @@
 #include "mbgen/sim/backend.hpp"
 #include "mbgen/sim/contact.hpp"
 #include "mbgen/sim/integrators.hpp"
+#include "mbgen/sim/joint_stops.hpp"
 #include "mbgen/sim/state_space.hpp"
 
 namespace mbgen::sim {
@@ -75,12 +79,16 @@ struct SimulatorOptions {
   double energy_limit = 0;
   int energy_check_interval = 10;
   double control_period = 1e-3;  ///< s: the controller runs at this rate (zero-order hold); 0: every step
+  /// The end stops at the backend's joint ranges (on by default; `scene: joint_limits`). Taken at
+  /// set_state, where each default stiffness is fixed from the start pose's inertia.
+  JointStopParameters joint_stops;
 };
 
 /// What a run did, for the study and the reports.
 struct SimulationStatistics {
   long accepted_steps = 0, rejected_steps = 0, evaluations = 0, controller_calls = 0;
   double max_penetration = 0;    ///< m, over the accepted states
+  double max_stop_penetration = 0;  ///< rad or m past a joint's range, over the accepted states
   double last_step = 0;          ///< s
 };
 
@@ -100,6 +108,7 @@ template <typename Backend> class Simulator {
     points_ = vec(3 * nc_), jacobians_ = vec(6 * nv_ * nc_), contact_out_ = vec(kContactOutputs * nc_);
     reports_.resize(static_cast<std::size_t>(nc_));
     implicit_.resize(nq_, nv_, ny_);
+    stops_.reserve(backend_.num_limited_joints());
     if (backend_.floating_base()) q_[6] = S(1);
     step_ = options_.step;
     const double* g = backend_.gravity();
@@ -118,6 +127,7 @@ template <typename Backend> class Simulator {
     work_ = 0;
     int closure = 0;
     if (options_.project) closure = project();
+    configure_stops();
     adopt_contact_exponent();
     energy_start_ = energy();
     stats_ = {};
@@ -141,6 +151,12 @@ template <typename Backend> class Simulator {
   /// balance like the controller's.
   using PassiveForces = std::function<void(const S* q, const S* v, S* tau)>;
   void set_passive_forces(PassiveForces passive) { passive_ = std::move(passive); }
+  /// The end stops, evaluated at the current state (each one's torque, penetration, and its
+  /// activity since set_state).
+  const std::vector<JointStopReport<S>>& joint_stops() {
+    evaluate(q_, v_, dq_[0], dv_[0], true);
+    return stops_.reports();
+  }
   /// The last closure_positions status (0 converged, 1 not converged, 2 singular): why a step
   /// ended in closure_lost.
   int closure_status() const { return closure_status_; }
@@ -163,7 +179,6 @@ template <typename Backend> class Simulator {
     evaluate(q_, v_, dq_[0], dv_[0], /*record=*/true);
     stage_power_[0] = power_;
     if (max_penetration_ > S(options_.max_penetration)) return StepStatus::penetration;
-    stats_.max_penetration = std::max(stats_.max_penetration, static_cast<double>(max_penetration_));
     StepStatus status = StepStatus::ok;
     switch (options_.integrator) {
       case Integrator::explicit_euler: explicit_euler(h); break;
@@ -177,6 +192,10 @@ template <typename Backend> class Simulator {
     if (!finite()) return restore(StepStatus::diverged);
     if (options_.project && project() != 0) return restore(StepStatus::closure_lost);
     add_work(h);
+    // The step's start state (recorded by its first evaluation) is an accepted state now.
+    stats_.max_penetration = std::max(stats_.max_penetration, static_cast<double>(max_penetration_));
+    stops_.accept(h);
+    stats_.max_stop_penetration = static_cast<double>(stops_.max_penetration());
     t_ += h;
     stats_.last_step = h;
     ++stats_.accepted_steps;
@@ -205,7 +224,8 @@ template <typename Backend> class Simulator {
   }
 
   // --- what the state means -----------------------------------------------------------------
-  /// Mechanical energy: kinetic (1/2 v^T M v), gravity (-m g . com) and the contact springs.
+  /// Mechanical energy: kinetic (1/2 v^T M v), gravity (-m g . com), the contact springs and the
+  /// end stops' springs.
   S energy() {
     backend_.mass_matrix(q_.data(), implicit_.M.data());
     implicit_.v_next.noalias() = implicit_.M_row_major() * v_;
@@ -222,7 +242,7 @@ template <typename Backend> class Simulator {
         e += contact_spring_energy<S>(delta, options_.contact_parameters);
       }
     }
-    return e;
+    return e + stops_.energy(q_.data());
   }
   /// Energy minus its start minus the controller's work: zero for an exact, conservative run.
   S energy_balance() { return energy() - energy_start_ - work_; }
@@ -277,6 +297,30 @@ template <typename Backend> class Simulator {
   }
 
   bool finite() const { return q_.allFinite() && v_.allFinite(); }
+
+  /// The stops of options_.joint_stops at the backend's ranges, each told the inertia it feels at
+  /// the current (start) state (its default stiffness, its damping cap): m = 1 / (t' M_y^-1 t), t
+  /// the joint's row of the velocity map and M_y = T' M T (for a tree joint, 1 / (M^-1)_ii: the
+  /// articulated inertia about its axis with everything else free).
+  void configure_stops() {
+    stops_.configure(backend_, options_.joint_stops);
+    if (stops_.size() == 0) return;
+    ImplicitWork& w = implicit_;
+    backend_.mass_matrix(q_.data(), w.M.data());
+    backend_.velocity_map(q_.data(), w.T.data());
+    const Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M(w.M.data(), nv_, nv_),
+        T(w.T.data(), nv_, ny_);
+    w.MT.noalias() = M * T;
+    w.My.noalias() = T.transpose() * w.MT;
+    w.lu.compute(w.My);
+    for (int k = 0; k < stops_.size(); ++k) {
+      w.rhs = T.row(stops_.reports()[static_cast<std::size_t>(k)].v_index).transpose();
+      w.dy.noalias() = w.lu.solve(w.rhs);
+      const double inverse = static_cast<double>(w.rhs.dot(w.dy));
+      // A joint no independent coordinate moves (inverse 0) cannot reach its stop: stiffness 0.
+      stops_.set_inertia(k, inverse > 0 ? 1 / inverse : 0);
+    }
+  }
   StepStatus restore(StepStatus s) {
     q_ = q_start_;
     v_ = v_start_;
@@ -325,6 +369,7 @@ template <typename Backend> class Simulator {
       tau_total_ += tau_passive_;
     }
     power_ = (passive_ ? (tau_control_ + tau_passive_).dot(v) : tau_control_.dot(v));
+    stops_.add_torques(q_eval_.data(), v.data(), tau_total_.data(), record);
     if (options_.contact && nc_ > 0)
       contact_accelerations(q_eval_, v, vdot, record);
     else
@@ -485,6 +530,7 @@ template <typename Backend> class Simulator {
       backend_.contact_points(q_eval_.data(), points_.data(), jacobians_.data());
       contact_jacobians(h);
     }
+    stops_.add_jacobians(q_eval_.data(), v_.data(), h, w.A, w.B);
     for (int i = 0; i < ny_; ++i) {
       w.ydd0[i] = dv_[0][backend_.independent_v_index()[i]];
       w.vy[i] = v_[backend_.independent_v_index()[i]];
@@ -552,6 +598,7 @@ template <typename Backend> class Simulator {
   VecX<S> dq_[kMaxStages], dv_[kMaxStages], q_error_, v_error_;
   VecX<S> points_, jacobians_, contact_out_;
   std::vector<ContactReport<S>> reports_;
+  JointStops<S> stops_;
   ImplicitWork implicit_;
   Controller controller_;
   PassiveForces passive_;
