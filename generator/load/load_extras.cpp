@@ -209,6 +209,26 @@ void read_outputs(const ExtrasFile& x, const YAML::Node& node, Description& d, S
   }
 }
 
+/// A number of the extras with its lower bound (> lowest when strict, else >=) and the fix to
+/// print when it is out of range.
+struct BoundedNumber {
+  const char* key;
+  double* value;
+  double lowest;
+  bool strict;
+  const char* fix;
+};
+
+/// Reads each of `numbers` that `map` gives into its value, refusing one out of its range.
+void read_bounded_numbers(const ExtrasFile& x, const YAML::Node& map, const std::string& element,
+                          std::initializer_list<BoundedNumber> numbers) {
+  for (const BoundedNumber& k : numbers) {
+    if (!map[k.key]) continue;
+    *k.value = to_number(x.path, map[k.key], element + ": " + k.key);
+    if (k.strict ? !(*k.value > k.lowest) : !(*k.value >= k.lowest)) fail(x.path, map[k.key], element + ": " + k.key, "is out of range", k.fix);
+  }
+}
+
 /// `scene: contact`: the links must exist and carry SSVs (their vertex spheres touch the ground).
 ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Description& d) {
   const std::string element = "scene: contact";
@@ -229,23 +249,12 @@ ContactSpec read_contact(const ExtrasFile& x, const YAML::Node& c, const Descrip
     contact.links.push_back(link);
   }
   ContactParameters& p = contact.parameters;
-  struct Number {
-    const char* key;
-    double* value;
-    double lowest;
-    bool strict;
-    const char* fix;
-  };
-  for (const Number& k : {Number{"stiffness", &p.stiffness, 0, true, "give k > 0 in N/m^exponent, e.g. 2e7"},
-                          Number{"damping", &p.damping, 0, false, "give d >= 0 in s/m, e.g. 2"},
-                          Number{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring, 1.5 Hertz's sphere"},
-                          Number{"friction", &p.friction, 0, false, "give mu >= 0, e.g. 0.8"},
-                          Number{"stiction_velocity", &p.stiction_velocity, 0, true, "give v_s > 0 in m/s, e.g. 1e-3"}}) {
-    if (!c[k.key]) continue;
-    *k.value = to_number(x.path, c[k.key], element + ": " + k.key);
-    if (k.strict ? !(*k.value > k.lowest) : !(*k.value >= k.lowest))
-      fail(x.path, c[k.key], element + ": " + k.key, "is out of range", k.fix);
-  }
+  read_bounded_numbers(x, c, element,
+                       {BoundedNumber{"stiffness", &p.stiffness, 0, true, "give k > 0 in N/m^exponent, e.g. 2e7"},
+                        BoundedNumber{"damping", &p.damping, 0, false, "give d >= 0 in s/m, e.g. 2"},
+                        BoundedNumber{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring, 1.5 Hertz's sphere"},
+                        BoundedNumber{"friction", &p.friction, 0, false, "give mu >= 0, e.g. 0.8"},
+                        BoundedNumber{"stiction_velocity", &p.stiction_velocity, 0, true, "give v_s > 0 in m/s, e.g. 1e-3"}});
   if (const YAML::Node& g = c["ground"]) {
     require_map(x.path, g, element + ": ground", "{normal: [0, 0, 1], offset: 0}");
     reject_unknown_keys(x.path, g, element + ": ground", {"normal", "offset"});
@@ -271,25 +280,11 @@ JointStopParameters read_joint_limits(const ExtrasFile& x, const YAML::Node& nod
   }
   require_map(x.path, node, element, "false, or {frequency: 100, damping: 3, free: [toe_l], joints: {knee_l: {stiffness: 2e4}}}");
   reject_unknown_keys(x.path, node, element, {"damping", "exponent", "free", "frequency", "joints", "max_damping_ratio"});
-  struct Number {
-    const char* key;
-    double* value;
-    double lowest;
-    bool strict;
-    const char* fix;
-  };
-  const auto read_numbers = [&](const YAML::Node& map, const std::string& where, std::initializer_list<Number> numbers) {
-    for (const Number& k : numbers) {
-      if (!map[k.key]) continue;
-      *k.value = to_number(x.path, map[k.key], where + ": " + k.key);
-      if (k.strict ? !(*k.value > k.lowest) : !(*k.value >= k.lowest)) fail(x.path, map[k.key], where + ": " + k.key, "is out of range", k.fix);
-    }
-  };
-  read_numbers(node, element,
-               {Number{"frequency", &p.frequency, 0, true, "give f > 0 in Hz, e.g. 100 (each stop's default stiffness rings at f)"},
-                Number{"damping", &p.damping, 0, false, "give d >= 0 in s/rad, e.g. 3"},
-                Number{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring"},
-                Number{"max_damping_ratio", &p.max_damping_ratio, 0, false, "give zeta >= 0, e.g. 1 (0: Hunt-Crossley's damping uncapped)"}});
+  read_bounded_numbers(x, node, element,
+               {BoundedNumber{"frequency", &p.frequency, 0, true, "give f > 0 in Hz, e.g. 100 (each stop's default stiffness rings at f)"},
+                BoundedNumber{"damping", &p.damping, 0, false, "give d >= 0 in s/rad, e.g. 3"},
+                BoundedNumber{"exponent", &p.exponent, 1, false, "give e >= 1: 1 is a linear spring"},
+                BoundedNumber{"max_damping_ratio", &p.max_damping_ratio, 0, false, "give zeta >= 0, e.g. 1 (0: Hunt-Crossley's damping uncapped)"}});
   // A joint named must have a range for its stop to act at.
   const auto limited_joint = [&](const YAML::Node& name, const std::string& where) {
     const Joint& joint = d.model.joint(resolve_moving_joint(x.path, name, where, d.model));
@@ -317,9 +312,9 @@ JointStopParameters read_joint_limits(const ExtrasFile& x, const YAML::Node& nod
       s.joint = limited_joint(entry.first, element + ": joints");
       require_map(x.path, entry.second, where, "{stiffness: 2e4, damping: 3}");
       reject_unknown_keys(x.path, entry.second, where, {"damping", "stiffness"});
-      read_numbers(entry.second, where,
-                   {Number{"stiffness", &s.stiffness, 0, true, "give k > 0 in N m/rad (N/m for a prismatic joint)"},
-                    Number{"damping", &s.damping, 0, false, "give d >= 0 in s/rad"}});
+      read_bounded_numbers(x, entry.second, where,
+                   {BoundedNumber{"stiffness", &s.stiffness, 0, true, "give k > 0 in N m/rad (N/m for a prismatic joint)"},
+                    BoundedNumber{"damping", &s.damping, 0, false, "give d >= 0 in s/rad"}});
       p.joints.push_back(s);
     }
   }
