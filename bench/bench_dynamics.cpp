@@ -24,6 +24,7 @@
 #include <kdl/jntspaceinertiamatrix.hpp>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 
+#include "bench_derivatives.hpp"
 #include "bench_generated.hpp"
 #include "bench_loops.hpp"
 #include "bench_sim.hpp"
@@ -35,18 +36,6 @@
 
 namespace mbgen::bench {
 namespace {
-
-Robot load_robot(const std::string& name, const std::string& relative_path, gen::BaseType base) {
-  Robot robot;
-  robot.name = name;
-  robot.urdf = std::string(MBGEN_SHARED_ROBOTS) + "/" + relative_path;
-  gen::LoadOptions options;
-  options.base = base;
-  options.pick_up_robot_yaml = false;
-  robot.model = gen::load_description(robot.urdf, options).model;
-  robot.pool = make_pool(robot.model);
-  return robot;
-}
 
 /// The generic runtime: every algorithm on every robot, each benchmark with its own Data.
 void add_generic(const Robot& robot) {
@@ -210,6 +199,7 @@ int main(int argc, char** argv) {
     robots.push_back(load_robot("talos", "talos/talos_reduced.urdf", gen::BaseType::Floating));
     for (const Robot& robot : robots) add_generic(robot);
     for (const Robot& robot : robots) add_generated(robot);
+    for (const Robot& robot : robots) add_derivative_benchmarks(robot);
     add_rotor_benchmarks();
     add_self_distance_benchmarks();
     add_loop_benchmarks();

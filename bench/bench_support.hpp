@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mbgen/mbgen.hpp"
+#include "model/load_description.hpp"
 
 namespace mbgen::bench {
 
@@ -55,6 +56,19 @@ inline std::shared_ptr<const std::vector<Sample>> make_pool(const Model& model, 
     pool->push_back(std::move(s));
   }
   return pool;
+}
+
+/// The robot `name` from ../shared/robots/<relative_path> (its tree, no extras) with its pool.
+inline Robot load_robot(const std::string& name, const std::string& relative_path, gen::BaseType base) {
+  Robot robot;
+  robot.name = name;
+  robot.urdf = std::string(MBGEN_SHARED_ROBOTS) + "/" + relative_path;
+  gen::LoadOptions options;
+  options.base = base;
+  options.pick_up_robot_yaml = false;
+  robot.model = gen::load_description(robot.urdf, options).model;
+  robot.pool = make_pool(robot.model);
+  return robot;
 }
 
 /// Registers `<algorithm>/<robot>/<implementation>`. `fn(const T&)` does one call on one input

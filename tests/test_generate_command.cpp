@@ -225,7 +225,8 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
   const std::vector<std::string> functions = {
       "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
       "mass_matrix_solve", "forward_kinematics", "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
-      "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations"};
+      "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations",
+      "inverse_dynamics_derivatives", "forward_dynamics_derivatives"};
   ASSERT_EQ(static_cast<int>(functions.size()), MBGEN_GENERATED_FUNCTION_COUNT);
   int files = 0;
   for (const auto& entry : fs::directory_iterator(two)) (void)entry, ++files;
@@ -242,8 +243,10 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
     const bool declared = header.find(" " + f + "(") != std::string::npos;
     EXPECT_EQ(declared, kept) << f;
     EXPECT_EQ(header.find("// " + f + ": left out (") != std::string::npos, !kept) << f;
-    // --outputs all: everything, as without outputs; --outputs inverse_dynamics: that alone.
-    EXPECT_EQ(read(all / ("arm_" + f + ".cpp")).find("is left out"), std::string::npos) << f;
+    // --outputs all: everything but the derivatives (generated only when named), as without
+    // outputs; --outputs inverse_dynamics: that alone.
+    const bool derivative = f.find("_derivatives") != std::string::npos;
+    EXPECT_EQ(read(all / ("arm_" + f + ".cpp")).find("is left out") != std::string::npos, derivative) << f;
     EXPECT_EQ(read(one / ("arm_" + f + ".cpp")).find("is left out") == std::string::npos,
               f == "inverse_dynamics" || f == "actuator_forces" || f == "closure_positions")
         << f;
@@ -252,6 +255,24 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
   EXPECT_NE(header.find("// Backend: left out"), std::string::npos);
   EXPECT_NE(read(all / "arm.hpp").find("struct BasicBackend"), std::string::npos);
   EXPECT_NE(read(one / "arm_mass_matrix.cpp").find("not among --outputs inverse_dynamics"), std::string::npos);
+}
+
+TEST(GenerateCommand, ForwardDynamicsDerivativesOfClosedLoopsAreRefusedWithAReason) {
+  const fs::path out = fresh_dir("loop_derivatives");
+  const std::string four_bar = std::string(MBGEN_SOURCE_DIR) + "/robots/mechanisms/four_bar.urdf --extras " + MBGEN_SOURCE_DIR +
+                               "/robots/mechanisms/four_bar.yaml";
+  const std::string log = (fs::temp_directory_path() / "mbgen_test_loop_derivatives.txt").string();
+  const int status = std::system((std::string(MBGEN_BINARY) + " generate " + four_bar + " --out " + out.string() +
+                                  " --outputs fd_derivatives --quiet 2>" + log)
+                                     .c_str());
+  EXPECT_NE(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0);
+  EXPECT_NE(read(log).find("fd_derivatives: the robot has closed loops"), std::string::npos) << read(log);
+  EXPECT_FALSE(fs::exists(out / "four_bar_forward_dynamics_derivatives.cpp"));
+  // The spanning tree's inverse dynamics derivatives are generated.
+  EXPECT_EQ(std::system((std::string(MBGEN_BINARY) + " generate " + four_bar + " --out " + out.string() +
+                         " --outputs id_derivatives --quiet 2>/dev/null")
+                            .c_str()),
+            0);
 }
 
 TEST(GenerateCommand, AnUnknownOutputNamesTheOnesThereAre) {

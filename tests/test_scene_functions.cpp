@@ -13,11 +13,19 @@
 namespace mbgen::codegen {
 namespace {
 
-TEST(SceneFunctions, NoOutputsMeansEverything) {
+TEST(SceneFunctions, NoOutputsMeansEverythingButTheDerivatives) {
   const FunctionSelection s = select_functions(std::vector<std::string>{}, false);
-  EXPECT_TRUE(s.left_out.empty());
+  EXPECT_EQ(s.left_out, (std::vector<std::string>{"inverse_dynamics_derivatives", "forward_dynamics_derivatives"}));
   EXPECT_TRUE(s.backend);
-  EXPECT_EQ(s.emitted.size(), all_functions().size());
+  EXPECT_EQ(s.emitted.size(), all_functions().size() - 2);
+  // `all` is the same; named beside it, a derivative comes too; named alone, only it (and closure_positions).
+  EXPECT_EQ(select_functions({"all"}, false).generated, s.generated);
+  const FunctionSelection with = select_functions({"all", "fd_derivatives"}, false);
+  EXPECT_TRUE(with.emits("forward_dynamics_derivatives"));
+  EXPECT_FALSE(with.emits("inverse_dynamics_derivatives"));
+  EXPECT_EQ(with.emitted.size(), s.emitted.size() + 1);
+  EXPECT_EQ(select_functions({"id_derivatives"}, false).generated,
+            (std::vector<std::string>{"closure_positions", "inverse_dynamics_derivatives"}));
 }
 
 TEST(SceneFunctions, EachOutputBringsWhatItNeeds) {

@@ -198,6 +198,8 @@ void contact_points(const double* q, double* p, double* J);
 /// out contacts: [12 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
 /// Cost: 15301 operations: 6608 additions/subtractions, 8359 multiplications, 71 divisions, 99 negations, 68 sin/cos, 42 square roots, 54 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
+// inverse_dynamics_derivatives: left out (not among the outputs of lola.yaml's scene, nor needed by them).
+// forward_dynamics_derivatives: left out (not among the outputs of lola.yaml's scene, nor needed by them).
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.

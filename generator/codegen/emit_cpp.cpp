@@ -96,13 +96,22 @@ std::string describe_operations(const OpCount& c) {
 
 std::string parameters(const TracedFunction& f, const std::string& scalar) { return batch_parameters(f, scalar, 0); }
 
+std::string public_parameters(const TracedFunction& f, const std::string& scalar) {
+  std::string args;
+  for (const ArraySpec& a : f.inputs) args += fmt::format("{}const {}* {}", args.empty() ? "" : ", ", scalar, a.name);
+  for (std::size_t k = 0; k + static_cast<std::size_t>(f.work_outputs) < f.outputs.size(); ++k)
+    args += fmt::format("{}{}* {}", args.empty() ? "" : ", ", scalar, f.outputs[k].name);
+  return args;
+}
+
 std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx) {
   std::string arguments, prototypes;
   for (const ArraySpec& a : f.inputs) arguments += ctx.templates.render("input_doc", {{"name", a.name}, {"doc", a.doc}});
-  for (const ArraySpec& a : f.outputs) arguments += ctx.templates.render("output_doc", {{"name", a.name}, {"doc", a.doc}});
+  for (std::size_t k = 0; k + static_cast<std::size_t>(f.work_outputs) < f.outputs.size(); ++k)
+    arguments += ctx.templates.render("output_doc", {{"name", f.outputs[k].name}, {"doc", f.outputs[k].doc}});
   for (const std::string& s : scalar_types(ctx.scalars))
     prototypes += ctx.templates.render("prototype", {{"public_name", ctx.public_name(f.name, s)},
-                                                     {"parameters", parameters(f, s)},
+                                                     {"parameters", public_parameters(f, s)},
                                                      {"scalar", s},
                                                      {"function", f.name},
                                                      {"robot", ctx.robot}});
@@ -568,9 +577,14 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
 }  // namespace
 
 std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
+  if (f.work_outputs > 0) throw std::logic_error("emit_definition: " + f.name + " has work outputs: its row writes its entry points");
+  return emit_definition(f, ctx, "",
+                         emit_entry_points(f.name, call_arguments(f), [&](const std::string& s) { return parameters(f, s); }, ctx));
+}
+
+std::string emit_definition(const TracedFunction& f, const EmitContext& ctx, const std::string& helpers,
+                            const std::string& entry_points) {
   const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});
-  const std::string entry_points =
-      emit_entry_points(f.name, call_arguments(f), [&](const std::string& s) { return parameters(f, s); }, ctx);
   return ctx.templates.render("function_source",
                               {{"banner", ctx.banner},
                                {"header", ctx.header},
@@ -580,7 +594,7 @@ std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
                                {"cost", describe_operations(count_operations(f))},
                                {"sincos", sincos_helper(ctx, uses_trig(f))},
                                {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
-                               {"parts", split.parts},
+                               {"parts", helpers + split.parts},
                                {"impl_parameters", parameters(f, "S")},
                                {"body", unused_inputs(f) + split.body},
                                {"entry_points", entry_points}});

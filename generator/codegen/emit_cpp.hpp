@@ -18,6 +18,8 @@ std::string describe_operations(const OpCount& count);
 
 /// f's parameter list for `scalar`: `const S* in..., S* out...`.
 std::string parameters(const TracedFunction& f, const std::string& scalar);
+/// The same without f's work outputs (TracedFunction::work_outputs): its public signature.
+std::string public_parameters(const TracedFunction& f, const std::string& scalar);
 
 /// sincos.fmt rendered when the source computes a sin or cos (uses_trig) or ctx.inline_sincos,
 /// else nothing: the {sincos} of the source templates.
@@ -34,6 +36,12 @@ std::string unused_inputs(const TracedFunction& f);
 
 /// function_declaration.fmt for f: doc comment with argument sizes and op count, the prototypes.
 std::string emit_declaration(const TracedFunction& f, const EmitContext& ctx);
+
+/// f's source file (function_source.fmt) with `helpers` printed before its impl (in the impl's
+/// unnamed namespace) and the given entry points: for a row whose public functions do more than
+/// call the impl (forward_dynamics_derivatives: the solves after it).
+std::string emit_definition(const TracedFunction& f, const EmitContext& ctx, const std::string& helpers,
+                            const std::string& entry_points);
 
 /// entry_point.fmt per scalar: `function`'s public entry points calling <function>_impl<scalar>
 /// with `arguments`, their parameter lists given per scalar.

@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "codegen/emit_cpp.hpp"
+#include "codegen/emit_derivatives.hpp"
+#include "codegen/trace_derivatives.hpp"
 #include "codegen/trace_dynamics.hpp"
 #include "codegen/trace_loop_maps.hpp"
 
@@ -120,6 +122,26 @@ const std::vector<GeneratedFunction>& function_catalog() {
          {kSimulationOutput}, {"full_accelerations"});
     r.back().trace = [](const TraceInputs& in) { return trace_contact_accelerations(in.model, in.contacts, in.contact_exponent); };
     r.back().definition = contact_accelerations_source;
+    // The derivatives (docs/derivatives.md), of the spanning tree: on request only.
+    row("inverse_dynamics_derivatives", Batch::no, "inverse_dynamics and its derivatives dtau/dq, dtau/dv (analytic)",
+         {"id_derivatives"});
+    r.back().on_request = true;
+    r.back().trace = [](const TraceInputs& in) { return trace_inverse_dynamics_derivatives(in.tree); };
+    row("forward_dynamics_derivatives", Batch::no, "the tree's forward dynamics and its derivatives dqdd/dq, dqdd/dv, M^-1",
+         {"fd_derivatives"});
+    r.back().on_request = true;
+    r.back().trace = [](const TraceInputs& in) {
+      if (!in.model.closures.empty())
+        throw std::invalid_argument(
+            "fd_derivatives: the robot has closed loops, and the derivatives of the closed system's forward dynamics are not "
+            "generated yet (only the spanning tree's, which would not be the derivatives of its forward_dynamics); "
+            "id_derivatives gives the spanning tree's inverse dynamics derivatives");
+      return trace_forward_dynamics_derivatives(in.tree);
+    };
+    // Loops refused above: the model is its tree.
+    r.back().definition = [](const DefinitionInputs& in) {
+      return emit_forward_dynamics_derivatives_definition(in.function, in.model, in.ctx);
+    };
     // clang-format on
     return r;
   }();

@@ -63,6 +63,9 @@ struct GeneratedFunction {
   std::vector<std::string> with_all_of;
   bool per_frame = false;  ///< of the frames: not emitted when the robot has none
   bool always = false;     ///< emitted whatever the scene says
+  /// Emitted only when one of its outputs is named (scene outputs or --outputs): not by default,
+  /// nor by `all` (the derivatives: several times the dynamics' code, which few scenes need).
+  bool on_request = false;
   Writer writer = Writer::traced;
   /// The trace (Writer::traced rows).
   TracedFunction (*trace)(const TraceInputs&) = nullptr;

@@ -36,13 +36,15 @@ void close_over_needs(FunctionSelection& s) {
 FunctionSelection select_functions(const std::vector<std::string>& outputs, bool contact) {
   FunctionSelection s;
   const std::vector<std::string> known = scene_outputs();
+  // `all` beside named outputs: everything but the on-request rows, and those named.
+  const bool everything = std::find(outputs.begin(), outputs.end(), "all") != outputs.end();
   for (const std::string& output : outputs)
-    if (std::find(known.begin(), known.end(), output) == known.end())
+    if (output != "all" && std::find(known.begin(), known.end(), output) == known.end())
       throw std::invalid_argument(fmt::format("unknown output '{}': the outputs are {} (or all)", output, fmt::join(known, ", ")));
   std::vector<std::string> wanted = outputs;
   if (contact && !outputs.empty()) wanted.push_back(kSimulationOutput);
   for (const GeneratedFunction& f : function_catalog()) {
-    bool brought = outputs.empty() || f.always;
+    bool brought = ((outputs.empty() || everything) && !f.on_request) || f.always;
     for (const std::string& output : f.outputs) brought = brought || std::find(wanted.begin(), wanted.end(), output) != wanted.end();
     if (brought) s.emitted.insert(f.name);
   }

@@ -28,9 +28,12 @@ struct FunctionSelection {
 /// simulation's functions. Rows marked `always` (closure_positions: the position level of the
 /// loops, which every function of a closed system presumes) are emitted whatever the outputs.
 /// An output the catalogue does not know throws std::invalid_argument naming the known ones.
+/// `all` among the outputs stands for every row but the on-request ones (the derivatives), which
+/// come only when named.
 FunctionSelection select_functions(const std::vector<std::string>& outputs, bool contact);
 
-/// The selection for a description: `outputs` if given ({"all"}: everything), else the scene's.
+/// The selection for a description: `outputs` if given ({"all"}: everything but the on-request
+/// rows), else the scene's.
 /// `reason` says, for the notes in the generated files, why the rest is left out. An unknown
 /// output of the scene is a LoadError naming the extras file, its line and the closest output.
 FunctionSelection select_functions(const gen::Description& description, const std::vector<std::string>& outputs,

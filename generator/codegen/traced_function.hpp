@@ -19,6 +19,11 @@ struct TracedFunction {
   std::vector<ArraySpec> inputs;
   std::vector<ArraySpec> outputs;
   std::vector<std::vector<int>> output_ids;  ///< per output, one node id per element
+  /// The last `work_outputs` outputs are work arrays, not results: the impl writes them, the row's
+  /// own source (its catalogue `definition`) keeps them local, and the public signature, the
+  /// header's declaration, leaves them out (forward_dynamics_derivatives: the factor of M its
+  /// solves read).
+  int work_outputs = 0;
   ExpressionGraph graph;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 // The generic (interpreted) runtime: every algorithm, for any scalar type.
 #include "mbgen/algorithm/aba.hpp"
+#include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/algorithm/center_of_mass.hpp"
 #include "mbgen/algorithm/centroidal.hpp"

@@ -115,6 +115,51 @@ void integrate(const Model& model, const Eigen::Ref<const VecX<S>>& q, const Eig
   }
 }
 
+/// q1 (-) q0: the velocity v (nv) with integrate(q0, v) = q1, the inverse of integrate (the
+/// logarithm of the floating base's relative pose q0^-1 q1, body twist in q0's frame, the rotation
+/// the shorter way round: |angle| <= pi). The tangent space the dynamics' derivatives are taken in
+/// (rnea_derivatives.hpp): d/dq f along delta is the derivative of f(integrate(q, delta)).
+template <typename S>
+void difference(const Model& model, const Eigen::Ref<const VecX<S>>& q0, const Eigen::Ref<const VecX<S>>& q1,
+                Eigen::Ref<VecX<S>> v_out) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    const S* a = q0.data() + joint.idx_q;
+    const S* b = q1.data() + joint.idx_q;
+    S* out = v_out.data() + joint.idx_v;
+    if (joint.type != JointType::Floating) {
+      out[0] = b[0] - a[0];
+      continue;
+    }
+    // Relative rotation dq = conj(qa) qb, taken with w >= 0 (the same rotation, the short way).
+    const Eigen::Matrix<S, 4, 1> qa_conj(-a[3], -a[4], -a[5], a[6]);
+    Eigen::Matrix<S, 4, 1> dq = detail::quat_multiply<S>(qa_conj, Eigen::Matrix<S, 4, 1>(b[3], b[4], b[5], b[6]));
+    dq /= dq.norm();
+    if (dq[3] < S(0)) dq = -dq;
+    const Vec3<S> xyz(dq[0], dq[1], dq[2]);
+    const S s = xyz.norm();
+    const S theta = S(2) * atan2(s, dq[3]);
+    // w = theta xyz / s, with theta / s -> 2 (1 + s^2 / 6) as s -> 0.
+    const S scale = s < S(1e-6) ? S(2) * (S(1) + s * s / S(6)) : theta / s;
+    const Vec3<S> w = xyz * scale;
+    // lin = V(w)^-1 R_a^T (p_b - p_a), V^-1 = I - [w]/2 + c [w]^2, c = (1 - t sin t / (2 (1 - cos t))) / t^2.
+    const Mat3<S> Ra = quaternion_to_rotation<S>(a[3], a[4], a[5], a[6]);
+    const Vec3<S> p = Ra.transpose() * Vec3<S>(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    const S c = theta < S(1e-4) ? S(1) / S(12) + theta * theta / S(720)
+                                : (S(1) - theta * sin(theta) / (S(2) * (S(1) - cos(theta)))) / (theta * theta);
+    const Mat3<S> wx = skew<S>(w);
+    const Vec3<S> lin = p - wx * p / S(2) + c * (wx * (wx * p));
+    for (int k = 0; k < 3; ++k) {
+      out[k] = lin[k];
+      out[3 + k] = w[k];
+    }
+  }
+}
+
 /// dq/dt (size nq) for velocity v: the ambient-space derivative used by explicit integrators
 /// (position rate R_WB v_lin, quaternion rate 1/2 quat * (w, 0)).
 template <typename S>

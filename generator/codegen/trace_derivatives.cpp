@@ -1,0 +1,65 @@
+#include "codegen/trace_derivatives.hpp"
+
+#include <fmt/format.h>
+
+#include "codegen/trace_support.hpp"
+#include "mbgen/algorithm/aba_derivatives.hpp"
+
+namespace mbgen::codegen {
+
+using namespace tracing;
+
+namespace {
+ArraySpec square_spec(const Model& m, const char* name, const char* what) {
+  return {name, m.nv() * m.nv(), fmt::format("[{0} x {0}, row-major] {1}", m.nv(), what)};
+}
+}  // namespace
+
+TracedFunction trace_inverse_dynamics_derivatives(const Model& tree) {
+  TracedFunction f;
+  f.name = "inverse_dynamics_derivatives";
+  f.doc = "The inverse dynamics tau = M(q) qdd + C(q, v) v + g(q) and its derivatives dtau/dq and dtau/dv (dtau/dqdd is "
+          "mass_matrix's M). d/dq is taken along q (+) delta with delta in v-space (integrate: a floating base moves by the "
+          "exponential of its body twist), so dtau/dq is nv x nv. Analytic recursion (rnea_derivatives.hpp).";
+  f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "qdd", "joint accelerations")};
+  f.outputs = {v_spec(tree, "tau", "joint forces"), square_spec(tree, "dtau_dq", "dtau/dq along q (+) delta"),
+               square_spec(tree, "dtau_dv", "dtau/dv")};
+  Recording rec(f.graph);
+  Data<Sym> data(tree);
+  DynamicsDerivatives<Sym> d(tree);
+  const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), a = inputs(2, tree.nv());
+  inverse_dynamics_derivatives<Sym>(tree, data, d, q, v, a);
+  f.output_ids = {ids_of(d.tau), ids_of(d.dtau_dq), ids_of(d.dtau_dv)};
+  return f;
+}
+
+TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
+  const int n = tree.nv();
+  int entries = 0;
+  for (int k = 0; k < n; ++k)
+    for (int i = tree.velocity_parent(k); i >= 0; i = tree.velocity_parent(i)) ++entries;
+  TracedFunction f;
+  f.name = "forward_dynamics_derivatives";
+  f.doc = "The forward dynamics qdd = M(q)^-1 (tau - C(q, v) v - g(q)) and its derivatives dqdd/dq, dqdd/dv and "
+          "dqdd/dtau = M^-1: the inverse dynamics' derivatives at the qdd found, times -M^-1 (aba_derivatives.hpp). d/dq is "
+          "taken along q (+) delta with delta in v-space, as inverse_dynamics_derivatives. Unrolled up to the solves with "
+          "M, which run as loops over whole rows of the three matrices (the same sparse L^T D L solve, vectorisable).";
+  f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "tau", "joint forces")};
+  f.outputs = {v_spec(tree, "qdd", "joint accelerations"), square_spec(tree, "dqdd_dq", "dqdd/dq along q (+) delta"),
+               square_spec(tree, "dqdd_dv", "dqdd/dv"), square_spec(tree, "Minv", "dqdd/dtau = M^-1"),
+               {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
+               v_spec(tree, "inverse_pivot", "1 / D of M's factor")};
+  f.work_outputs = 2;
+  Recording rec(f.graph);
+  Data<Sym> data(tree);
+  DynamicsDerivatives<Sym> d(tree);
+  const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), tau = inputs(2, tree.nv());
+  forward_dynamics_derivatives_before_solves<Sym>(tree, data, d, q, v, tau);
+  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv, M^-1 as 1.
+  MatX<Sym> identity = MatX<Sym>::Identity(n, n);
+  f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(identity), ids_of(d.factor_entries),
+                  ids_of(d.inverse_pivot)};
+  return f;
+}
+
+}  // namespace mbgen::codegen

@@ -1,0 +1,15 @@
+#pragma once
+// Traces the runtime's analytic dynamics derivatives (algorithm/rnea_derivatives.hpp,
+// aba_derivatives.hpp) with the symbolic scalar. Matrices are emitted row-major, nv x nv; the
+// derivative with respect to q is along q (+) delta (configuration.hpp's integrate).
+#include "codegen/traced_function.hpp"
+#include "mbgen/model.hpp"
+
+namespace mbgen::codegen {
+
+/// tau, dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, qdd).
+TracedFunction trace_inverse_dynamics_derivatives(const Model& tree);
+/// qdd, dqdd/dq, dqdd/dv and M^-1 of the spanning tree's forward dynamics at (q, v, tau).
+TracedFunction trace_forward_dynamics_derivatives(const Model& tree);
+
+}  // namespace mbgen::codegen

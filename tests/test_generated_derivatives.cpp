@@ -1,0 +1,104 @@
+// Generated derivatives (NAME::inverse_dynamics_derivatives, NAME::forward_dynamics_derivatives)
+// against the generic runtime's (rnea_derivatives.hpp, aba_derivatives.hpp), which
+// test_rnea_derivatives.cpp checks against dual numbers: double to 1e-12 relative (max-norm over
+// the generic result's max-norm), float to 1e-3 (single precision through ~10^4 operations, the
+// forward derivatives through a solve with the mass matrix); no allocation. Compiled once per
+// robot with MBGEN_GENERATED_HEADER, MBGEN_GENERATED_NS, MBGEN_DESCRIPTION, MBGEN_EXTRAS (empty:
+// none) and MBGEN_FLOATING defined (tests/CMakeLists.txt: mbgen_add_generated_derivatives_test).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include MBGEN_GENERATED_HEADER
+#include "malloc_guard.hpp"
+#include "mbgen/algorithm/aba_derivatives.hpp"
+#include "test_support.hpp"
+
+namespace mbgen::test {
+namespace {
+
+namespace robot = MBGEN_GENERATED_NS;
+
+Model load_tree_model() {
+  gen::LoadOptions options;
+  options.base = MBGEN_FLOATING ? gen::BaseType::Floating : gen::BaseType::Fixed;
+  if (std::string(MBGEN_EXTRAS).size() > 0) options.extras_file = MBGEN_EXTRAS;
+  Model m = gen::load_description(MBGEN_DESCRIPTION, options).model;
+  m.closures.clear();
+  m.subsystems.clear();
+  m.update_structure();
+  return m;
+}
+
+/// A row-major nv x nv output as a matrix.
+template <typename T> MatX<double> square(const std::vector<T>& x, int n) {
+  MatX<double> m(n, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) m(r, c) = static_cast<double>(x[static_cast<std::size_t>(r * n + c)]);
+  return m;
+}
+
+double max_relative(const MatX<double>& got, const MatX<double>& want) {
+  const double scale = want.cwiseAbs().maxCoeff();
+  return (got - want).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
+}
+
+template <typename T> std::vector<T> as(const VecX<double>& x) {
+  std::vector<T> out(static_cast<std::size_t>(x.size()));
+  for (int k = 0; k < x.size(); ++k) out[static_cast<std::size_t>(k)] = static_cast<T>(x[k]);
+  return out;
+}
+
+template <typename T> VecX<double> vec(const std::vector<T>& x) {
+  VecX<double> out(static_cast<int>(x.size()));
+  for (std::size_t k = 0; k < x.size(); ++k) out[static_cast<int>(k)] = static_cast<double>(x[k]);
+  return out;
+}
+
+template <typename T> void check_scalar(double tolerance) {
+  const Model model = load_tree_model();
+  ASSERT_EQ(model.nv(), robot::nv);
+  ASSERT_EQ(model.nq(), robot::nq);
+  const int n = model.nv();
+  const std::size_t nn = static_cast<std::size_t>(n * n);
+  Data<double> data(model);
+  DynamicsDerivatives<double> d(model);
+  std::mt19937_64 rng(541);
+  for (int trial = 0; trial < 5; ++trial) {
+    const VecX<double> q = random_configuration<double>(model, rng);
+    const VecX<double> v = random_vector<double>(n, rng, 2.0);
+    const VecX<double> a = random_vector<double>(n, rng, 5.0);
+    const VecX<double> tau = random_vector<double>(n, rng, 10.0);
+    const std::vector<T> qt = as<T>(q), vt = as<T>(v), at = as<T>(a), taut = as<T>(tau);
+    std::vector<T> x(static_cast<std::size_t>(n)), A(nn), B(nn), C(nn);
+
+    inverse_dynamics_derivatives<double>(model, data, d, q, v, a);
+    robot::inverse_dynamics_derivatives(qt.data(), vt.data(), at.data(), x.data(), A.data(), B.data());
+    EXPECT_LT(relative_error(vec(x), d.tau), tolerance);
+    EXPECT_LT(max_relative(square(A, n), d.dtau_dq), tolerance);
+    EXPECT_LT(max_relative(square(B, n), d.dtau_dv), tolerance);
+
+    forward_dynamics_derivatives<double>(model, data, d, q, v, tau);
+    robot::forward_dynamics_derivatives(qt.data(), vt.data(), taut.data(), x.data(), A.data(), B.data(), C.data());
+    EXPECT_LT(relative_error(vec(x), d.ddq), tolerance);
+    EXPECT_LT(max_relative(square(A, n), d.dddq_dq), tolerance);
+    EXPECT_LT(max_relative(square(B, n), d.dddq_dv), tolerance);
+    EXPECT_LT(max_relative(square(C, n), d.Minv), tolerance);
+  }
+}
+
+TEST(GeneratedDerivatives, DoubleEqualsGeneric) { check_scalar<double>(1e-12); }
+TEST(GeneratedDerivatives, FloatEqualsGeneric) { check_scalar<float>(1e-3); }
+
+TEST(GeneratedDerivatives, AllocateNothing) {
+  std::vector<double> q(robot::nq, 0.0), v(robot::nv, 0.5), x(robot::nv), A(robot::nv * robot::nv), B(A), C(A);
+  if (MBGEN_FLOATING) q[6] = 1;  // the base's quaternion w
+  MallocGuard guard;
+  robot::inverse_dynamics_derivatives(q.data(), v.data(), v.data(), x.data(), A.data(), B.data());
+  robot::forward_dynamics_derivatives(q.data(), v.data(), v.data(), x.data(), A.data(), B.data(), C.data());
+  EXPECT_EQ(guard.count(), 0u);
+  EXPECT_TRUE(std::isfinite(A[0]) && std::isfinite(C[0]));
+}
+
+}  // namespace
+}  // namespace mbgen::test
