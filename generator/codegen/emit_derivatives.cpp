@@ -63,12 +63,11 @@ std::string solve_helpers(const std::string& function, const Model& tree) {
       "  }}\n"
       "}}\n"
       "\n"
-      "// dqdd/dq = M^-1 (-dtau/dq), dqdd/dv = M^-1 (-dtau/dv) and M^-1 = M^-1 1, in place.\n"
+      "// dqdd/dq = M^-1 (-dtau/dq) and dqdd/dv = M^-1 (-dtau/dv), in place.\n"
       "template <typename S>\n"
-      "void {0}_solves(const S* factor_entries, const S* inverse_pivot, S* dqdd_dq, S* dqdd_dv, S* Minv) {{\n"
+      "void {0}_solves(const S* factor_entries, const S* inverse_pivot, S* dqdd_dq, S* dqdd_dv) {{\n"
       "  {0}_solve<S>(factor_entries, inverse_pivot, dqdd_dq);\n"
       "  {0}_solve<S>(factor_entries, inverse_pivot, dqdd_dv);\n"
-      "  {0}_solve<S>(factor_entries, inverse_pivot, Minv);\n"
       "}}\n"
       "\n",
       function, n, int_list(parent), int_list(first));
@@ -92,8 +91,7 @@ std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f
          {"function", f.name},
          {"robot", ctx.robot},
          {"arguments", call_arguments(f)},
-         {"solve_arguments", fmt::format("{}, {}, {}, {}, {}", entries.name, pivots.name, f.outputs[1].name, f.outputs[2].name,
-                                         f.outputs[3].name)}});
+         {"solve_arguments", fmt::format("{}, {}, {}, {}", entries.name, pivots.name, f.outputs[1].name, f.outputs[2].name)}});
   return emit_definition(f, ctx, solve_helpers(f.name, tree), entry_points);
 }
 

@@ -2,10 +2,10 @@
 // The generated forward_dynamics_derivatives: its traced part (the forward dynamics, the inverse
 // dynamics' derivatives at its accelerations, the mass matrix's factor: aba_derivatives.hpp's
 // forward_dynamics_derivatives_before_solves) printed as straight-line code, and the solves with
-// that factor printed here as loops over whole rows of the three nv x nv results. Unrolled, the
-// 3 nv solves were two thirds of the function's operations and made its code too large for the
-// instruction caches (talos: 150k statements, twice Pinocchio's time); as row operations they
-// are short and vectorise.
+// that factor printed here as loops over whole rows of dqdd/dq and dqdd/dv (M^-1 is traced:
+// Z^T D^-1 Z, aba_derivatives.hpp). Unrolled, the 3 nv solves were two thirds of the function's
+// operations and made its code too large for the instruction caches (talos: 150k statements,
+// twice Pinocchio's time); as row operations they are short and vectorise.
 #include <string>
 
 #include "codegen/emit_context.hpp"

@@ -43,7 +43,7 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
   f.doc = "The forward dynamics qdd = M(q)^-1 (tau - C(q, v) v - g(q)) and its derivatives dqdd/dq, dqdd/dv and "
           "dqdd/dtau = M^-1: the inverse dynamics' derivatives at the qdd found, times -M^-1 (aba_derivatives.hpp). d/dq is "
           "taken along q (+) delta with delta in v-space, as inverse_dynamics_derivatives. Unrolled up to the solves with "
-          "M, which run as loops over whole rows of the three matrices (the same sparse L^T D L solve, vectorisable).";
+          "M, which run as loops over whole rows of dqdd/dq and dqdd/dv (the same sparse L^T D L solve, vectorisable).";
   f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "tau", "joint forces")};
   f.outputs = {v_spec(tree, "qdd", "joint accelerations"), square_spec(tree, "dqdd_dq", "dqdd/dq along q (+) delta"),
                square_spec(tree, "dqdd_dv", "dqdd/dv"), square_spec(tree, "Minv", "dqdd/dtau = M^-1"),
@@ -55,9 +55,8 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
   DynamicsDerivatives<Sym> d(tree);
   const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), tau = inputs(2, tree.nv());
   forward_dynamics_derivatives_before_solves<Sym>(tree, data, d, q, v, tau);
-  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv, M^-1 as 1.
-  MatX<Sym> identity = MatX<Sym>::Identity(n, n);
-  f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(identity), ids_of(d.factor_entries),
+  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv.
+  f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(d.Minv), ids_of(d.factor_entries),
                   ids_of(d.inverse_pivot)};
   return f;
 }

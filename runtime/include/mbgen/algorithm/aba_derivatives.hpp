@@ -7,9 +7,9 @@
 // (mass_matrix_factor.hpp): L unit lower triangular with L(k, i) nonzero only for i an ancestor of
 // k, so each solve is as sparse as the factor. M^-1 itself is Z^T D^-1 Z with Z = L^-T, whose column
 // k is nonzero only at k's ancestors: M^-1(r, k) sums over the ancestors r and k share (the floating
-// base's six for two limbs), about a third of the work of nv solves. The generator traces
-// forward_dynamics_derivatives_before_solves and prints the solves as loops over whole rows
-// (emit_derivatives.hpp): the same factor and sweeps, with M^-1 as the solve of the identity.
+// base's six for two limbs), a fifth of the work of nv solves. The generator traces
+// forward_dynamics_derivatives_before_solves (M^-1 included) and prints the two solves as loops
+// over whole rows (emit_derivatives.hpp): the same factor and sweeps.
 // Same tangent convention for q as rnea_derivatives.hpp.
 #include "mbgen/algorithm/aba.hpp"
 #include "mbgen/algorithm/mass_matrix_factor.hpp"
@@ -34,7 +34,7 @@ void factor_solve(const Model& model, const MatX<S>& factor, const VecX<S>& inve
 /// What comes before the solves with M (the part the generator unrolls; the solves it prints as
 /// loops over whole rows, docs/derivatives.md): d.ddq = qdd at (q, v, tau), d.dddq_dq = -dtau/dq and
 /// d.dddq_dv = -dtau/dv at (q, v, qdd), the factor of M in data.M, its entries of ancestor pairs in
-/// d.factor_entries and 1 / D in d.inverse_pivot. No allocation.
+/// d.factor_entries, 1 / D in d.inverse_pivot, and M^-1 in d.Minv. No allocation.
 template <typename S>
 void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d,
                                                 const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
@@ -47,19 +47,6 @@ void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& dat
     d.inverse_pivot[k] = S(1) / L(k, k);
     for (int i = model.velocity_parent(k); i >= 0; i = model.velocity_parent(i)) d.factor_entries[e++] = L(k, i);
   }
-  d.dddq_dq = -d.dtau_dq;
-  d.dddq_dv = -d.dtau_dv;
-}
-
-/// qdd (d.ddq), dqdd/dq (d.dddq_dq), dqdd/dv (d.dddq_dv) and M^-1 (d.Minv) of the spanning tree at
-/// (q, v, tau); d.tau, d.dtau_dq and d.dtau_dv hold the inverse dynamics' at (q, v, qdd), and
-/// data.M the mass matrix's factor. No allocation.
-template <typename S>
-void forward_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
-                                  const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
-  const int n = model.nv();
-  forward_dynamics_derivatives_before_solves<S>(model, data, d, q, v, tau);
-  const MatX<S>& L = data.M;
   // Z = L^-T column by column (L^T z = e_k from the leaves up touches k's ancestors only), Y = D^-1 Z.
   d.Z.setZero();
   for (int k = 0; k < n; ++k) {
@@ -76,9 +63,20 @@ void forward_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDer
       d.Minv(r, k) = x;
       d.Minv(k, r) = x;
     }
-  for (int k = 0; k < n; ++k) {
-    detail::factor_solve<S>(model, L, d.inverse_pivot, d.dddq_dq.col(k));
-    detail::factor_solve<S>(model, L, d.inverse_pivot, d.dddq_dv.col(k));
+  d.dddq_dq = -d.dtau_dq;
+  d.dddq_dv = -d.dtau_dv;
+}
+
+/// qdd (d.ddq), dqdd/dq (d.dddq_dq), dqdd/dv (d.dddq_dv) and M^-1 (d.Minv) of the spanning tree at
+/// (q, v, tau); d.tau, d.dtau_dq and d.dtau_dv hold the inverse dynamics' at (q, v, qdd), and
+/// data.M the mass matrix's factor. No allocation.
+template <typename S>
+void forward_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
+                                  const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
+  forward_dynamics_derivatives_before_solves<S>(model, data, d, q, v, tau);
+  for (int k = 0; k < model.nv(); ++k) {
+    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dq.col(k));
+    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dv.col(k));
   }
 }
 
