@@ -5,6 +5,7 @@ lines, which ctest's generated.up_to_date keeps current) against docs/control.md
 model-reductions table that mbgen_study writes (docs/study/study.md) against the header's forward
 dynamics. A figure copied by hand goes stale when the generator improves; this fails then."""
 
+import math
 import os
 import re
 import unittest
@@ -51,6 +52,17 @@ class DocsFigures(unittest.TestCase):
         self.assertIsNotNone(m, "docs/study/study.md has no model-reductions row for the whole model")
         self.assertEqual(int(m.group(1)), 46)  # Lola's nv
         self.assertEqual(int(m.group(2)), self.lola["forward_dynamics"])
+
+    def test_derivatives_quotes_the_accuracy_study(self):
+        """docs/derivatives.md's analytic error and best central difference on talos_reduced, against
+        the CSV scripts/derivatives_chart.sh wrote beside its charts."""
+        rows = [line.split(",") for line in read("docs/derivatives/accuracy.csv").splitlines()[1:]]
+        analytic = [float(r[3]) for r in rows if r[0] == "talos" and r[1] == "analytic"]
+        central = [float(r[3]) for r in rows if r[0] == "talos" and r[1] == "central"]
+        doc = read("docs/derivatives.md")
+        self.assertIn(f"exact to {analytic[0]:.1e} (talos", doc)
+        order = round(math.log10(min(central)))  # the doc quotes the order of magnitude
+        self.assertIn(f"with 1e{order} (talos)", doc)
 
 
 if __name__ == "__main__":
