@@ -43,7 +43,6 @@ struct FiniteDifferences {
         out(nv) {}
   const double* run(const Sample& s) {
     const double h = 1e-6;
-    fd(s.q.data(), s.v.data(), s.tau.data(), out.x.data());
     for (int k = 0; k < nv; ++k) {
       e[k] = h;
       integrate<double>(*model, s.q, e, q);
