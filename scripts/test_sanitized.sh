@@ -6,8 +6,8 @@
 #
 #   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (~3x the normal one)
 #   bash scripts/test_sanitized.sh -R Generated
-#   bash scripts/test_sanitized.sh --subset [ctest arguments...]   what CI runs: the runtime's numerics
-#                                                                  and the examples' short runs (label
+#   bash scripts/test_sanitized.sh --subset [ctest arguments...]   the runtime's numerics and the
+#                                                                  examples' short runs (label
 #                                                                  sanitized_subset), and only their build
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,11 +16,8 @@ if [[ ${1:-} == --subset ]]; then
   subset=true
   shift
 fi
-if $subset; then
-  bash scripts/install_deps.sh
-else
-  bash scripts/install_deps.sh --fuzz  # the whole suite includes fuzz.smoke (clang)
-fi
+# The whole suite includes fuzz.smoke, which needs clang; the subset does not.
+if $subset; then bash scripts/install_deps.sh; else bash scripts/install_deps.sh --fuzz; fi
 # -O1 -g1: what ASan's authors recommend (fast enough, line numbers in reports); -O2 -g on the
 # larger robots' generated functions takes far longer to compile and finds nothing more.
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
