@@ -16,7 +16,7 @@ template <typename E, std::size_t N> List<E> list(const E (&array)[N]) { return 
 
 template <typename T> Closure closure_of(const ns::ClosureResult<T>& r) {
   return {static_cast<ClosureStatus>(static_cast<int>(r.status)), r.iterations, static_cast<double>(r.residual),
-          static_cast<double>(r.pivot_ratio)};
+          static_cast<double>(r.pivot_ratio), r.worst_subsystem};
 }
 template <typename T> Closure closure_positions_of(T* q) { return closure_of(ns::closure_positions(q)); }
 template <typename T> Closure close_loops_of(T* q, T* v) { return closure_of(ns::close_loops(q, v)); }
@@ -43,6 +43,7 @@ template <typename T> Functions<T> functions_of() {
   f.task_kinematics = ns::task_kinematics;
   f.closure_positions = closure_positions_of<T>;
   f.close_loops = close_loops_of<T>;
+  f.closure_constraints = ns::closure_constraints;
   f.self_distances = ns::self_distances;
   f.self_distances_near = ns::self_distances_near;
   return f;

@@ -22,6 +22,7 @@ struct Closure {
   int iterations;
   double residual;
   double pivot_ratio;
+  int worst_subsystem;  ///< the sub-system nearest a dead point (-1 without loops)
 };
 
 /// A list of names or indices of the generated header, with its length.
@@ -54,6 +55,7 @@ template <typename T> struct Functions {
   void (*task_kinematics)(const T* q, T* X_WF, T* J, T* com, T* Ag);
   Closure (*closure_positions)(T* q);
   Closure (*close_loops)(T* q, T* v);
+  void (*closure_constraints)(const T* q, const T* v, T* Phi, T* J, T* gamma);
   void (*self_distances)(const T* q, T* distance, T* normal, T* witness, T* jacobian);
   void (*self_distances_near)(const T* q, T threshold, T* distance, int* near, int* num_near, T* normal, T* witness,
                               T* jacobian);
@@ -102,6 +104,9 @@ template <typename T> void inverse_dynamics(const T* q, const T* v, const T* qdd
 }
 template <typename T> void actuator_forces(const T* q, const T* vy, const T* ydd, T* tau_a, T* residual) {
   functions<T>().actuator_forces(q, vy, ydd, tau_a, residual);
+}
+template <typename T> void closure_constraints(const T* q, const T* v, T* Phi, T* J, T* gamma) {
+  functions<T>().closure_constraints(q, v, Phi, J, gamma);
 }
 template <typename T> void mass_matrix(const T* q, T* M) { functions<T>().mass_matrix(q, M); }
 template <typename T> void mass_matrix_factor(const T* M, T* LD) { functions<T>().mass_matrix_factor(M, LD); }

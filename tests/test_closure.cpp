@@ -5,6 +5,7 @@
 // O(eps / h); with h = 1e-6 on unit-sized quantities both stay below 1e-9, so 1e-7 relative.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <random>
 
 #include "test_support.hpp"
@@ -83,6 +84,32 @@ TEST_P(ClosureTest, BiasIsMinusTheRateOfTheConstraintVelocity) {
     const VecX<double> fd = -(plus - minus) / (2 * h);
     EXPECT_LT(relative_error(gamma, fd), 1e-6) << "trial " << trial;
   }
+}
+
+TEST_P(ClosureTest, OnePassGivesTheThreeFunctionsRows) {
+  // closure_constraints runs the kinematics once for the three: the same operations as each
+  // function's own pass, so the same bits, closed pose or not.
+  std::mt19937_64 rng(15);
+  for (int trial = 0; trial < 2; ++trial) {
+    const VecX<double> q = trial == 0 ? d.assembly.q : random_configuration<double>(model, rng);
+    const VecX<double> v = random_vector<double>(model.nv(), rng);
+    const VecX<double> Phi = closure_residual<double>(model, data, q);
+    const MatX<double> Phi_q = closure_jacobian<double>(model, data, q);
+    const VecX<double> gamma = closure_bias<double>(model, data, q, v);
+    Data<double> fresh(model);
+    closure_constraints<double>(model, fresh, q, v);
+    EXPECT_EQ(fresh.Phi, Phi) << "trial " << trial;
+    EXPECT_EQ(fresh.Phi_q, Phi_q) << "trial " << trial;
+    EXPECT_EQ(fresh.gamma, gamma) << "trial " << trial;
+  }
+  // The kept rows: as many as the dependent coordinates, independent at the assembled pose.
+  closure_constraints<double>(model, data, d.assembly.q, VecX<double>::Zero(model.nv()));
+  MatX<double> kept(num_kept_closure_rows(model), model.nv());
+  int r = 0;
+  for (const SubSystem& s : model.subsystems)
+    for (int row : s.rows) kept.row(r++) = data.Phi_q.row(row);
+  EXPECT_EQ(num_kept_closure_rows(model), model.nv() - static_cast<int>(model.structure().independent_v.size()));
+  EXPECT_EQ(Eigen::FullPivLU<MatX<double>>(kept).rank(), kept.rows());
 }
 
 TEST_P(ClosureTest, FloatTwinMatchesDouble) {

@@ -208,7 +208,7 @@ class GeneratedTest : public ::testing::Test {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const int nv = closed.nv(), ny = robot.ny;
     std::vector<T> Tmap(static_cast<std::size_t>(nv * ny)), v_out(nv), g_out(nv), vy_back(ny);
-    double worst[4] = {0, 0, 0, 0};
+    double worst[5] = {0, 0, 0, 0, 0};
     int states = 0;
     for (int trial = 0; trial < 4 * trials && states < trials; ++trial) {
       VecX<double> q, v;
@@ -253,10 +253,15 @@ class GeneratedTest : public ::testing::Test {
         VecX<double> generic = moved;
         const ClosureResult<double> expected = closure_positions<double>(closed, closed_data, generic);
         EXPECT_EQ(result.iterations, expected.iterations);
+        EXPECT_EQ(result.worst_subsystem, expected.worst_subsystem);  // the sub-system nearest a dead point
         EXPECT_LT((widen(closing) - generic).cwiseAbs().maxCoeff(), 1e-12);
       }
       if (!robot.has_loops) {
         EXPECT_EQ(result.iterations, 0);
+        EXPECT_EQ(result.worst_subsystem, -1);
+      } else {
+        EXPECT_GE(result.worst_subsystem, 0);
+        EXPECT_LT(result.worst_subsystem, static_cast<int>(closed.subsystems.size()));
       }
       // close_loops: q closed as closure_positions' is (not the same bits: closure_positions may end
       // with a simplified step, close_loops always with Newton's), in at most one step more or fewer;
@@ -269,6 +274,38 @@ class GeneratedTest : public ::testing::Test {
       worst[3] = std::max(worst[3], (widen(closing_both) - q).cwiseAbs().maxCoeff());
       generated::full_velocities(closing_both.data(), vyt.data(), v_expected.data());
       worst[1] = std::max(worst[1], relative_error(widen(v_both), widen(v_expected)));
+
+      // closure_constraints at the moved (open) pose and any velocities, as the simulator's soft
+      // span reads them: the generic rows SubSystem::rows picks, sub-system by sub-system.
+      const int rows = nv - ny;
+      const VecX<double> v_any = VecX<double>::NullaryExpr(nv, [&] { return unit(rng); });
+      closure_constraints<double>(closed, closed_data, moved, v_any);
+      VecX<double> Phi_expected(rows), gamma_expected(rows);
+      MatX<double> J_expected(rows, nv);
+      int r = 0;
+      for (const SubSystem& s : closed.subsystems)
+        for (int row : s.rows) {
+          Phi_expected[r] = closed_data.Phi[row], gamma_expected[r] = closed_data.gamma[row];
+          J_expected.row(r++) = closed_data.Phi_q.row(row);
+        }
+      ASSERT_EQ(r, rows);
+      std::vector<T> Phi_out(static_cast<std::size_t>(rows) + 1), J_out(static_cast<std::size_t>(rows * nv) + 1),
+          gamma_out(static_cast<std::size_t>(rows) + 1);
+      const std::vector<T> moved_t = narrow<T>(moved), v_any_t = narrow<T>(v_any);
+      generated::closure_constraints(moved_t.data(), v_any_t.data(), Phi_out.data(), J_out.data(), gamma_out.data());
+      VecX<double> Phi_generated(rows), gamma_generated(rows);
+      MatX<double> J_generated(rows, nv);
+      for (int i = 0; i < rows; ++i) {
+        Phi_generated[i] = static_cast<double>(Phi_out[static_cast<std::size_t>(i)]);
+        gamma_generated[i] = static_cast<double>(gamma_out[static_cast<std::size_t>(i)]);
+        for (int c = 0; c < nv; ++c) J_generated(i, c) = static_cast<double>(J_out[static_cast<std::size_t>(i * nv + c)]);
+      }
+      if (rows > 0) {
+        // The residual is ~1e-3 (the move): relative to the scale of the poses' terms (1 m).
+        worst[4] = std::max(worst[4], (Phi_generated - Phi_expected).cwiseAbs().maxCoeff());
+        worst[4] = std::max(worst[4], relative_error(J_generated, J_expected));
+        worst[4] = std::max(worst[4], (gamma_generated - gamma_expected).norm() / std::max(1.0, gamma_expected.norm()));
+      }
     }
     EXPECT_GE(states, trials / 2);
     EXPECT_LT(worst[0], tolerance) << "velocity_map";
@@ -277,8 +314,10 @@ class GeneratedTest : public ::testing::Test {
     // Newton's tolerance 1e-12 (double) bounds |q - closed pose| by ~cond(Phi_z) 1e-12 <= 1e-9;
     // float stops at 2e-6 m of residual: 1e-3 (condition <= 1e3 at these poses, test_topology).
     EXPECT_LT(worst[3], (std::is_same_v<T, double> ? 1e-9 : 1e-3)) << "closure_positions";
+    EXPECT_LT(worst[4], tolerance) << "closure_constraints";
     RecordProperty("velocity_map", std::to_string(worst[0]));
     RecordProperty("closure_positions", std::to_string(worst[3]));
+    RecordProperty("closure_constraints", std::to_string(worst[4]));
   }
 
   const generated::Robot& robot = generated::robot();

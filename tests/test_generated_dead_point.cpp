@@ -7,12 +7,14 @@
 // (default_closure_options<S>, which the simulator's generic backends take) are the generated ones.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "mbgen/algorithm/closure_positions.hpp"
+#include "mbgen/sim/simulator.hpp"
 #include "slider_crank_slider_driven.hpp"
 
 namespace robot = slider_crank_slider_driven;
@@ -82,6 +84,48 @@ template <typename S> void expect_same_options(const mbgen::ClosureOptions& runt
 TEST(GeneratedDeadPoint, RuntimeOptionsPerScalarAreTheGeneratedOnes) {
   expect_same_options(mbgen::default_closure_options<double>(), robot::closure_options_double);
   expect_same_options(mbgen::default_closure_options<float>(), robot::closure_options_float);
+}
+
+// The simulator through the dead point on the generated backend (SimulatorOptions::continuation;
+// the generic backend's run is test_simulator's SimulatorContinuation): the slider pushed by 50 N
+// to its stroke end, where the generated close_loops reports the dead point; the loop turns soft
+// (the generated closure_constraints), the crank turns on, the slider comes back, and every span
+// names rod_slider and closes again.
+TEST(GeneratedDeadPoint, TheSimulatorContinuesThroughIt) {
+  mbgen::sim::SimulatorOptions o;
+  o.step = 1e-3;
+  o.continuation.enabled = true;
+  mbgen::sim::Simulator<robot::Backend> sim{robot::Backend{}, o};
+  std::vector<double> q(robot::nq, 0.0), v(robot::nv, 0.0);
+  const int slider = q_index("slider_joint");
+  ASSERT_EQ(sim.set_state(q.data(), v.data()), 0);  // closed from the slider at 0
+  sim.set_controller([slider](double, const double*, const double*, double* tau) {
+    for (int i = 0; i < robot::nv; ++i) tau[i] = 0;
+    tau[slider] = 50;  // N, towards the stroke end
+  });
+  double slider_max = -1, slider_min_after = 1;
+  bool passed = false;
+  while (sim.time() < 2.0 - 1e-9) {
+    const mbgen::sim::StepStatus s = sim.step();
+    ASSERT_TRUE(mbgen::sim::advanced(s)) << mbgen::sim::to_string(s) << " at " << sim.time();
+    passed = passed || s == mbgen::sim::StepStatus::continued;
+    slider_max = std::max(slider_max, sim.q()[slider]);
+    if (passed) slider_min_after = std::min(slider_min_after, sim.q()[slider]);
+  }
+  const auto& spans = sim.continuation_spans();
+  ASSERT_FALSE(spans.empty());
+  for (const mbgen::sim::ContinuationSpan& span : spans) {
+    EXPECT_EQ(span.subsystem, 0);
+    EXPECT_STREQ(sim.backend().subsystem_name(span.subsystem), "rod_slider");
+    EXPECT_GT(span.steps, 0);
+    EXPECT_LT(span.max_violation, 1e-3);
+  }
+  EXPECT_GT(spans.front().end, spans.front().begin);
+  EXPECT_GT(slider_max, 0.0599);
+  EXPECT_LT(slider_min_after, 0.03) << "the slider comes back";
+  std::printf("[ continue ] generated slider-crank 2 s: %zu spans (first %.4f .. %.4f s), %ld soft steps, largest violation %.3g m\n",
+              spans.size(), spans.front().begin, spans.front().end, sim.statistics().soft_steps,
+              sim.statistics().max_loop_violation);
 }
 
 }  // namespace

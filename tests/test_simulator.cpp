@@ -292,6 +292,19 @@ TEST(SimulatorFloat, GenericBackendSwingsTheFourBarInFloat) {
   EXPECT_LT(data.Phi.cwiseAbs().maxCoeff(), 1e-5);
 }
 
+/// The slider-driven slider-crank at its assembled pose, at rest, its slider pushed by 50 N
+/// towards the stroke end (its dead point at 0.06 m); returns the slider's v index.
+int push_the_slider(Simulator<GenericBackend<double>>& sim, const gen::Description& d) {
+  const VecX<double> v = VecX<double>::Zero(d.model.nv());
+  sim.set_state(d.assembly.q.data(), v.data());
+  const int slider = sim.backend().independent_v_index()[0];
+  sim.set_controller([slider, nv = d.model.nv()](double, const double*, const double*, double* tau) {
+    for (int i = 0; i < nv; ++i) tau[i] = 0;
+    tau[slider] = 50;  // N, towards the stroke end
+  });
+  return slider;
+}
+
 // The slider-crank driven by its slider, pushed to the stroke end (its dead point, slider at
 // 0.06 m): the closure reports it, the simulation stops before it. The step (1 ms) carries the
 // slider past the stroke end, where no closed pose exists: Newton stops at the dead point
@@ -305,13 +318,7 @@ TEST(SimulatorFailure, SliderCrankThroughItsDeadPointLosesTheClosure) {
   SimulatorOptions o;
   o.step = 1e-3;
   Simulator<GenericBackend<double>> sim{GenericBackend<double>(d.model), o};
-  const VecX<double> v = VecX<double>::Zero(d.model.nv());
-  sim.set_state(d.assembly.q.data(), v.data());
-  const int slider = sim.backend().independent_v_index()[0];
-  sim.set_controller([slider, nv = d.model.nv()](double, const double*, const double*, double* tau) {
-    for (int i = 0; i < nv; ++i) tau[i] = 0;
-    tau[slider] = 50;  // N, towards the stroke end
-  });
+  const int slider = push_the_slider(sim, d);
   EXPECT_EQ(sim.run_until(2.0), StepStatus::closure_lost);
   EXPECT_TRUE(sim.closure_status() == static_cast<int>(ClosureStatus::Singular) ||
               sim.closure_status() == static_cast<int>(ClosureStatus::NotConverged))
@@ -321,6 +328,150 @@ TEST(SimulatorFailure, SliderCrankThroughItsDeadPointLosesTheClosure) {
   EXPECT_TRUE(sim.q().allFinite() && sim.v().allFinite());
   EXPECT_LT(sim.q()[slider], 0.06);
   EXPECT_GT(sim.q()[slider], 0.05);
+}
+
+// The same push with the continuation on (SimulatorOptions::continuation): the step that cannot
+// close the loop is taken again with the loop soft, the run goes on through the dead point, the
+// crank turns on and the slider comes back (the 50 N is a conservative force: it returns to its
+// start with the crank a turn further, and goes out again). Every span is reported: it names
+// rod_slider, it closes again, and its largest violation is the largest |Phi| of the kept rows
+// at its accepted states, which the test measures itself with the runtime's closure_residual.
+// Outside the spans the loop is closed as ever (1e-11, the projection's tolerance).
+TEST(SimulatorContinuation, SliderCrankRunsThroughItsDeadPoint) {
+  const gen::Description d = load_mechanism(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf",
+                                            MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
+  SimulatorOptions o;
+  o.step = 1e-3;
+  o.continuation.enabled = true;
+  Simulator<GenericBackend<double>> sim{GenericBackend<double>(d.model), o};
+  const int slider = push_the_slider(sim, d);
+  Data<double> data(d.model);
+  const SubSystem& sub = d.model.subsystems.at(0);
+  const auto kept_violation = [&] {
+    const VecX<double>& Phi = closure_residual<double>(d.model, data, sim.q());
+    double worst = 0;
+    for (int row : sub.rows) worst = std::max(worst, std::abs(Phi[row]));
+    return worst;
+  };
+  double soft_violation = 0, exact_violation = 0, slider_max = -1, slider_min_after = 1;
+  long soft_steps = 0;
+  bool passed = false;
+  std::size_t soft_allocations = 0;
+  while (sim.time() < 2.0 - 1e-9) {
+    const bool first = sim.time() == 0;  // the first step warms up (as in SimulatorAllocation)
+    MallocGuard guard;
+    const StepStatus s = sim.step();
+    // No step allocates: the ones that enter a span, the soft ones, the one that leaves.
+    if (!first) soft_allocations += guard.count();
+    ASSERT_TRUE(sim::advanced(s)) << sim::to_string(s) << " at " << sim.time();
+    const double x = sim.q()[slider];
+    slider_max = std::max(slider_max, x);
+    if (s == StepStatus::continued) {
+      ++soft_steps;
+      passed = true;
+      if (sim.in_continuation()) soft_violation = std::max(soft_violation, kept_violation());
+    } else {
+      exact_violation = std::max(exact_violation, kept_violation());
+    }
+    if (passed) slider_min_after = std::min(slider_min_after, x);
+  }
+  EXPECT_EQ(soft_allocations, 0u) << "a step allocated";
+  const auto& spans = sim.continuation_spans();
+  ASSERT_FALSE(spans.empty());
+  EXPECT_EQ(sim.statistics().continuation_spans, static_cast<long>(spans.size()));
+  EXPECT_EQ(sim.statistics().soft_steps, soft_steps);
+  double reported = 0;
+  for (const sim::ContinuationSpan& span : spans) {
+    EXPECT_EQ(span.subsystem, 0);
+    EXPECT_FALSE(span.diverged);
+    EXPECT_STREQ(sim.backend().subsystem_name(span.subsystem), "rod_slider");
+    EXPECT_GT(span.steps, 0);
+    if (&span != &spans.back() || !sim.in_continuation()) {
+      EXPECT_GT(span.end, span.begin);  // closed again
+    }
+    reported = std::max(reported, span.max_violation);
+    std::printf("[ continue ] span %.4f .. %.4f s, %ld soft steps, largest violation %.3g m\n", span.begin, span.end, span.steps,
+                span.max_violation);
+  }
+  // The last soft step of a span closes the loop (its violation is measured before): the test's
+  // own maximum over the steps still soft is at most the reported one, which the exit step adds.
+  EXPECT_LE(soft_violation, reported);
+  EXPECT_EQ(sim.statistics().max_loop_violation, reported);
+  EXPECT_GT(reported, 0);
+  EXPECT_LT(reported, 1e-5);  // m: soft, not loose (1.5e-6 m)
+  // The 50 N is conservative: no energy is gained, and the spans' softness loses little of the
+  // 3 J each stroke turns over (5e-3 J in 2 s, 21 spans).
+  EXPECT_LT(sim.energy_balance(), 1e-3);
+  EXPECT_GT(sim.energy_balance(), -0.02);
+  EXPECT_LT(exact_violation, 1e-10);
+  EXPECT_LE(slider_max, 0.06 + reported + 1e-6);  // the stroke end, within the loop's give
+  EXPECT_GT(slider_max, 0.0599);
+  EXPECT_LT(slider_min_after, 0.03) << "the slider comes back";
+  std::printf("[ continue ] slider-crank 2 s: %zu spans, %ld soft steps of %ld, slider back to %.4f m, energy balance %.3g J\n",
+              spans.size(), soft_steps, sim.statistics().accepted_steps, slider_min_after, sim.energy_balance());
+}
+
+// Each option of the continuation does what docs/simulation.md says, on the same push for 0.3 s
+// (three dead points): softer rows (t_c 10 ms, d 0.99) open the loop wider and lose more energy;
+// entering only where Newton fails (enter_pivot_ratio 0) lets the last exact step before the first
+// dead point take out over a joule (0.06 s, past it); max_spans bounds the list, not the count.
+TEST(SimulatorContinuation, OptionsChangeWhatTheySay) {
+  const gen::Description d = load_mechanism(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf",
+                                            MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
+  struct Run {
+    double violation, energy;
+    long spans;
+    std::size_t listed;
+  };
+  const auto run = [&](const sim::ContinuationOptions& c, double duration = 0.3) {
+    SimulatorOptions o;
+    o.step = 1e-3;
+    o.continuation = c;
+    o.continuation.enabled = true;
+    Simulator<GenericBackend<double>> sim{GenericBackend<double>(d.model), o};
+    push_the_slider(sim, d);
+    EXPECT_EQ(sim.run_until(duration), StepStatus::continued);
+    return Run{sim.statistics().max_loop_violation, sim.energy_balance(), sim.statistics().continuation_spans,
+               sim.continuation_spans().size()};
+  };
+  const sim::ContinuationOptions defaults;
+  sim::ContinuationOptions softer, late, short_list;
+  softer.time_constant = 0.01, softer.impedance = 0.99;
+  late.enter_pivot_ratio = 0;
+  short_list.max_spans = 1;
+  const Run a = run(defaults), b = run(softer), c = run(late, 0.06), e = run(short_list), a_first = run(defaults, 0.06);
+  std::printf("[ continue ] 0.3 s: default %ld spans, violation %.2g m, energy %.3g J; softer %.2g m, %.3g J; entering late %.3g J\n",
+              a.spans, a.violation, a.energy, b.violation, b.energy, c.energy);
+  EXPECT_GE(a.spans, 3);
+  EXPECT_GT(b.violation, 5 * a.violation);
+  EXPECT_LT(b.energy, 2 * a.energy);
+  EXPECT_LT(c.energy, -1.0);
+  EXPECT_GT(a_first.energy, -0.05);
+  EXPECT_GT(a.energy, -0.05);
+  EXPECT_EQ(a.listed, static_cast<std::size_t>(a.spans));
+  EXPECT_EQ(e.spans, a.spans);
+  EXPECT_EQ(e.listed, 1u);
+}
+
+// The exact behaviour stays the default, and the option changes nothing where no span is needed.
+TEST(SimulatorContinuation, OffByDefault) {
+  EXPECT_FALSE(SimulatorOptions{}.continuation.enabled);
+  const gen::Description d = load_mechanism(MBGEN_SOURCE_DIR "/robots/mechanisms/four_bar.urdf",
+                                            MBGEN_SOURCE_DIR "/robots/mechanisms/four_bar.yaml");
+  SimulatorOptions o;
+  o.continuation.enabled = true;
+  o.continuation.max_spans = 3;
+  Simulator<GenericBackend<double>> sim{GenericBackend<double>(d.model), o};
+  const VecX<double> v = VecX<double>::Zero(d.model.nv());
+  ASSERT_EQ(sim.set_state(d.assembly.q.data(), v.data()), 0);
+  // A regular mechanism swinging under gravity never needs a span: the same bits as without.
+  Simulator<GenericBackend<double>> exact{GenericBackend<double>(d.model), SimulatorOptions{}};
+  exact.set_state(d.assembly.q.data(), v.data());
+  EXPECT_EQ(sim.run_until(0.2), StepStatus::ok);
+  EXPECT_EQ(exact.run_until(0.2), StepStatus::ok);
+  EXPECT_EQ(sim.q(), exact.q());
+  EXPECT_TRUE(sim.continuation_spans().empty());
+  EXPECT_EQ(sim.statistics().soft_steps, 0);
 }
 
 // Dormand-Prince rejects steps where the contact switches on, and stops with step_rejected when

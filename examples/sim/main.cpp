@@ -47,6 +47,10 @@ constexpr const char* kUsage = R"(usage: mbgen_sim drop|push|swing [options]
                        and a fall runs to its end instead of stopping when the CoM is half down
                        (the generated backend has the scene's contacts only: generic by default)
   --no-joint-limits    no end stops at the joints' ranges (as `scene: joint_limits: false`)
+  --continue-through-dead-points
+                       where a linkage reaches a dead point (its loop cannot be closed), go on with
+                       the loops soft until they close again, and report each span (default: stop
+                       there with closure_lost; docs/simulation.md, "Through a dead point")
   --out DIR            where the CSV and PNG go (default .)
   --no-plot            CSV only
 )";
@@ -109,6 +113,7 @@ int main(int argc, char** argv) {
     else if (a == "--no-projection") o.simulator.project = false;
     else if (a == "--whole-body-contact") whole_body = true;
     else if (a == "--no-joint-limits") joint_limits = false;
+    else if (a == "--continue-through-dead-points") o.simulator.continuation.enabled = true;
     else if (a == "--out") out_dir = value();
     else if (a == "--no-plot") plot = false;
     else usage_error("unknown option '" + a + "'");
@@ -194,6 +199,14 @@ int main(int argc, char** argv) {
   if (r.stops > 0)
     fmt::print("  end stops: {} ({} touched), deepest {:.2g} rad (or m), {}\n", r.stops, r.stops_touched, r.statistics.max_stop_penetration,
                r.deepest_stop.empty() ? "none touched" : "at " + r.deepest_stop);
+  if (r.statistics.continuation_spans > 0) {
+    fmt::print("  continued through {} dead-point span(s) with the loops soft: {} soft steps, largest loop violation {:.2g} m\n",
+               r.statistics.continuation_spans, r.statistics.soft_steps, r.statistics.max_loop_violation);
+    for (const sim::ContinuationSpan& span : r.spans)
+      fmt::print("    {:.4f} .. {} s in {}: {} steps, largest violation {:.2g} m\n", span.begin,
+                 span.end >= 0 ? fmt::format("{:.4f}", span.end) : std::string("(open)"), span_subsystem(span, r), span.steps,
+                 span.max_violation);
+  }
   if (r.status == sim::StepStatus::closure_lost)
     fmt::print("  the loops could not be closed: {}, in the sub-system of {}\n",
                r.closure_status == 2 ? "a linkage at (or too near) a dead point" : "Newton did not converge", r.closure_subsystem);
@@ -216,5 +229,5 @@ int main(int argc, char** argv) {
     if (std::system(command.c_str()) == 0) fmt::print("  plot: {}\n", png);
     else fmt::print(stderr, "mbgen_sim: gnuplot failed (apt-get install gnuplot-nox); the CSV is written\n");
   }
-  return r.status == sim::StepStatus::ok ? (r.fell ? 4 : 0) : 3;
+  return sim::advanced(r.status) ? (r.fell ? 4 : 0) : 3;
 }

@@ -159,7 +159,7 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
     result.status = sim.run_until(t_next);
     cpu += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sample();
-    if (result.status != sim::StepStatus::ok || t_next >= total) break;
+    if (!sim::advanced(result.status) || t_next >= total) break;
     // A fall ends the scenario: the CoM below half its start height (only the contact links
     // touch the ground; the rest of the robot would sink through it).
     if (o.stop_when_fallen && contact && b.floating_base() && result.final_com_height < 0.5 * com_start) {
@@ -184,6 +184,12 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   result.statistics = sim.statistics();
   result.closure_status = sim.closure_status();
   if (sim.closure_subsystem() >= 0) result.closure_subsystem = sim.backend().subsystem_name(sim.closure_subsystem());
+  result.spans = sim.continuation_spans();
+  for (const sim::ContinuationSpan& span : result.spans)
+    while (span.subsystem >= static_cast<int>(result.subsystem_names.size()))
+      result.subsystem_names.push_back(sim.backend().subsystem_name(static_cast<int>(result.subsystem_names.size())));
+  // The run's status: continued if any span was soft, though the last chunk ended exact.
+  if (result.status == sim::StepStatus::ok && result.statistics.continuation_spans > 0) result.status = sim::StepStatus::continued;
   return result;
 }
 

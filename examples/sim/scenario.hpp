@@ -2,6 +2,7 @@
 // The simulation scenarios of `mbgen_sim` (docs/simulation.md): what each one sets up, and the
 // options the command line gives them.
 #include <string>
+#include <vector>
 
 #include "load/description.hpp"
 #include "mbgen/sim/simulator.hpp"
@@ -53,6 +54,14 @@ struct ScenarioResult {
   std::string deepest_stop;         ///< the joint whose stop was entered deepest
   int closure_status = 0;           ///< the last closure_positions status (1 not converged, 2 singular)
   std::string closure_subsystem;    ///< the loop closures of the sub-system it failed in
+  std::vector<sim::ContinuationSpan> spans;  ///< the continuation spans (--continue-through-dead-points)
+  std::vector<std::string> subsystem_names;  ///< the backend's sub-systems' names, for the spans
 };
+
+/// The loop closures of the sub-system a span began in ("a diverged step" when it began so).
+inline std::string span_subsystem(const sim::ContinuationSpan& span, const ScenarioResult& r) {
+  if (span.subsystem < 0 || span.subsystem >= static_cast<int>(r.subsystem_names.size())) return "a diverged step";
+  return r.subsystem_names[static_cast<std::size_t>(span.subsystem)];
+}
 
 }  // namespace mbgen::simulate

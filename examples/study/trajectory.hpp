@@ -20,7 +20,8 @@ struct Trajectory {
   double cpu_seconds = 0;          ///< process CPU time spent in the simulator's steps
   double energy_balance = 0;       ///< J at the end: energy - energy(0) - work of the forces
   sim::SimulationStatistics statistics;
-  bool finished(double duration) const { return status == sim::StepStatus::ok && end_time >= duration - 1e-9; }
+  /// Ran to its end: ok, or continued through dead points (the continuation's spans).
+  bool finished(double duration) const { return sim::advanced(status) && end_time >= duration - 1e-9; }
 };
 
 inline double cpu_now() {
@@ -44,13 +45,16 @@ Trajectory run_trajectory(Backend backend, Backend controller_backend, const gen
   }
   out.q.push_back(sim.q().template cast<double>());
   const long samples = std::lround(duration / sample_period);
+  bool continued = false;
   for (long k = 1; k <= samples; ++k) {
     const double start = cpu_now();
     out.status = sim.run_until(static_cast<double>(k) * sample_period);
     out.cpu_seconds += cpu_now() - start;
-    if (out.status != sim::StepStatus::ok) break;
+    if (!sim::advanced(out.status)) break;
+    continued = continued || out.status == sim::StepStatus::continued;
     out.q.push_back(sim.q().template cast<double>());
   }
+  if (continued && out.status == sim::StepStatus::ok) out.status = sim::StepStatus::continued;
   out.end_time = sim.time();
   out.energy_balance = static_cast<double>(sim.energy_balance());
   out.statistics = sim.statistics();

@@ -155,6 +155,15 @@ void frame_jacobians(const double* q, double* J);
 /// Cost: 101 operations: 42 additions/subtractions, 44 multiplications, 3 divisions, 0 negations, 12 sin/cos, 0 square roots.
 void center_of_mass(const double* q, double* com);
 
+/// The kept closure rows in full coordinates at (q, v): residual, Jacobian and bias with J qdd = gamma (runtime: closure_constraints), sub-system by sub-system; what a solver that keeps the loops by multipliers reads (the simulator's soft span through a dead point). No rows without loops.
+/// in  q: [8] joint positions
+/// in  v: [8] joint velocities (every entry is read)
+/// out Phi: [6] kept closure rows, sub-system by sub-system
+/// out J: [6 x 8, row-major] their Jacobian, joint_names_full columns
+/// out gamma: [6] bias: J qdd = gamma keeps the rows' velocities constant
+/// Cost: 648 operations: 256 additions/subtractions, 352 multiplications, 0 divisions, 28 negations, 12 sin/cos, 0 square roots.
+void closure_constraints(const double* q, const double* v, double* Phi, double* J, double* gamma);
+
 /// Centre of each contact sphere (contact_sphere_names; the vertices of the SSVs of the scene's contact links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.
 /// in  q: [8] joint positions
 /// out p: [0 x 3] centres, world
@@ -196,6 +205,7 @@ template <typename S> struct ClosureResult {
   S pivot_ratio;    ///< smallest / largest |R_ii| of Phi_z's QR, the worst sub-system (1 without loops); of the last factorisation, one or two steps before q when the final iterate was checked by its residual alone
   S relative_pivot_ratio;  ///< each sub-system's pivot ratio over its ratio at the assembled pose, the worst (1 without loops)
   int subsystem;    ///< a failure's sub-system (0-based; Backend::subsystem_name names it): the worst relative pivot ratio when singular, the largest residual when not converged; -1 when converged
+  int worst_subsystem;  ///< the sub-system of relative_pivot_ratio (the nearest a dead point), converged or not; -1 without loops
 };
 /// Newton settings, those of the runtime's ClosureOptions (mbgen/algorithm/closure_positions.hpp).
 template <typename S> struct ClosureOptions {
@@ -280,13 +290,23 @@ template <typename S> struct BasicBackend {
   }
   /// closure_positions, then (when it converged) v's dependent entries from its independent ones
   /// at the closed q, in one pass (close_loops), closing to `tolerance` or the scalar's own
-  /// default tolerance, the larger; the same status and sub-system.
-  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr) const {
+  /// default tolerance, the larger; the same status and sub-system, and if asked the worst
+  /// sub-system's pivot ratio relative to its assembled pose's, and which sub-system that is.
+  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr, double* relative_pivot_ratio = nullptr,
+                  int* worst_subsystem = nullptr) const {
     ClosureOptions<S> options = default_closure_options(S());
     if (S(tolerance) > options.tolerance) options.tolerance = S(tolerance);
     const ClosureResult<S> r = ankle_2dof::close_loops(q, v, options);
     if (subsystem) *subsystem = r.subsystem;
+    if (relative_pivot_ratio) *relative_pivot_ratio = static_cast<double>(r.relative_pivot_ratio);
+    if (worst_subsystem) *worst_subsystem = r.worst_subsystem;
     return static_cast<int>(r.status);
+  }
+  /// The sub-systems' kept closure rows (nv - ny) in full coordinates at (q, v): residual,
+  /// Jacobian (rows x nv, row-major) and bias (closure_constraints): the simulator's soft span.
+  int num_closure_rows() const { return ankle_2dof::nv - ankle_2dof::ny; }
+  void closure_constraints(const S* q, const S* v, S* Phi, S* J, S* gamma) const {
+    ankle_2dof::closure_constraints(q, v, Phi, J, gamma);
   }
   /// Sub-system k's loop closures, as the description names them.
   const char* subsystem_name(int k) const { static constexpr const char* names[] = {"ankle_lat, ankle_med"};

@@ -3294,13 +3294,13 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
   // A non-finite coordinate is no pose, closed or not. The step reads only the loops' own
   // coordinates, where Newton finds a NaN and names its sub-system; not one off the loops.
   for (int i = 0; i < num_off_loop_q; ++i)
-    if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1};
+    if (!std::isfinite(q[off_loop_q[i]])) return {ClosureStatus::not_converged, 0, S(NAN), S(1), S(1), -1, -1};
   S residual[R], pivots[R], step[R], vz[kVelocities ? R : 1], factor[kVelocities ? 1 : factor_size];
   // The step's values that depend only on what the loop does not move (q's independent entries; v).
   S invariants[kVelocities ? closure_newton_step_velocities_setup_size : closure_newton_step_setup_size];
   if constexpr (kVelocities) closure_newton_step_velocities_setup<S>(q, v, invariants);
   else closure_newton_step_setup<S>(q, invariants);
-  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1};
+  ClosureResult<S> result{ClosureStatus::converged, 0, S(0), S(1), S(1), -1, -1};
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
   bool factor_is_last_steps = false;  // factor holds the Newton step's just taken
@@ -3354,6 +3354,7 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
       const S relative = ratio / nominal_pivot_ratio<S>[k];
       if (!(relative >= result.relative_pivot_ratio)) result.relative_pivot_ratio = relative, worst_relative = k;
     }
+    result.worst_subsystem = worst_relative;
     if (!finite) return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
     if (!(result.pivot_ratio >= options.singular_tolerance))
       return result.status = ClosureStatus::singular, result.subsystem = worst_relative, result;

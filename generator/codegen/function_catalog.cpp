@@ -114,6 +114,11 @@ const std::vector<GeneratedFunction>& function_catalog() {
     row("closure_positions", Batch::no, "closes the loops: the dependent coordinates from the independent ones (Newton)", {});
     r.back().always = true;
     r.back().writer = Writer::closure_positions;
+    // The loops in full coordinates, for a solver that keeps them by multipliers: the simulator's
+    // soft span through a dead point (docs/simulation.md). No rows without loops.
+    row("closure_constraints", Batch::no, "the kept closure rows in full coordinates: residual, Jacobian and bias",
+         {kSimulationOutput});
+    r.back().trace = [](const TraceInputs& in) { return trace_closure_constraints(in.model); };
     row("self_distances", Batch::no, "distances, witness points and Jacobians of the scene's SSV pairs", {"distances"});
     r.back().writer = Writer::self_distances;
     row("contact_points", Batch::no, "centres and Jacobians of the ground-contact spheres", {kSimulationOutput});

@@ -96,6 +96,31 @@ TracedFunction trace_closure_residual(const Model& model) {
   return f;
 }
 
+TracedFunction trace_closure_constraints(const Model& model) {
+  const int r = num_dependent(model), nv = model.nv();
+  TracedFunction f;
+  f.name = "closure_constraints";
+  f.doc = "The kept closure rows in full coordinates at (q, v): residual, Jacobian and bias with J qdd = gamma "
+          "(runtime: closure_constraints), sub-system by sub-system; what a solver that keeps the loops by "
+          "multipliers reads (the simulator's soft span through a dead point). No rows without loops.";
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities (every entry is read)")};
+  f.outputs = {{"Phi", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)},
+               {"J", r * nv, fmt::format("[{} x {}, row-major] their Jacobian, joint_names_full columns", r, nv)},
+               {"gamma", r, fmt::format("[{}] bias: J qdd = gamma keeps the rows' velocities constant", r)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  closure_constraints<Sym>(model, data, inputs(0, model.nq()), inputs(1, nv));
+  std::vector<int> Phi, J, gamma;
+  for (const SubSystem& sub : model.subsystems)
+    for (int row : sub.rows) {
+      Phi.push_back(data.Phi[row].id());
+      gamma.push_back(data.gamma[row].id());
+      for (int c = 0; c < nv; ++c) J.push_back(data.Phi_q(row, c).id());
+    }
+  f.output_ids = {Phi, J, gamma};
+  return f;
+}
+
 TracedFunction trace_velocity_map(const Model& model) {
   const int ny = num_independent(model);
   TracedFunction f;

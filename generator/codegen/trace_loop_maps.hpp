@@ -29,6 +29,9 @@ TracedFunction trace_closure_newton_step(const Model& model, bool with_velocitie
 /// closure_residual(q, residual): the kept closure rows at q alone (the step's residual output,
 /// the same expressions): the generated closure_positions checks a predicted final iterate with it.
 TracedFunction trace_closure_residual(const Model& model);
+/// closure_constraints(q, v, Phi, J, gamma): the kept closure rows (num_dependent(model), no
+/// rows without loops) in full coordinates: residual, Jacobian (rows x nv, row-major), bias.
+TracedFunction trace_closure_constraints(const Model& model);
 /// velocity_map(q, T): T (nv x ny, row-major) with v = T vy.
 TracedFunction trace_velocity_map(const Model& model);
 /// full_velocities(q, vy, v): v = T vy.

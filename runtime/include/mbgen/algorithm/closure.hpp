@@ -307,4 +307,23 @@ const VecX<S>& closure_bias(const Model& model, Data<S>& data, const ConstVecRef
   return data.gamma;
 }
 
+/// Residual, Jacobian and bias in one pass of the kinematics (data.Phi, data.Phi_q, data.gamma as
+/// the three functions above write them): the loops in full coordinates, as a solver that keeps
+/// them by multipliers reads them (the simulator's soft span through a dead point).
+template <typename S>
+void closure_constraints(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
+  forward_kinematics<S>(model, data, q);
+  detail::residual_from_placements<S>(model, data);
+  detail::jacobian_from_placements<S>(model, data);
+  detail::bias_from_placements<S>(model, data, v.data());
+}
+
+/// How many closure rows the sub-systems keep (SubSystem::rows, the rank of each): the rows of
+/// closure_constraints a full-coordinate solver needs, independent at the assembled pose.
+inline int num_kept_closure_rows(const Model& model) {
+  int n = 0;
+  for (const SubSystem& s : model.subsystems) n += s.rank();
+  return n;
+}
+
 }  // namespace mbgen

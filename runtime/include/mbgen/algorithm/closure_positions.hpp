@@ -99,6 +99,9 @@ template <typename S> struct ClosureResult {
   /// ratio when Singular, the largest (or a non-finite) kept residual when NotConverged; -1 when
   /// Converged, or when a coordinate off the loops is not finite. The generated closure_positions reports the same.
   int subsystem = -1;
+  /// The sub-system of relative_pivot_ratio (the nearest a dead point), converged or not; -1
+  /// without loops. The generated closure_positions reports the same.
+  int worst_subsystem = -1;
 };
 
 namespace detail {
@@ -280,6 +283,7 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
     const bool finite = detail::kept_residual<S>(model, data, result.residual);
     result.pivot_ratio = subsystem_pivot_ratio<S>(model, data);
     result.relative_pivot_ratio = subsystem_relative_pivot_ratio<S>(model, data);
+    result.worst_subsystem = model.subsystems.empty() ? -1 : detail::worst_pivot_subsystem<S>(model, data);
     const auto fail = [&](ClosureStatus status) {
       result.status = status;
       result.subsystem = status == ClosureStatus::Singular ? detail::worst_pivot_subsystem<S>(model, data)

@@ -17,11 +17,18 @@
 //   int closure_positions(q, subsystem = nullptr) closes the loops in place: 0 converged,
 //                                                 1 not converged, 2 singular (dead point); the
 //                                                 failing sub-system to *subsystem (-1 if none)
-//   int close_loops(q, v, tol, subsystem = nullptr)  closure_positions to the residual tol (or the
+//   int close_loops(q, v, tol, subsystem = nullptr, relative_pivot_ratio = nullptr, worst_subsystem = nullptr)
+//                                                 closure_positions to the residual tol (or the
 //                                                 scalar's default, the larger), then (converged)
 //                                                 v's dependent entries from its independent ones
 //                                                 at the closed q, in one pass: the simulator's
-//                                                 projection
+//                                                 projection; the worst sub-system's pivot ratio
+//                                                 relative to its assembled pose's (double*), and
+//                                                 which sub-system that is (int*)
+//   int num_closure_rows()                        nv - ny: the sub-systems' kept rows
+//   void closure_constraints(q, v, Phi, J, gamma) those rows in full coordinates (J: rows x nv,
+//                                                 row-major; J qdd = gamma): the simulator's soft
+//                                                 span through a dead point
 //   const char* subsystem_name(k)                 sub-system k's loop closures
 //   void full_velocities(q, vy, v)                v = T vy
 //   void velocity_map(q, T)                       nv x ny, row-major
@@ -161,13 +168,31 @@ template <typename S> class ModelBackend {
     if (subsystem) *subsystem = r.subsystem;
     return static_cast<int>(r.status);
   }
-  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr) {
+  int close_loops(S* q, S* v, double tolerance, int* subsystem = nullptr, double* relative_pivot_ratio = nullptr,
+                  int* worst_subsystem = nullptr) {
     Eigen::Map<VecX<S>> qm(q, nq()), vm(v, nv());
     ClosureOptions options = closure_;
     options.tolerance = std::max(options.tolerance, tolerance);
     const ClosureResult<S> r = mbgen::close_loops<S>(model_, data_, qm, vm, options);
     if (subsystem) *subsystem = r.subsystem;
+    if (relative_pivot_ratio) *relative_pivot_ratio = static_cast<double>(r.relative_pivot_ratio);
+    if (worst_subsystem) *worst_subsystem = r.worst_subsystem;
     return static_cast<int>(r.status);
+  }
+  int num_closure_rows() const { return nv() - ny(); }
+  /// The sub-systems' kept closure rows (SubSystem::rows, sub-system by sub-system) at (q, v), in
+  /// full coordinates: residual Phi, Jacobian J (rows x nv, row-major) and bias gamma with
+  /// J qdd = gamma (closure_constraints).
+  void closure_constraints(const S* q, const S* v, S* Phi, S* J, S* gamma) {
+    mbgen::closure_constraints<S>(model_, data_, ConstMap<S>(q, nq()), ConstMap<S>(v, nv()));
+    int r = 0;
+    for (const SubSystem& s : model_.subsystems)
+      for (int row : s.rows) {
+        Phi[r] = data_.Phi[row];
+        gamma[r] = data_.gamma[row];
+        RowMajorMap<S>(J + static_cast<std::ptrdiff_t>(r) * nv(), 1, nv()) = data_.Phi_q.row(row);
+        ++r;
+      }
   }
   /// Sub-system k's loop closures, comma-separated (as the generated Backend names them).
   const char* subsystem_name(int k) const { return subsystem_names_[static_cast<std::size_t>(k)].c_str(); }

@@ -14,7 +14,11 @@
 // compliant, in the ground's law, their torques at every stage, their springs in the energy.
 //
 // Each step returns a status and never leaves a NaN in the state: a failing step restores the
-// state it started from, and the simulation is meant to stop there (run_until() does).
+// state it started from, and the simulation is meant to stop there (run_until() does). With
+// SimulatorOptions::continuation on, a step whose loops cannot be closed (a linkage's dead point)
+// is taken again with the loops as soft constraints in full coordinates (sim/soft_loops.hpp), and
+// the run goes on through a continuation span, its steps' status `continued`, until the loops
+// close again well away from the dead point; each span is reported (continuation_spans()).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +34,7 @@
 #include "mbgen/sim/contact.hpp"
 #include "mbgen/sim/integrators.hpp"
 #include "mbgen/sim/joint_stops.hpp"
+#include "mbgen/sim/soft_loops.hpp"
 #include "mbgen/sim/state_space.hpp"
 
 namespace mbgen::sim {
@@ -41,7 +46,11 @@ enum class StepStatus {
   closure_lost,    ///< closure_positions did not converge, or a linkage reached a dead point
   diverged,        ///< a non-finite state or joint force, or the energy grew beyond its bound
   penetration,     ///< a contact sphere sank deeper than max_penetration
+  continued,       ///< the step was taken with the loops soft, in a continuation span (SimulatorOptions::continuation)
 };
+
+/// Whether a step's status means it was taken (ok, or continued through a dead point).
+inline bool advanced(StepStatus s) { return s == StepStatus::ok || s == StepStatus::continued; }
 
 inline const char* to_string(StepStatus s) {
   switch (s) {
@@ -50,6 +59,7 @@ inline const char* to_string(StepStatus s) {
     case StepStatus::closure_lost: return "closure_lost";
     case StepStatus::diverged: return "diverged";
     case StepStatus::penetration: return "penetration";
+    case StepStatus::continued: return "continued";
   }
   return "unknown";
 }
@@ -82,6 +92,10 @@ struct SimulatorOptions {
   /// The end stops at the backend's joint ranges (on by default; `scene: joint_limits`). Taken at
   /// set_state, where each default stiffness is fixed from the start pose's inertia.
   JointStopParameters joint_stops;
+  /// Through a dead point: off by default (the step ends with closure_lost); on, the loops turn
+  /// soft until they can be closed again (sim/soft_loops.hpp). Needs a backend with
+  /// closure_constraints.
+  ContinuationOptions continuation;
 };
 
 /// What a run did, for the study and the reports.
@@ -90,7 +104,17 @@ struct SimulationStatistics {
   double max_penetration = 0;    ///< m, over the accepted states
   double max_stop_penetration = 0;  ///< rad or m past a joint's range, over the accepted states
   double last_step = 0;          ///< s
+  long soft_steps = 0;           ///< accepted steps with the loops soft (continuation spans)
+  long continuation_spans = 0;   ///< spans begun (continuation_spans() keeps the first max_spans)
+  double max_loop_violation = 0; ///< m or rad: the largest |Phi| of the kept closure rows over the spans
 };
+
+namespace detail {
+template <typename B, typename = void> struct has_closure_constraints : std::false_type {};
+template <typename B>
+struct has_closure_constraints<B, std::void_t<decltype(std::declval<B&>().closure_constraints(nullptr, nullptr, nullptr, nullptr, nullptr))>>
+    : std::true_type {};
+}  // namespace detail
 
 template <typename Backend> class Simulator {
  public:
@@ -111,6 +135,7 @@ template <typename Backend> class Simulator {
     stops_.reserve(backend_.num_limited_joints());
     if (backend_.floating_base()) q_[6] = S(1);
     step_ = options_.step;
+    if constexpr (detail::has_closure_constraints<Backend>::value) soft_ = SoftLoops<S>(nv_, backend_.num_closure_rows());
     const double* g = backend_.gravity();
     gravity_norm_ = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   }
@@ -126,6 +151,14 @@ template <typename Backend> class Simulator {
     control_ticks_ = 0;
     work_ = 0;
     int closure = 0;
+    in_span_ = false;
+    spans_.clear();
+    if (options_.continuation.enabled) {
+      if (!detail::has_closure_constraints<Backend>::value)
+        throw std::invalid_argument("Simulator: continuation through a dead point needs the backend's closure_constraints "
+                                    "(regenerate the robot: the `simulation` output brings it)");
+      spans_.reserve(static_cast<std::size_t>(std::max(0, options_.continuation.max_spans)));
+    }
     if (options_.project) closure = project();
     configure_stops();
     adopt_contact_exponent();
@@ -162,6 +195,11 @@ template <typename Backend> class Simulator {
   int closure_status() const { return closure_status_; }
   /// The sub-system that closure failed in (Backend::subsystem_name(k) names it), -1 if none.
   int closure_subsystem() const { return closure_subsystem_; }
+  /// Whether the loops are soft now (a continuation span is open).
+  bool in_continuation() const { return in_span_; }
+  /// The continuation spans since set_state (the first continuation.max_spans of them), the last
+  /// one open while in_continuation().
+  const std::vector<ContinuationSpan>& continuation_spans() const { return spans_; }
 
   // --- stepping -----------------------------------------------------------------------------
   /// One step of the configured integrator (no longer than `max_dt`, and ending at the next
@@ -173,24 +211,21 @@ template <typename Backend> class Simulator {
     h = std::min(h, max_dt);
     if (controller_ && options_.control_period > 0)
       h = std::min(h, next_control_time() - t_);
-    q_start_ = q_;
-    v_start_ = v_;
-    // Every integrator starts from f(x_n), which also tells the contacts' state at x_n.
-    evaluate(q_, v_, dq_[0], dv_[0], /*record=*/true);
-    stage_power_[0] = power_;
-    if (max_penetration_ > S(options_.max_penetration)) return StepStatus::penetration;
-    StepStatus status = StepStatus::ok;
-    switch (options_.integrator) {
-      case Integrator::explicit_euler: explicit_euler(h); break;
-      case Integrator::symplectic_euler: symplectic_euler(h); break;
-      case Integrator::rk4: explicit_rk(ButcherTableau::rk4(), h); break;
-      case Integrator::dormand_prince45: status = dormand_prince(h); break;
-      case Integrator::linearly_implicit_euler: linearly_implicit_euler(h); break;
+    StepStatus status = advance(h);
+    // A dead point (the loops cannot be closed, or the exact dynamics blew up with loops present):
+    // the same step again with the loops soft, when asked to.
+    const bool loops_failed = status == StepStatus::closure_lost || (status == StepStatus::diverged && step_diverged_ && ny_ < nv_);
+    if (loops_failed && options_.continuation.enabled && !in_span_) {
+      begin_span(status == StepStatus::diverged);
+      status = advance(h);
+      if (status != StepStatus::ok) {  // soft failed too: the run ends as it would have
+        in_span_ = false;
+        if (!spans_.empty() && spans_.back().end < 0) spans_.pop_back();
+        --stats_.continuation_spans;
+        return status;
+      }
     }
     if (status != StepStatus::ok) return status;
-    normalize_quaternion<S>(backend_.floating_base(), q_.data());
-    if (!finite()) return restore(StepStatus::diverged);
-    if (options_.project && project() != 0) return restore(StepStatus::closure_lost);
     add_work(h);
     // The step's start state (recorded by its first evaluation) is an accepted state now.
     stats_.max_penetration = std::max(stats_.max_penetration, static_cast<double>(max_penetration_));
@@ -199,6 +234,8 @@ template <typename Backend> class Simulator {
     t_ += h;
     stats_.last_step = h;
     ++stats_.accepted_steps;
+    const bool soft = in_span_;
+    if (soft) accept_soft_step();
     if (controller_ && options_.control_period > 0 && t_ >= next_control_time() - 1e-12 * options_.control_period) {
       ++control_ticks_;
       control_due_ = true;
@@ -208,19 +245,25 @@ template <typename Backend> class Simulator {
     if (options_.energy_check_interval > 0 && stats_.accepted_steps % options_.energy_check_interval == 0) {
       if (!(energy() - energy_start_ - work_ <= energy_limit())) return restore(StepStatus::diverged);
     }
-    return StepStatus::ok;
+    return soft ? StepStatus::continued : StepStatus::ok;
   }
 
-  /// Steps until time t_end (rejected steps are retried). Returns ok at t_end, or the status that
-  /// stopped it, with the state the failing step started from.
+  /// Steps until time t_end (rejected steps are retried). Returns ok at t_end (continued if any
+  /// step on the way was a soft one), or the status that stopped it, with the state the failing
+  /// step started from.
   StepStatus run_until(double t_end) {
+    bool continued = false;
     while (t_ < t_end - 1e-12 * std::max(1.0, std::abs(t_end))) {
       const StepStatus s = step(t_end - t_);
       if (s == StepStatus::ok) continue;
+      if (s == StepStatus::continued) {
+        continued = true;
+        continue;
+      }
       if (s == StepStatus::step_rejected && step_ >= options_.min_step) continue;
       return s;
     }
-    return StepStatus::ok;
+    return continued ? StepStatus::continued : StepStatus::ok;
   }
 
   // --- what the state means -----------------------------------------------------------------
@@ -327,11 +370,92 @@ template <typename Backend> class Simulator {
     return s;
   }
 
+  /// One step of length h from the current state: ok, or a failure with the state restored (the
+  /// bookkeeping of an accepted step is step()'s).
+  StepStatus advance(double h) {
+    step_diverged_ = false;
+    h_ = h;
+    q_start_ = q_;
+    v_start_ = v_;
+    // Every integrator starts from f(x_n), which also tells the contacts' state at x_n.
+    evaluate(q_, v_, dq_[0], dv_[0], /*record=*/true);
+    stage_power_[0] = power_;
+    if (max_penetration_ > S(options_.max_penetration)) return StepStatus::penetration;
+    StepStatus status = StepStatus::ok;
+    Integrator integrator = options_.integrator;
+    // The linearly implicit method solves in the independent coordinates, whose velocity map a
+    // dead point does not have: symplectic Euler (its explicit part) in a span.
+    if (in_span_ && integrator == Integrator::linearly_implicit_euler) integrator = Integrator::symplectic_euler;
+    switch (integrator) {
+      case Integrator::explicit_euler: explicit_euler(h); break;
+      case Integrator::symplectic_euler: symplectic_euler(h); break;
+      case Integrator::rk4: explicit_rk(ButcherTableau::rk4(), h); break;
+      case Integrator::dormand_prince45: status = dormand_prince(h); break;
+      case Integrator::linearly_implicit_euler: linearly_implicit_euler(h); break;
+    }
+    if (status != StepStatus::ok) return status;
+    normalize_quaternion<S>(backend_.floating_base(), q_.data());
+    if (!finite()) {
+      step_diverged_ = true;
+      return restore(StepStatus::diverged);
+    }
+    if (options_.project && !in_span_) {
+      if (project() != 0) return restore(StepStatus::closure_lost);
+      // Closed, but near a dead point, where the exact step in the independent coordinates loses
+      // its accuracy (the velocity map grows like 1 / pivot ratio, and the projection takes the
+      // error out of the kinetic energy): with the continuation on, the span begins here.
+      if (options_.continuation.enabled && closure_margin_ < options_.continuation.enter_pivot_ratio) {
+        closure_subsystem_ = closure_worst_;
+        return restore(StepStatus::closure_lost);
+      }
+    }
+    return StepStatus::ok;
+  }
+
+  /// A continuation span begins at the current (restored) state.
+  void begin_span(bool diverged) {
+    in_span_ = true;
+    ++stats_.continuation_spans;
+    span_recorded_ = static_cast<int>(spans_.size()) < options_.continuation.max_spans;
+    if (!span_recorded_) return;
+    ContinuationSpan span;
+    span.begin = t_;
+    span.subsystem = diverged ? -1 : closure_subsystem_;
+    span.diverged = diverged;
+    spans_.push_back(span);  // within the capacity reserved at set_state
+  }
+
+  /// After an accepted soft step: the violation recorded, and back to the exact closure when
+  /// Newton closes the loops from the soft state away from the dead point.
+  void accept_soft_step() {
+    ++stats_.soft_steps;
+    const double violation = soft_.violation(backend_, q_.data(), v_.data());
+    stats_.max_loop_violation = std::max(stats_.max_loop_violation, violation);
+    ContinuationSpan* span = span_recorded_ ? &spans_.back() : nullptr;
+    if (span) {
+      ++span->steps;
+      span->max_violation = std::max(span->max_violation, violation);
+    }
+    q_stage_ = q_;
+    v_stage_ = v_;
+    int subsystem = -1;
+    double ratio = 0;
+    const int status = backend_.close_loops(q_stage_.data(), v_stage_.data(), options_.closure_tolerance, &subsystem, &ratio);
+    if (status != 0 || !(ratio >= options_.continuation.exit_pivot_ratio) || !q_stage_.allFinite() || !v_stage_.allFinite()) return;
+    closure_margin_ = ratio;
+    q_ = q_stage_;
+    v_ = v_stage_;
+    in_span_ = false;
+    closure_status_ = 0, closure_subsystem_ = -1;
+    if (span) span->end = t_;
+  }
+
   /// Closes the loops in q_ and sets v_ = T vy, in one pass (the backend's close_loops); returns
   /// the closure status (0 converged).
   int project() {
     if (ny_ == nv_) return 0;
-    return closure_status_ = backend_.close_loops(q_.data(), v_.data(), options_.closure_tolerance, &closure_subsystem_);
+    return closure_status_ = backend_.close_loops(q_.data(), v_.data(), options_.closure_tolerance, &closure_subsystem_,
+                                                  &closure_margin_, &closure_worst_);
   }
 
   /// The work of the control and passive forces over the accepted step of length h, by the
@@ -370,7 +494,9 @@ template <typename Backend> class Simulator {
     }
     power_ = (passive_ ? (tau_control_ + tau_passive_).dot(v) : tau_control_.dot(v));
     stops_.add_torques(q_eval_.data(), v.data(), tau_total_.data(), record);
-    if (options_.contact && nc_ > 0)
+    if (in_span_)
+      soft_accelerations(q_eval_, v, vdot, record);
+    else if (options_.contact && nc_ > 0)
       contact_accelerations(q_eval_, v, vdot, record);
     else
       backend_.accelerations(q_eval_.data(), v.data(), tau_total_.data(), vdot.data());
@@ -415,6 +541,20 @@ template <typename Backend> class Simulator {
       r.normal_force = r.force.dot(Vec3<S>(ground[0], ground[1], ground[2]));
       max_penetration_ = std::max(max_penetration_, r.penetration);
     }
+  }
+
+  /// f(x) in a continuation span: the loops soft in full coordinates (sim/soft_loops.hpp), the
+  /// ground's forces as joint forces J_w^T f at each sphere's witness, by the same law.
+  void soft_accelerations(const VecX<S>& q, const VecX<S>& v, VecX<S>& vdot, bool record) {
+    if (options_.contact && nc_ > 0) {
+      add_ground_joint_forces<Backend, S>(backend_, options_.ground, options_.contact_parameters, q.data(), v.data(), points_.data(),
+                                          jacobians_.data(), tau_total_.data(), record ? reports_.data() : nullptr);
+      if (record) {
+        max_penetration_ = S(0);
+        for (const ContactReport<S>& r : reports_) max_penetration_ = std::max(max_penetration_, r.penetration);
+      }
+    }
+    soft_.accelerations(backend_, options_.continuation, h_, q.data(), v.data(), tau_total_.data(), vdot.data());
   }
 
   void explicit_euler(double h) {
@@ -610,6 +750,12 @@ template <typename Backend> class Simulator {
   bool control_due_ = true;
   S work_ = S(0), energy_start_ = S(0), max_penetration_ = S(0);
   SimulationStatistics stats_;
+  SoftLoops<S> soft_;                    ///< the continuation's work memory (sized when the backend has closure_constraints)
+  std::vector<ContinuationSpan> spans_;  ///< reserved at set_state
+  bool in_span_ = false, span_recorded_ = false, step_diverged_ = false;
+  double closure_margin_ = 1;  ///< the last projection's worst relative pivot ratio
+  int closure_worst_ = -1;     ///< and its sub-system
+  double h_ = 0;                         ///< s: the step being taken
 };
 
 }  // namespace mbgen::sim
