@@ -68,6 +68,30 @@ TEST(SoftLoops, GroundJointForcesEqualTheRuntimesJointSpaceMapping) {
   }
 }
 
+// Copied and moved before its first solve (the simulator moves one into place): Eigen's sized LLT
+// leaves its status unset until a first factorisation, which the copy would read (a sanitizer
+// report, docs/reliability.md); every copy computes what the original does, bit for bit.
+TEST(SoftLoops, CopiedAndMovedBeforeFirstUse) {
+  const gen::Description d =
+      load(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf", MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml",
+           gen::BaseType::Fixed);
+  GenericBackend<double> backend(d.model);
+  const int nv = d.model.nv();
+  sim::SoftLoops<double> fresh(nv, backend.num_closure_rows());
+  sim::SoftLoops<double> copied(fresh), assigned;
+  assigned = fresh;
+  sim::SoftLoops<double> moved(std::move(fresh));
+  const sim::ContinuationOptions o;
+  const VecX<double> v = VecX<double>::Constant(nv, 0.5), tau = VecX<double>::Constant(nv, 2.0);
+  VecX<double> a(nv), b(nv), c(nv);
+  ASSERT_TRUE(copied.accelerations(backend, o, 1e-3, d.assembly.q.data(), v.data(), tau.data(), a.data()));
+  ASSERT_TRUE(assigned.accelerations(backend, o, 1e-3, d.assembly.q.data(), v.data(), tau.data(), b.data()));
+  ASSERT_TRUE(moved.accelerations(backend, o, 1e-3, d.assembly.q.data(), v.data(), tau.data(), c.data()));
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a, c);
+  EXPECT_TRUE(a.allFinite());
+}
+
 /// At consistent states, the soft rows with d = 1 - 1e-12 are the hard constraint: the full
 /// accelerations of the O(n) recursion with sub-systems, to 1e-8 of their size.
 void expect_hard_limit(const gen::Description& d, int seed) {

@@ -103,12 +103,17 @@ void add_ground_joint_forces(Backend& backend, const GroundPlane& ground, const 
 /// a call). S the backend's scalar.
 template <typename S> class SoftLoops {
  public:
-  SoftLoops() = default;
+  SoftLoops() : SoftLoops(0, 0) {}
   SoftLoops(int nv, int rows)
       : nv_(nv), rows_(rows), M_(VecX<S>::Zero(nv * nv)), J_(VecX<S>::Zero(rows * nv)), Mm_(MatX<S>::Zero(nv, nv)),
         Jm_(MatX<S>::Zero(rows, nv)), Y_(MatX<S>::Zero(nv, rows)), A_(MatX<S>::Zero(rows, rows)), C_(VecX<S>::Zero(nv)),
         zero_(VecX<S>::Zero(nv)), a0_(VecX<S>::Zero(nv)), Phi_(VecX<S>::Zero(rows)), gamma_(VecX<S>::Zero(rows)),
-        rhs_(VecX<S>::Zero(rows)), Jv_(VecX<S>::Zero(rows)), lambda_(VecX<S>::Zero(rows)), llt_M_(nv), llt_A_(rows) {}
+        rhs_(VecX<S>::Zero(rows)), Jv_(VecX<S>::Zero(rows)), lambda_(VecX<S>::Zero(rows)), llt_M_(nv), llt_A_(rows) {
+    // Eigen's sized LLT leaves its status unset until a first factorisation, and the simulator
+    // moves this object before any (docs/reliability.md): factorise once here.
+    llt_M_.compute(MatX<S>::Identity(nv, nv));
+    llt_A_.compute(MatX<S>::Identity(rows, rows));
+  }
 
   /// qdd (nv) at (q, v) under the joint forces tau (nv, everything but the loops' own: control,
   /// stops, contacts). Returns false when M or A + R is not positive definite (qdd is NaN then).
