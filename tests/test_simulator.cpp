@@ -420,7 +420,7 @@ TEST(SimulatorContinuation, OptionsChangeWhatTheySay) {
                                             MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
   struct Run {
     double violation, energy;
-    long spans;
+    long spans, soft_steps;
     std::size_t listed;
   };
   const auto run = [&](const sim::ContinuationOptions& c, double duration = 0.3) {
@@ -432,13 +432,14 @@ TEST(SimulatorContinuation, OptionsChangeWhatTheySay) {
     push_the_slider(sim, d);
     EXPECT_EQ(sim.run_until(duration), StepStatus::continued);
     return Run{sim.statistics().max_loop_violation, sim.energy_balance(), sim.statistics().continuation_spans,
-               sim.continuation_spans().size()};
+               sim.statistics().soft_steps, sim.continuation_spans().size()};
   };
   const sim::ContinuationOptions defaults;
-  sim::ContinuationOptions softer, late, short_list;
+  sim::ContinuationOptions softer, late, short_list, late_exit;
   softer.time_constant = 0.01, softer.impedance = 0.99;
   late.enter_pivot_ratio = 0;
   short_list.max_spans = 1;
+  late_exit.exit_pivot_ratio = 0.6;  // the loops must be further from the dead point to close again
   const Run a = run(defaults), b = run(softer), c = run(late, 0.06), e = run(short_list), a_first = run(defaults, 0.06);
   std::printf("[ continue ] 0.3 s: default %ld spans, violation %.2g m, energy %.3g J; softer %.2g m, %.3g J; entering late %.3g J\n",
               a.spans, a.violation, a.energy, b.violation, b.energy, c.energy);
@@ -451,6 +452,31 @@ TEST(SimulatorContinuation, OptionsChangeWhatTheySay) {
   EXPECT_EQ(a.listed, static_cast<std::size_t>(a.spans));
   EXPECT_EQ(e.spans, a.spans);
   EXPECT_EQ(e.listed, 1u);
+  const Run f = run(late_exit);
+  EXPECT_GT(f.soft_steps, a.soft_steps + a.spans) << "longer spans";
+}
+
+// A backend without closure_constraints (one generated before it existed) cannot continue: the
+// simulator says so at set_state instead of failing at the first dead point.
+struct BackendWithoutClosureConstraints : GenericBackend<double> {
+  using GenericBackend<double>::GenericBackend;
+  void closure_constraints(const double*, const double*, double*, double*, double*) = delete;
+};
+
+TEST(SimulatorContinuation, ABackendWithoutClosureConstraintsIsRefused) {
+  const gen::Description d = load_mechanism(MBGEN_SOURCE_DIR "/robots/mechanisms/slider_crank.urdf",
+                                            MBGEN_TEST_DATA "/mechanisms/slider_crank_slider_driven.yaml");
+  SimulatorOptions o;
+  o.continuation.enabled = true;
+  Simulator<BackendWithoutClosureConstraints> sim{BackendWithoutClosureConstraints(d.model), o};
+  const VecX<double> v = VecX<double>::Zero(d.model.nv());
+  try {
+    sim.set_state(d.assembly.q.data(), v.data());
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("closure_constraints"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("regenerate"), std::string::npos) << e.what();
+  }
 }
 
 // The exact behaviour stays the default, and the option changes nothing where no span is needed.
