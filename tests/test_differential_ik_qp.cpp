@@ -50,6 +50,23 @@ VecX<double> inside(VecX<double> q, const std::vector<JointLimit>& limits, doubl
   return q;
 }
 
+/// Every task's target where the generated kinematics put its frame (or the CoM) at q, at rest.
+void hold_targets_at(BasicDifferentialIk<lola::Backend>& ik, const VecX<double>& q) {
+  std::vector<double> X(12 * lola::num_frames), J(6 * lola::nv * lola::num_frames), com(3), Ag(6 * lola::nv);
+  lola::Backend{}.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
+  for (int i = 0; i < ik.num_tasks(); ++i) {
+    const Task& t = ik.task(i);
+    ik.target(i).velocity.setZero();
+    if (t.spec.kind == TaskKind::CenterOfMass) {
+      ik.target(i).position = Vec3<double>(com[0], com[1], com[2]);
+      continue;
+    }
+    const double* x = X.data() + 12 * t.slot;
+    ik.target(i).position = Vec3<double>(x[3], x[7], x[11]);
+    ik.target(i).rotation << x[0], x[1], x[2], x[4], x[5], x[6], x[8], x[9], x[10];
+  }
+}
+
 /// |J v - xd| relative to |J| |v| (the null-space property's measure).
 template <typename Ik> double primary_residual(const Ik& ik, const VecX<double>& v) {
   return (ik.primary_jacobian() * v - ik.primary_velocity()).cwiseAbs().maxCoeff() / std::max(1.0, ik.primary_jacobian().norm() * v.norm());
@@ -134,6 +151,70 @@ TEST(DifferentialIkQp, AJointPushedIntoItsStopStaysInsideWhileTheTasksHold) {
   EXPECT_LT(residual_qp, 1e-12);   // the tasks exact at every step
 }
 
+// QpStepOptions::smoothing. Lola stands, its tasks held; at step 200 the right foot's rows are
+// released and softly pulled inward at 0.2 m/s (released_weight 100): the null-space optimum
+// changes at once, and without smoothing so does the commanded velocity, in one step. With
+// smoothing 1000 the step closes about 1 / (1 + 1000 / 100) of the gap per step: the jump is
+// several times smaller and the velocity reaches the new optimum over a few steps, no change
+// between two steps as large as the unsmoothed jump; the held tasks stay exact. The first step
+// after restart() is pulled toward rest, as the first step of all is.
+TEST(DifferentialIkQp, SmoothingSpreadsAJumpOfTheOptimumOverSteps) {
+  const gen::Description d = lola();
+  const Model& model = d.model;
+  struct Result {
+    double jump = 0, later = 0, worst_residual = 0, after_restart = 0, without_restart = 0;
+    int relaxed = 0;
+  };
+  const auto run = [&](double smoothing) {
+    DifferentialIkOptions options;
+    options.qp.enabled = true;
+    options.qp.released_weight = 100.0;
+    options.qp.smoothing = smoothing;
+    BasicDifferentialIk<lola::Backend> ik(lola::Backend{}, lola_tasks(), options);
+    VecX<double> q = lola_bent_pose(d), v(model.nv()), last = VecX<double>::Zero(model.nv()), next(model.nq());
+    hold_targets_at(ik, q);
+    const int right = ik.task_index("right_foot");
+    Result r;
+    for (int k = 0; k < 400; ++k) {
+      if (k == 200) {
+        ik.target(right).released.fill(true);
+        ik.target(right).velocity[1] = 0.2;
+      }
+      if (k == 300) {
+        BasicDifferentialIk<lola::Backend> kept = ik;  // the step this one would be without restart()
+        VecX<double> probe(model.nv());
+        EXPECT_TRUE(kept.step(q, probe).ok);
+        r.without_restart = probe.norm();
+        ik.restart();
+      }
+      const StepReport report = ik.step(q, v);
+      EXPECT_TRUE(report.ok) << k;
+      r.relaxed += report.tasks_relaxed ? 1 : 0;
+      if (k == 200) r.jump = (v - last).norm();
+      if (k > 200 && k != 300) r.later = std::max(r.later, (v - last).norm());
+      if (k == 300) r.after_restart = v.norm();
+      r.worst_residual = std::max(r.worst_residual, primary_residual(ik, v));
+      last = v;
+      integrate<double>(model, q, v * 1e-3, next);
+      q = next;
+      EXPECT_EQ(lola::Backend{}.closure_positions(q.data()), 0) << k;
+    }
+    return r;
+  };
+  const Result sharp = run(0.0), smooth = run(1000.0);
+  std::printf("  Lola, a foot released at step 200: velocity change in that step %.3f without smoothing, %.3f with 1000 (the largest "
+              "after it %.3f); after restart() %.3f (without it %.3f)\n",
+              sharp.jump, smooth.jump, smooth.later, smooth.after_restart, smooth.without_restart);
+  EXPECT_GT(sharp.jump, 0.05);  // the release does move the optimum
+  EXPECT_LT(smooth.jump, 0.25 * sharp.jump);
+  EXPECT_LT(smooth.later, 0.25 * sharp.jump);
+  EXPECT_LT(smooth.after_restart, 0.5 * smooth.without_restart);
+  for (const Result& r : {sharp, smooth}) {
+    EXPECT_LT(r.worst_residual, 1e-12);
+    EXPECT_EQ(r.relaxed, 0);
+  }
+}
+
 // Lola's right foot released in every direction and pulled, softly, toward the left foot's side:
 // the legs close in until the distance inequality stops them (5 mm), the other tasks exact.
 TEST(DifferentialIkQp, TwoLegsPushedTogetherStayApart) {
@@ -158,18 +239,7 @@ TEST(DifferentialIkQp, TwoLegsPushedTogetherStayApart) {
     BasicDifferentialIk<lola::Backend> ik(lola::Backend{}, lola_tasks(), options);
     lola::Backend backend;
     VecX<double> q = lola_bent_pose(d), v(model.nv()), next(model.nq());
-    std::vector<double> X(12 * lola::num_frames), J(6 * model.nv() * lola::num_frames), com(3), Ag(6 * model.nv());
-    backend.task_kinematics(q.data(), X.data(), J.data(), com.data(), Ag.data());
-    for (int i = 0; i < ik.num_tasks(); ++i) {
-      const Task& t = ik.task(i);
-      if (t.spec.kind == TaskKind::CenterOfMass) {
-        ik.target(i).position = Vec3<double>(com[0], com[1], com[2]);
-        continue;
-      }
-      const double* x = X.data() + 12 * t.slot;
-      ik.target(i).position = Vec3<double>(x[3], x[7], x[11]);
-      ik.target(i).rotation << x[0], x[1], x[2], x[4], x[5], x[6], x[8], x[9], x[10];
-    }
+    hold_targets_at(ik, q);
     const int right = ik.task_index("right_foot");
     ik.target(right).released.fill(true);
     ik.target(right).velocity[1] = 0.2;  // toward the left foot (+y), softly
@@ -299,6 +369,9 @@ TEST(DifferentialIkQp, ConstructionErrorsSayWhatIsWrong) {
   o.qp.limit_margin = 0.2;  // beyond the activation margin 0.1: a limit would get its row too late
   EXPECT_NE(error(o).find("limit_margin"), std::string::npos) << error(o);
   o.qp.limit_margin = 0.0;
+  o.qp.smoothing = -1;
+  EXPECT_NE(error(o).find("qp.smoothing must be finite and >= 0, got -1"), std::string::npos) << error(o);
+  o.qp.smoothing = 0;
   std::vector<TaskSpec> tasks = talos_tasks();
   tasks[2].weight = -1;
   EXPECT_NE(error(o, tasks).find("task 'com': weight"), std::string::npos) << error(o, tasks);

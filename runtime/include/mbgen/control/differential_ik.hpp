@@ -51,6 +51,10 @@
 // tracking from pinning a joint at its stop, where the stop would then block the tasks).
 // Released task rows (TaskTarget::released) leave the primary stack in both forms; the QP form
 // tracks them softly (QpStepOptions::released_weight), the potential form leaves them free.
+// QpStepOptions::smoothing adds smoothing/2 |u - u_last|^2 to both stages' objectives (u_last the
+// last step's command): the steps' velocity then changes gradually where an active set or a
+// released row changes (off by default; with it the QP form's optimum is no longer the potential
+// form's when nothing binds).
 //
 // Backends. The step reads the robot through a backend (sim/backend.hpp: task_kinematics,
 // velocity_map, self_distances_near, the sizes): BasicDifferentialIk<NAME::Backend> runs on the
@@ -111,6 +115,17 @@ struct QpStepOptions {
   double relaxation_weight = 1e6;
   /// Weight of a released task row (TaskTarget::released) in the secondary objective.
   double released_weight = 100.0;
+  /// Weight of |u - u_last|^2 in the objective (u the weighted coordinates, u_last the last step's
+  /// command; zero before the first step, after a failed one and after restart()). 0: off, and the
+  /// step is the potential form's wherever no inequality binds. The velocity of a QP step jumps
+  /// whenever its active set or its tasks' rows change (an inequality reached, a row released or
+  /// taken back); at 1 kHz a jump is an acceleration spike, a torque spike in the ground's wrench.
+  /// With weight w against the objective's own unit weight on |u2 - u_c|^2, a step closes about
+  /// 1 / (1 + w) of the gap between the last command and the new optimum: a first-order lag of
+  /// about w steps where the other objectives are weak, less where they are strong (momentum
+  /// tracking's 1e4). The tasks stay exact: the term lives in the null space (stage 1), and in
+  /// stage 2 beside the relaxed tasks.
+  double smoothing = 0.0;
 };
 
 struct DifferentialIkOptions {
@@ -248,6 +263,9 @@ template <typename Backend> class BasicDifferentialIk {
     from_null_ = Eigen::Matrix<S, Eigen::Dynamic, 2, Eigen::RowMajor>::Zero(nc_, 2);
     u1_ = VecX<S>::Zero(nc_);
     u2_ = VecX<S>::Zero(nc_);
+    u_last_ = VecX<S>::Zero(nc_);
+    smooth_offset_ = VecX<S>::Zero(nc_);
+    smoothing_ = S(options.qp.smoothing);
     uc_ = VecX<S>::Zero(nc_);
     c_ = VecX<S>::Zero(nc_);
     secondary_ = VecX<S>::Zero(nc_);
@@ -297,6 +315,10 @@ template <typename Backend> class BasicDifferentialIk {
 
   /// Joint velocities v (nv; T y with loops) for configuration q (nq, loops closed). Returns what
   /// happened; on !ok, v is zero.
+  /// QpStepOptions::smoothing pulls each step toward the last one's command; after a pause (the
+  /// robot stopped, or moved by something else) that command is stale: restart() forgets it, the
+  /// next step is smoothed toward rest.
+  void restart() { u_last_.setZero(); }
   StepReport step(const ConstVecRef<S>& q, Eigen::Ref<VecX<S>> v) {
     StepReport report;
     backend_.task_kinematics(q.data(), X_WF_.data(), frame_J_.data(), com_.data(), Ag_.data());
@@ -313,6 +335,7 @@ template <typename Backend> class BasicDifferentialIk {
     release_rows();
     if (!xd_.allFinite() || !dls_.compute(A_)) {
       v.setZero();
+      u_last_.setZero();
       return report;
     }
     report.ok = true;
@@ -342,6 +365,7 @@ template <typename Backend> class BasicDifferentialIk {
     if (qp_) {
       if (!qp_secondary(q.data(), report.near_pairs, report)) {
         v.setZero();
+        u_last_.setZero();
         report.ok = false;
         return report;
       }
@@ -373,9 +397,11 @@ template <typename Backend> class BasicDifferentialIk {
     c_ = scale_.cwiseProduct(u1_ + u2_);  // the QP's u1 + u2 is its solution (qp_secondary)
     if (!c_.allFinite()) {  // e.g. a distance that came out NaN: refuse rather than command it
       v.setZero();
+      u_last_.setZero();
       report.ok = false;
       return report;
     }
+    if (qp_) u_last_ = u1_ + u2_;  // the command (the QP form has no limit_scale)
     S limit_scale = S(1);
     for (int i = 0; i < nc_ && !qp_; ++i)  // the QP form has them as inequalities
       if (std::abs(c_[i]) * limit_scale > limits_[i]) limit_scale = limits_[i] / std::abs(c_[i]);
@@ -504,6 +530,8 @@ template <typename Backend> class BasicDifferentialIk {
     const auto positive = [](double x) { return x > 0 && std::isfinite(x); };
     if (!positive(qp.limit_horizon) || !positive(qp.collision_horizon) || !positive(qp.relaxation_weight) || !positive(qp.released_weight))
       throw std::invalid_argument("DifferentialIk: qp.limit_horizon, collision_horizon, relaxation_weight and released_weight must be finite and > 0");
+    if (!(qp.smoothing >= 0) || !std::isfinite(qp.smoothing))
+      throw std::invalid_argument("DifferentialIk: qp.smoothing must be finite and >= 0, got " + std::to_string(qp.smoothing));
     if (!(qp.limit_margin >= 0) || !std::isfinite(qp.limit_margin) || !(qp.min_distance >= 0) || !std::isfinite(qp.min_distance))
       throw std::invalid_argument("DifferentialIk: qp.limit_margin and qp.min_distance must be finite and >= 0");
     if (!o.joint_limits.limits.empty() && !(qp.limit_margin < o.joint_limits.activation))
@@ -544,6 +572,11 @@ template <typename Backend> class BasicDifferentialIk {
       G.noalias() += soft_Z_.topLeftCorner(soft, k).transpose() * soft_Z_.topLeftCorner(soft, k);
       aq_.head(k).noalias() = soft_Z_.topLeftCorner(soft, k).transpose() * soft_residual_.head(soft);
       aq_.head(k).noalias() -= Z.transpose() * uc_;
+      if (smoothing_ > S(0)) {  // + smoothing/2 |u1 + Z t - u_last|^2 (Z orthonormal: G gets smoothing I)
+        G.diagonal().array() += smoothing_;
+        smooth_offset_ = u1_ - u_last_;
+        aq_.head(k).noalias() += smoothing_ * (Z.transpose() * smooth_offset_);
+      }
       Ct_.topLeftCorner(general, k).noalias() = Cu_.topRows(general) * Z;
       // A velocity limit's row is +-D_i e_i: its null-space row is +-D_i Z(i, :), no product.
       for (int r = general; r < mi; ++r) Ct_.row(r).head(k) = Cu_(r, velocity_row_[static_cast<std::size_t>(r - general)]) * Z.row(velocity_row_[static_cast<std::size_t>(r - general)]);
@@ -584,6 +617,10 @@ template <typename Backend> class BasicDifferentialIk {
       Gq_.noalias() += Aw_.transpose() * Aw_;
       aq_ = -(u1_ + u2_);
       aq_.noalias() -= Aw_.transpose() * xw_;
+      if (smoothing_ > S(0)) {  // + smoothing/2 |u - u_last|^2
+        Gq_.diagonal().array() += smoothing_;
+        aq_ -= smoothing_ * u_last_;
+      }
       status = solver_.solve(Gq_, aq_, no_rows_, no_values_, Cu_.topRows(mi), cu_.head(mi));
       if (status == QpStatus::solved) u2_ = solver_.solution() - u1_;
     }
@@ -723,6 +760,9 @@ template <typename Backend> class BasicDifferentialIk {
   VecX<S> xd_;
   Mat3X<S> Jcom_, Bk_;
   VecX<S> gradient_, gradient_c_, u1_, u2_, uc_, c_, secondary_, collision_;
+  /// QpStepOptions::smoothing: the last step's command (weighted coordinates) and a work vector.
+  VecX<S> u_last_, smooth_offset_;
+  S smoothing_ = S(0);
 };
 
 /// The differential IK on the generic runtime: GenericBackend<S> over the model, with the tasks'
