@@ -1,7 +1,8 @@
 // The walking pattern of mbgen_walk (examples/walking/walking_pattern.hpp): the CoM obeys the
 // linear inverted pendulum for the ZMP it was made from (central second differences against
 // w^2 (c - p)), the swing feet move continuously with the velocities the pattern states (against
-// finite differences), land on their footsteps with zero velocity, and the footsteps alternate.
+// finite differences), land on their footsteps with zero velocity, and the footsteps alternate;
+// the swing's outward bulge moves nothing else; the heading turns steadily.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -163,6 +164,73 @@ TEST(WalkingPattern, YawFreeMomentumBalancesTheGroundForcesMoment) {
   EXPECT_NEAR(k.back(), 0.0, 1e-12);
   EXPECT_THROW(p.yaw_free_momentum(-1.0), std::invalid_argument);
   EXPECT_THROW(p.yaw_free_momentum(std::nan("")), std::invalid_argument);
+}
+
+// swing_bulge bends each swing outward by that much at mid-swing and nowhere else: against the
+// same pattern without it, the left foot only ever moves left, the right only right (in the
+// foot's heading), by at most the bulge, reached; the stance feet, the footsteps and the CoM do
+// not move; the velocities stay the positions' rates (the test above, repeated with a bulge).
+TEST(WalkingPattern, TheSwingBulgesOutwardAndNothingElseMoves) {
+  PatternOptions o;
+  o.turn_per_step = 0.15;
+  const double dt = 1e-3;
+  const WalkingPattern straight(kLeft, kRight, kCom, o, dt);
+  o.swing_bulge = 0.03;
+  const WalkingPattern bent(kLeft, kRight, kCom, o, dt);
+  double largest = 0, inward = 0, other = 0, worst_rate = 0;
+  for (int k = 1; k + 1 < bent.samples(); ++k)
+    for (int f = 0; f < 2; ++f) {
+      const auto &a = straight.sample(k), &b = bent.sample(k);
+      const Vec3<double> d = b.foot[f] - a.foot[f];
+      const Vec3<double> out = (f == 0 ? 1.0 : -1.0) * Vec3<double>(-std::sin(b.foot_yaw[f]), std::cos(b.foot_yaw[f]), 0);
+      largest = std::max(largest, d.dot(out));
+      inward = std::max(inward, -d.dot(out));
+      other = std::max(other, (d - d.dot(out) * out).norm());
+      if (b.stance == f || b.stance < 0) other = std::max(other, d.norm());
+      other = std::max(other, (b.com - a.com).norm());
+      const Vec3<double> fd = (bent.sample(k + 1).foot[f] - bent.sample(k - 1).foot[f]) / (2 * dt);
+      worst_rate = std::max(worst_rate, (fd - b.foot_velocity[f]).norm());
+    }
+  std::printf("  bulge 0.03 m: outward at most %.4f m, inward %.1e, any other motion %.1e m; velocity vs differences %.1e m/s\n", largest,
+              inward, other, worst_rate);
+  EXPECT_NEAR(largest, 0.03, 1e-5);
+  EXPECT_LT(inward, 1e-15);
+  EXPECT_LT(other, 1e-15);
+  EXPECT_LT(worst_rate, 1e-3);
+}
+
+// The heading: the feet's mean yaw smoothed over a step. It starts at the standing yaw and ends at
+// the last footsteps' (the turn is complete), never leaves the mean's range, turns at the rate it
+// states, and turns steadily: its rate peaks at less than half of the mean yaw's (which pulses,
+// one pulse per swing) and changes by little from one sample to the next.
+TEST(WalkingPattern, TheHeadingTurnsSteadilyWhereTheFeetTurnInPulses) {
+  PatternOptions o;
+  o.turn_per_step = 0.15;
+  const double dt = 1e-3;
+  const WalkingPattern p(kLeft, kRight, kCom, o, dt);
+  double raw_peak = 0, peak = 0, worst_rate = 0, largest_change = 0, lowest = 1e9, highest = -1e9;
+  for (int k = 1; k + 1 < p.samples(); ++k) {
+    const auto& s = p.sample(k);
+    raw_peak = std::max(raw_peak, std::abs(0.5 * (s.foot_yaw_rate[0] + s.foot_yaw_rate[1])));
+    peak = std::max(peak, std::abs(s.heading_rate));
+    worst_rate = std::max(worst_rate, std::abs((p.sample(k + 1).heading - p.sample(k - 1).heading) / (2 * dt) - s.heading_rate));
+    largest_change = std::max(largest_change, std::abs(s.heading_rate - p.sample(k - 1).heading_rate));
+    lowest = std::min(lowest, s.heading);
+    highest = std::max(highest, s.heading);
+  }
+  const auto& first = p.sample(0);
+  const auto& last = p.sample(p.samples() - 1);
+  const double final_yaw = 0.5 * (last.foot_yaw[0] + last.foot_yaw[1]);
+  std::printf("  heading: peak rate %.3f rad/s against the feet's mean yaw's %.3f; largest change of rate per sample %.1e rad/s\n", peak,
+              raw_peak, largest_change);
+  EXPECT_NEAR(final_yaw, o.steps * o.turn_per_step, 1e-12);
+  EXPECT_NEAR(first.heading, 0.0, 1e-9);  // the kernel (1.2 s wide) reaches back past the 0.5 s standing start: its tail
+  EXPECT_NEAR(last.heading, final_yaw, 1e-9);
+  EXPECT_GE(lowest, -1e-12);
+  EXPECT_LE(highest, final_yaw + 1e-12);
+  EXPECT_LT(worst_rate, 1e-9);
+  EXPECT_LT(peak, 0.5 * raw_peak);
+  EXPECT_LT(largest_change, 1e-2 * peak);
 }
 
 TEST(WalkingPattern, BadOptionsAreRefused) {

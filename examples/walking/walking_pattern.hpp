@@ -18,6 +18,13 @@
 // and yaw by a quintic (zero velocity and acceleration at both ends), height by the bump
 // 64 u^3 (1 - u)^3 of `step_height`: the foot leaves and lands with zero velocity and
 // acceleration (a jump in the swing leg's acceleration is a spike in the ground's yaw torque).
+// With `swing_bulge` the path also bends outward, across the foot's heading, by that much at
+// mid-swing (the lift's profile): a narrow step's straight path brushes the stance ankle.
+//
+// The heading. The feet turn in pulses, one per swing; a body that followed their mean yaw would
+// turn in pulses too, and its yaw momentum, started and stopped at every step, would need the
+// ground's torque each time. The pattern's heading is that mean smoothed over a step (three
+// centred running means one step wide), with its rate: what the torso follows.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -41,6 +48,7 @@ struct PatternOptions {
   double step_time = 0.4;        ///< s per step: double support then single support
   double double_support = 0.08;  ///< s of each step in double support
   double step_height = 0.05;     ///< m, swing foot clearance
+  double swing_bulge = 0.0;      ///< m the swing foot's path bends outward at mid-swing
   double width_scale = 1.0;      ///< the feet's lateral distance, relative to the standing pose's
   double turn_per_step = 0.0;    ///< rad of yaw per step (a turn to the left when positive)
   double com_height = 0.0;       ///< m above the feet for the LIPM; 0: the standing pose's
@@ -55,6 +63,7 @@ struct PatternSample {
   Vec3<double> com, com_velocity, zmp;
   Vec3<double> foot[2], foot_velocity[2];
   double foot_yaw[2] = {0, 0}, foot_yaw_rate[2] = {0, 0};
+  double heading = 0, heading_rate = 0;  ///< the feet's mean yaw smoothed over a step (above), rad and rad/s
   int stance = -1;  ///< the stance foot in single support, -1 in double support
 };
 
@@ -230,6 +239,13 @@ class WalkingPattern {
           s.foot_velocity[swing].z() += o.step_height * 192 * w * w * (1 - 2 * u) / T;
           s.foot_yaw[swing] = yaw0 + (next.yaw - yaw0) * b;
           s.foot_yaw_rate[swing] = (next.yaw - yaw0) * db;
+          // Outward across the foot's heading at this instant (+ left for the left foot), with the
+          // lift's profile; the direction turns with the foot's yaw, hence the second rate term.
+          const double side = swing == 0 ? 1.0 : -1.0, yaw = s.foot_yaw[swing];
+          const Vec3<double> out(-std::sin(yaw), std::cos(yaw), 0), out_rate = Vec3<double>(-std::cos(yaw), -std::sin(yaw), 0) * s.foot_yaw_rate[swing];
+          const double bump = 64 * w * w * w, bump_rate = 192 * w * w * (1 - 2 * u) / T;
+          s.foot[swing] += side * o.swing_bulge * bump * out;
+          s.foot_velocity[swing] += side * o.swing_bulge * (bump_rate * out + bump * out_rate);
         }
       } else if (walking >= 0) {
         // The walk is over: the ZMP goes from the last stance foot back between the feet, over
@@ -242,6 +258,7 @@ class WalkingPattern {
       zmp_x[static_cast<std::size_t>(k)] = zmp.x();
       zmp_y[static_cast<std::size_t>(k)] = zmp.y();
     }
+    smooth_heading();
     const std::vector<double> cx = bounded_lipm(zmp_x), cy = bounded_lipm(zmp_y);
     for (int k = 0; k < n; ++k) {
       PatternSample& s = samples_[static_cast<std::size_t>(k)];
@@ -260,6 +277,32 @@ class WalkingPattern {
       s.com += d * b.value;
       s.com_velocity += d * b.rate;
       s.zmp += d * b.value - d * b.curvature / (omega_ * omega_);
+    }
+  }
+
+  /// The samples' heading and its rate: the feet's mean yaw through three centred running means
+  /// of one step (a quadratic B-spline three steps wide), the walk's ends held beyond it; the
+  /// rate by central differences.
+  void smooth_heading() {
+    const int n = static_cast<int>(samples_.size());
+    const auto at = [](std::vector<double>& x, int k) -> double& { return x[static_cast<std::size_t>(k)]; };
+    std::vector<double> heading(static_cast<std::size_t>(n)), prefix(static_cast<std::size_t>(n) + 1), mean(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) at(heading, k) = 0.5 * (samples_[static_cast<std::size_t>(k)].foot_yaw[0] + samples_[static_cast<std::size_t>(k)].foot_yaw[1]);
+    const int half = std::max(1, static_cast<int>(std::lround(0.5 * options_.step_time / dt_)));
+    for (int pass = 0; pass < 3; ++pass) {
+      prefix[0] = 0;
+      for (int k = 0; k < n; ++k) at(prefix, k + 1) = at(prefix, k) + at(heading, k);
+      for (int k = 0; k < n; ++k) {
+        const int lo = k - half, hi = k + half, a = std::max(lo, 0), b = std::min(hi, n - 1);
+        at(mean, k) = (at(prefix, b + 1) - at(prefix, a) + (a - lo) * at(heading, 0) + (hi - b) * at(heading, n - 1)) / (2 * half + 1);
+      }
+      heading.swap(mean);
+    }
+    for (int k = 0; k < n; ++k) {
+      const int a = std::max(0, k - 1), b = std::min(n - 1, k + 1);
+      PatternSample& s = samples_[static_cast<std::size_t>(k)];
+      s.heading = at(heading, k);
+      s.heading_rate = (at(heading, b) - at(heading, a)) / ((b - a) * dt_);
     }
   }
 
