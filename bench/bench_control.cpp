@@ -15,7 +15,8 @@
 //   ik_step/lola/generated/qp  the same step in the QP form (QpStepOptions, dense_qp.hpp): the
 //                        description's joint ranges (activation 0.1), velocity limits (3 rad/s or
 //                        m/s) and a 15 mm smallest distance (activation 5 cm: the arms start 20 mm
-//                        from the body) as inequalities, on the generated backend.
+//                        from the body) as inequalities, smoothing 30 (the walk's), on the
+//                        generated backend.
 // Both dls implementations run on the same 64 seeded random matrices (entries uniform in
 // [-1, 1]) with the differential IK's damping (singular region 0.01, max damping 0.01);
 // registration checks that they agree on every sample. Sizes: m = 12 .. 24 task rows,
@@ -194,6 +195,7 @@ struct LolaIkFixture {
     qp_options.velocity_limits.assign(static_cast<std::size_t>(lola::ny), 3.0);
     qp_options.collision.activation_distance = 0.05;  // as tests/test_differential_ik_qp.cpp: rows bind as the arms swing
     qp_options.qp.min_distance = 0.015;
+    qp_options.qp.smoothing = 30.0;  // as mbgen_walk's qp configuration
     qp = std::make_unique<control::BasicDifferentialIk<lola::Backend>>(lola::Backend{}, scenario::lola_tasks(), qp_options);
     VecX<double> q = scenario::lola_bent_pose(d), next(model.nq());
     scenario::set_targets_near(*generic, model, q, 11);
