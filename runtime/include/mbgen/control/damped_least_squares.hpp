@@ -273,7 +273,8 @@ template <typename S> class DampedLeastSquares {
   /// form of the differential IK solves in these coordinates. Returns the number of columns.
   /// All k columns go through each reflector together, in a row-major scratch: the k dot products
   /// with a reflector are k independent sums in one loop. Column by column, each was one chain of
-  /// dependent additions (no reassociation without -ffast-math): 60 % of the IK's QP step on Lola.
+  /// dependent additions (no reassociation without -ffast-math): Lola's QP step took 45.5 us that
+  /// way, 43.7 this way. (reflect_rows<K> is the same pass with K a constant, for its unrolling.)
   int null_space_basis(MatX<S>& Z) const {
     const int k = n_ - rank_;
     if (k <= 0) return 0;

@@ -265,7 +265,6 @@ template <typename Backend> class BasicDifferentialIk {
     u2_ = VecX<S>::Zero(nc_);
     u_last_ = VecX<S>::Zero(nc_);
     smooth_offset_ = VecX<S>::Zero(nc_);
-    smoothing_ = S(options.qp.smoothing);
     uc_ = VecX<S>::Zero(nc_);
     c_ = VecX<S>::Zero(nc_);
     secondary_ = VecX<S>::Zero(nc_);
@@ -572,10 +571,10 @@ template <typename Backend> class BasicDifferentialIk {
       G.noalias() += soft_Z_.topLeftCorner(soft, k).transpose() * soft_Z_.topLeftCorner(soft, k);
       aq_.head(k).noalias() = soft_Z_.topLeftCorner(soft, k).transpose() * soft_residual_.head(soft);
       aq_.head(k).noalias() -= Z.transpose() * uc_;
-      if (smoothing_ > S(0)) {  // + smoothing/2 |u1 + Z t - u_last|^2 (Z orthonormal: G gets smoothing I)
-        G.diagonal().array() += smoothing_;
+      if (const S w_s(options_.qp.smoothing); w_s > S(0)) {  // + w_s/2 |u1 + Z t - u_last|^2 (Z orthonormal: G gets w_s I)
+        G.diagonal().array() += w_s;
         smooth_offset_ = u1_ - u_last_;
-        aq_.head(k).noalias() += smoothing_ * (Z.transpose() * smooth_offset_);
+        aq_.head(k).noalias() += w_s * (Z.transpose() * smooth_offset_);
       }
       Ct_.topLeftCorner(general, k).noalias() = Cu_.topRows(general) * Z;
       // A velocity limit's row is +-D_i e_i: its null-space row is +-D_i Z(i, :), no product.
@@ -617,9 +616,9 @@ template <typename Backend> class BasicDifferentialIk {
       Gq_.noalias() += Aw_.transpose() * Aw_;
       aq_ = -(u1_ + u2_);
       aq_.noalias() -= Aw_.transpose() * xw_;
-      if (smoothing_ > S(0)) {  // + smoothing/2 |u - u_last|^2
-        Gq_.diagonal().array() += smoothing_;
-        aq_ -= smoothing_ * u_last_;
+      if (const S w_s(options_.qp.smoothing); w_s > S(0)) {  // + w_s/2 |u - u_last|^2
+        Gq_.diagonal().array() += w_s;
+        aq_ -= w_s * u_last_;
       }
       status = solver_.solve(Gq_, aq_, no_rows_, no_values_, Cu_.topRows(mi), cu_.head(mi));
       if (status == QpStatus::solved) u2_ = solver_.solution() - u1_;
@@ -762,7 +761,6 @@ template <typename Backend> class BasicDifferentialIk {
   VecX<S> gradient_, gradient_c_, u1_, u2_, uc_, c_, secondary_, collision_;
   /// QpStepOptions::smoothing: the last step's command (weighted coordinates) and a work vector.
   VecX<S> u_last_, smooth_offset_;
-  S smoothing_ = S(0);
 };
 
 /// The differential IK on the generic runtime: GenericBackend<S> over the model, with the tasks'
