@@ -1,6 +1,9 @@
 // control/dense_qp.hpp: the Goldfarb-Idnani solver against the KKT conditions of its problems and
 // against Ipopt (Debian's coinor-libipopt-dev, an interior-point method: an independent algorithm)
 // on random, degenerate, semi-definite and infeasible problems; warm start; no allocation.
+#include <algorithm>
+#include <numeric>
+
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
@@ -324,6 +327,45 @@ TEST(DenseQp, WarmStartReachesTheSameSolutionInFewerIterations) {
   EXPECT_LT(warm_total, cold_total / 2) << "warm " << warm_total << ", cold " << cold_total;
 }
 
+TEST(DenseQp, WarmStartFromGivenRowsAfterTheRowsAreRenumbered) {
+  // The IK's case: between two solves rows come and go, so the caller maps the last active rows
+  // to their new indices. The right rows save the iterations; wrong ones, out-of-range and
+  // repeated ones change nothing but the count.
+  std::mt19937 rng(6);
+  std::normal_distribution<double> normal;
+  int cold_total = 0, mapped_total = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const int n = 20, mi = 80;
+    Problem p = random_problem(rng, n, 0, mi);
+    DenseQp<double> first(n, 0, mi), cold(n, 0, mi), mapped(n, 0, mi), wrong(n, 0, mi);
+    ASSERT_EQ(solve(first, p), QpStatus::solved);
+    ASSERT_GT(first.num_active_inequalities(), 0) << "trial " << trial;
+    // The next cycle: the data moved a little and the rows shuffled (row i is now row perm[i]).
+    std::vector<int> perm(static_cast<std::size_t>(mi));
+    std::iota(perm.begin(), perm.end(), 0);
+    std::shuffle(perm.begin(), perm.end(), rng);
+    Problem next = p;
+    for (int i = 0; i < mi; ++i) {
+      next.C.row(perm[static_cast<std::size_t>(i)]) = p.C.row(i);
+      next.c[perm[static_cast<std::size_t>(i)]] = p.c[i];
+    }
+    next.a += 0.01 * Vec::NullaryExpr(n, [&] { return normal(rng); });
+    std::vector<int> start;
+    for (int j = 0; j < first.num_active_inequalities(); ++j) start.push_back(perm[static_cast<std::size_t>(first.active_inequality(j))]);
+    ASSERT_EQ(solve(cold, next), QpStatus::solved);
+    ASSERT_EQ(mapped.solve(next.G, next.a, next.E, next.e, next.C, next.c, start.data(), static_cast<int>(start.size())), QpStatus::solved);
+    std::vector<int> bad = {-1, mi, 1000, 3, 3, 7, 11, 19, 40, 79, 5, 6, 8, 9, 10, 12, 13, 14, 15, 16, 17, 18, 20, 21, 22};
+    ASSERT_EQ(wrong.solve(next.G, next.a, next.E, next.e, next.C, next.c, bad.data(), static_cast<int>(bad.size())), QpStatus::solved);
+    for (const DenseQp<double>* qp : {&mapped, &wrong}) {
+      EXPECT_LE((qp->solution() - cold.solution()).norm(), 1e-10 * (1 + cold.solution().norm())) << "trial " << trial;
+      EXPECT_LE(kkt(next, qp->solution(), qp->multipliers()).worst(), 1e-9) << "trial " << trial;
+    }
+    cold_total += cold.iterations();
+    mapped_total += mapped.iterations();
+  }
+  EXPECT_LT(mapped_total, cold_total / 2) << "mapped " << mapped_total << ", cold " << cold_total;
+}
+
 TEST(DenseQp, InvalidInputIsReportedNotSolved) {
   DenseQp<double> qp(2, 0, 1);
   Problem p = unit_problem(2);
@@ -351,13 +393,15 @@ TEST(DenseQp, SolveDoesNotAllocate) {
   DenseQp<double> qp(30, 3, 100);
   ASSERT_EQ(solve(qp, p), QpStatus::solved);
   std::size_t allocations = 0;
-  QpStatus statuses[4];
+  QpStatus statuses[5];
+  const int start_rows[3] = {4, 2, 99};
   {
     const mbgen::test::MallocGuard guard;
     statuses[0] = qp.solve(p.G, p.a, p.E, p.e, p.C.topRows(60), p.c.head(60));
     statuses[1] = qp.solve(p.G, p.a, p.E, p.e, p.C, p.c, true);
     statuses[2] = solve(qp, small);  // fewer variables: a corner of the same storage
     statuses[3] = solve(qp, boxed);  // semi-definite: proximal iterations
+    statuses[4] = qp.solve(p.G, p.a, p.E, p.e, p.C, p.c, start_rows, 3);
     allocations = guard.count();
   }
   EXPECT_EQ(allocations, 0u);

@@ -7,6 +7,7 @@
 //    and the same motions without the inequalities go past them (the tests can fail);
 //  - when the inequalities forbid the tasks, the step relaxes them, the inequalities still hold,
 //    and the heavier task gives less;
+//  - the last step's active rows start the next QP (no active-set change when nothing changed);
 //  - generated backend equals generic (1e-10 along a scripted motion), no allocation in step(),
 //    construction errors by their text.
 #include <gtest/gtest.h>
@@ -149,6 +150,52 @@ TEST(DifferentialIkQp, AJointPushedIntoItsStopStaysInsideWhileTheTasksHold) {
   EXPECT_GT(active_qp, 0);
   EXPECT_EQ(relaxed_qp, 0);        // the arms' limits never forbid the tasks
   EXPECT_LT(residual_qp, 1e-12);   // the tasks exact at every step
+}
+
+// The warm start across steps: the step's rows are renumbered as limits and pairs come and go,
+// and the last step's active rows, found again by what they are, start the next QP. The same
+// state stepped twice: the second QP starts at its optimum's active set (no active-set change),
+// a fresh controller at the same state adds those rows one by one, and both give the same step.
+TEST(DifferentialIkQp, TheLastStepsActiveRowsStartTheNextQp) {
+  const Model model = talos();
+  const std::vector<JointLimit> limits = joint_position_limits(model);
+  DifferentialIkOptions options;
+  options.angular_momentum = {true, 1e4, {0.0, 0.0, 1.0}};
+  options.qp.enabled = true;
+  options.joint_limits.limits = limits;
+  options.joint_limits.activation = 0.1;
+  DifferentialIk<double> ik(model, talos_tasks(), options);
+  VecX<double> q = inside(talos_pose(model, 3), limits, 0.06), v(model.nv()), next(model.nq());
+  set_targets_near(ik, model, q, 4);
+  for (int i = 0; i < ik.num_tasks(); ++i) ik.target(i).velocity.setZero();
+  // Into the stops (as AJointPushedIntoItsStopStaysInsideWhileTheTasksHold) until rows bind.
+  StepReport r;
+  int k = 0;
+  for (; k < 1500; ++k) {
+    ik.angular_momentum_target = Vec3<double>(0, 0, 8.0 * std::sin(2 * M_PI * k * 1e-3));
+    r = ik.step(q, v);
+    ASSERT_TRUE(r.ok) << k;
+    if (r.active_inequalities >= 3) break;
+    integrate<double>(model, q, v * 1e-3, next);
+    q = next;
+  }
+  ASSERT_GE(r.active_inequalities, 3) << "the motion never made three rows bind";
+  VecX<double> again(model.nv()), fresh_v(model.nv());
+  const StepReport repeated = ik.step(q, again);
+  DifferentialIk<double> fresh(model, talos_tasks(), options);
+  for (int i = 0; i < ik.num_tasks(); ++i) fresh.target(i) = ik.target(i);
+  fresh.angular_momentum_target = ik.angular_momentum_target;
+  const StepReport cold = fresh.step(q, fresh_v);
+  ASSERT_TRUE(repeated.ok && cold.ok);
+  std::printf("  TALOS at step %d, %d of %d rows active: QP active-set changes %d repeated (warm), %d fresh (cold); |v - v'| / |v| = %.1e\n",
+              k, repeated.active_inequalities, repeated.inequalities, repeated.qp_iterations, cold.qp_iterations,
+              (again - fresh_v).norm() / fresh_v.norm());
+  EXPECT_EQ(repeated.active_inequalities, r.active_inequalities);
+  EXPECT_EQ(repeated.qp_iterations, 0);
+  EXPECT_GE(cold.qp_iterations, cold.active_inequalities);
+  EXPECT_EQ(cold.active_inequalities, repeated.active_inequalities);
+  EXPECT_LT((again - fresh_v).norm(), 1e-10 * fresh_v.norm());  // another order of the same rows: round-off (1.3e-12 seen)
+  EXPECT_LT((again - v).norm(), 1e-10 * v.norm());
 }
 
 // QpStepOptions::smoothing. Lola stands, its tasks held; at step 200 the right foot's rows are

@@ -115,7 +115,7 @@ template <typename S> class DampedLeastSquares {
         coeffs2_(VecX<S>::Zero(k_)), diag_(VecX<S>::Zero(k_)), subdiag_(VecX<S>::Zero(std::max(k_ - 1, 0))),
         r_inverse_(MatX<S>::Zero(m <= n ? std::max(m, 0) : 0, m <= n ? std::max(m, 0) : 0)),
         inverse_diagonal_(VecX<S>::Zero(std::max(0, std::min(m, n)))), llt_(m <= n ? std::max(m, 0) : 0),
-        null_rows_(VecX<S>::Zero(static_cast<Eigen::Index>(std::max(n, 0)) * std::max(n, 0))), null_work_(VecX<S>::Zero(std::max(n, 0))) {
+        null_rows_(VecX<S>::Zero(static_cast<Eigen::Index>(std::max(n, 0)) * padded(n))), null_work_(VecX<S>::Zero(padded(n))) {
     if (m < 0 || n < 0) throw std::invalid_argument("DampedLeastSquares: negative size " + std::to_string(m) + " x " + std::to_string(n));
     if (!(options.constant >= 0) || !(options.singular_region >= 0) || !(options.max_damping >= 0) || !(options.rank_tolerance >= 0))
       throw std::invalid_argument("DampedLeastSquares: damping options must be non-negative (constant, singular_region, max_damping, rank_tolerance)");
@@ -278,33 +278,41 @@ template <typename S> class DampedLeastSquares {
   int null_space_basis(MatX<S>& Z) const {
     const int k = n_ - rank_;
     if (k <= 0) return 0;
-    S* y = null_rows_.data();  // n_ x k, row-major
+    // The rows are padded to a multiple of 4 columns (zero columns stay zero under the
+    // reflectors): the inner loops then have a trip count the compiler unrolls and vectorises
+    // in whole registers, where k itself (12 for Lola) left a scalar remainder in every row
+    // (Lola's basis: 56,207 instructions a call before, 46,326 padded; callgrind).
+    const int kp = padded(k);
+    S* y = null_rows_.data();  // n_ x kp, row-major
     S* w = null_work_.data();
-    for (int i = 0; i < n_ * k; ++i) y[i] = S(0);
-    for (int c = 0; c < k; ++c) y[(rank_ + c) * k + c] = S(1);
+    for (int i = 0; i < n_ * kp; ++i) y[i] = S(0);
+    for (int c = 0; c < k; ++c) y[(rank_ + c) * kp + c] = S(1);
     for (int j = rank_ - 1; j >= 0; --j) {  // rows above j are still zero: H_j acts on rows j .. n-1
       const S* essential = packed().col(j).data() + j + 1;
       const S tau = householder_coefficients()[j];
-      S* top = y + j * k;
+      S* top = y + j * kp;
       const int len = n_ - j - 1;
-      for (int c = 0; c < k; ++c) w[c] = top[c];
+      for (int c0 = 0; c0 < kp; c0 += 4) {
+        S acc[4] = {top[c0], top[c0 + 1], top[c0 + 2], top[c0 + 3]};
+        for (int i = 0; i < len; ++i) {
+          const S e = essential[i];
+          const S* row = top + (i + 1) * kp + c0;
+          for (int c = 0; c < 4; ++c) acc[c] += e * row[c];
+        }
+        for (int c = 0; c < 4; ++c) {
+          w[c0 + c] = tau * acc[c];
+          top[c0 + c] -= w[c0 + c];
+        }
+      }
       for (int i = 0; i < len; ++i) {
         const S e = essential[i];
-        const S* row = top + (i + 1) * k;
-        for (int c = 0; c < k; ++c) w[c] += e * row[c];
-      }
-      for (int c = 0; c < k; ++c) {
-        w[c] *= tau;
-        top[c] -= w[c];
-      }
-      for (int i = 0; i < len; ++i) {
-        const S e = essential[i];
-        S* row = top + (i + 1) * k;
-        for (int c = 0; c < k; ++c) row[c] -= e * w[c];
+        S* row = top + (i + 1) * kp;
+        for (int c0 = 0; c0 < kp; c0 += 4)
+          for (int c = 0; c < 4; ++c) row[c0 + c] -= e * w[c0 + c];
       }
     }
     for (int c = 0; c < k; ++c)
-      for (int i = 0; i < n_; ++i) Z(i, c) = y[i * k + c];
+      for (int i = 0; i < n_; ++i) Z(i, c) = y[i * kp + c];
     return k;
   }
 
@@ -478,7 +486,8 @@ template <typename S> class DampedLeastSquares {
   MatX<S> r_inverse_;  ///< fast path: R^-1 (m x m), for the bound on sigma_min
   VecX<S> inverse_diagonal_;
   Eigen::LLT<MatX<S>> llt_;
-  /// null_space_basis' scratch (n x n row-major, and n): mutable, as the method is a const query.
+  /// null_space_basis' scratch (n x padded(n) row-major, and padded(n)): mutable, as the method is a const query.
+  static int padded(int n) { return (std::max(n, 0) + 3) / 4 * 4; }
   mutable VecX<S> null_rows_, null_work_;
   S sigma_bound_ = S(0);
   int rank_ = 0;

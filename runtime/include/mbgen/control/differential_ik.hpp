@@ -158,6 +158,9 @@ struct StepReport {
   QpStatus qp_status = QpStatus::solved;  ///< of the last QP solved (ok is false unless solved)
   int inequalities = 0;         ///< rows given to the QP: limits within their margin, near pairs, velocity limits
   int active_inequalities = 0;  ///< of them, active at the solution
+  /// The QP's active-set changes (rows added, dropped). The last step's active rows start the
+  /// step's QP (a warm start) and are not counted: a step whose active set did not change has 0.
+  int qp_iterations = 0;
   bool tasks_relaxed = false;   ///< no exact solution within the inequalities: the tasks were weighted
 };
 
@@ -277,7 +280,14 @@ template <typename Backend> class BasicDifferentialIk {
       max_inequalities_ = 2 * limits + pairs_ + velocity_rows;
       solver_ = DenseQp<S>(nc_, 0, std::max(max_inequalities_, 1));
       Z_ = MatX<S>::Zero(nc_, nc_);
-      velocity_row_.assign(static_cast<std::size_t>(2 * nc_), 0);
+      unit_column_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), 0);
+      unit_coefficient_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), S(0));
+      unit_bound_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), S(0));
+      unit_key_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), 0);
+      row_key_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), 0);
+      row_of_key_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), -1);
+      active_key_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), 0);
+      start_row_.assign(static_cast<std::size_t>(std::max(max_inequalities_, 1)), -1);
       Cu_ = MatX<S>::Zero(std::max(max_inequalities_, 1), nc_);
       Ct_ = MatX<S>::Zero(std::max(max_inequalities_, 1), nc_);
       cu_ = VecX<S>::Zero(std::max(max_inequalities_, 1));
@@ -556,7 +566,7 @@ template <typename Backend> class BasicDifferentialIk {
     }
     const int soft = num_soft_ + (options_.angular_momentum.enabled ? 3 : 0);
     const int mi = inequality_rows(q, num_near);
-    const int general = general_rows_;  // the rows before the velocity limits' (unit rows times D)
+    const int general = general_rows_;  // the dense rows; after them the unit rows (inequality_rows)
     report.inequalities = mi;
     // Stage 1: t in the null space's coordinates. G = I + (S Z)^T (S Z), a = -Z^T u_c + (S Z)^T (S u1 - s).
     const int k = dls_.null_space_basis(Z_);
@@ -577,14 +587,28 @@ template <typename Backend> class BasicDifferentialIk {
         aq_.head(k).noalias() += w_s * (Z.transpose() * smooth_offset_);
       }
       Ct_.topLeftCorner(general, k).noalias() = Cu_.topRows(general) * Z;
-      // A velocity limit's row is +-D_i e_i: its null-space row is +-D_i Z(i, :), no product.
-      for (int r = general; r < mi; ++r) Ct_.row(r).head(k) = Cu_(r, velocity_row_[static_cast<std::size_t>(r - general)]) * Z.row(velocity_row_[static_cast<std::size_t>(r - general)]);
-      ct_.head(mi) = cu_.head(mi);
-      ct_.head(mi).noalias() -= Cu_.topRows(mi) * u1_;
-      status = solver_.solve(G, aq_.head(k), no_rows_.leftCols(k), no_values_, Ct_.topLeftCorner(mi, k), ct_.head(mi));
-      if (status == QpStatus::solved) u2_.noalias() = Z * solver_.solution();
+      ct_.head(general) = cu_.head(general);
+      ct_.head(general).noalias() -= Cu_.topRows(general) * u1_;
+      // A unit row a e_i: its null-space row is a Z(i, :) and its value at u1 is a u1_i, no product.
+      for (int r = general; r < mi; ++r) {
+        const std::size_t j = static_cast<std::size_t>(r - general);
+        Ct_.row(r).head(k) = unit_coefficient_[j] * Z.row(unit_column_[j]);
+        ct_[r] = cu_[r] - unit_coefficient_[j] * u1_[unit_column_[j]];
+      }
+      // Warm start: the last step's active rows, by what they are (row_key_), at their new indices.
+      for (int j = 0; j < num_active_keys_; ++j) start_row_[static_cast<std::size_t>(j)] = row_of_key_[static_cast<std::size_t>(active_key_[static_cast<std::size_t>(j)])];
+      status = solver_.solve(G, aq_.head(k), no_rows_.leftCols(k), no_values_, Ct_.topLeftCorner(mi, k), ct_.head(mi), start_row_.data(),
+                             num_active_keys_);
+      num_active_keys_ = 0;
+      if (status == QpStatus::solved) {
+        u2_.noalias() = Z * solver_.solution();
+        num_active_keys_ = solver_.num_active_inequalities();
+        for (int j = 0; j < num_active_keys_; ++j) active_key_[static_cast<std::size_t>(j)] = row_key_[static_cast<std::size_t>(solver_.active_inequality(j))];
+      }
     } else {
       // No null space: u1 is the only velocity that achieves the tasks; it is feasible or not.
+      fill_unit_rows(mi);
+      num_active_keys_ = 0;
       ct_.head(mi).noalias() = Cu_.topRows(mi) * u1_;
       status = mi == 0 || (ct_.head(mi) - cu_.head(mi)).minCoeff() >= -S(1e-12) * (S(1) + cu_.head(mi).norm()) ? QpStatus::solved
                                                                                                                  : QpStatus::infeasible;
@@ -620,34 +644,55 @@ template <typename Backend> class BasicDifferentialIk {
         Gq_.diagonal().array() += w_s;
         aq_ -= w_s * u_last_;
       }
+      fill_unit_rows(mi);
       status = solver_.solve(Gq_, aq_, no_rows_, no_values_, Cu_.topRows(mi), cu_.head(mi));
       if (status == QpStatus::solved) u2_ = solver_.solution() - u1_;
     }
     report.qp_status = status;
     report.active_inequalities = status == QpStatus::solved ? solver_.num_active_inequalities() : 0;
+    report.qp_iterations = solver_.iterations();
     return status == QpStatus::solved;
   }
   /// Cu_ u >= cu_ (weighted coordinates u, c = D u): the limits within their activation margin,
-  /// the near pairs, the velocity limits. Returns the number of rows.
+  /// the near pairs, the velocity limits. Returns the number of rows. The dense rows (a dependent
+  /// joint's limit through T, the near pairs) come first, general_rows_ of them, in Cu_; then the
+  /// unit rows a e_i (an independent coordinate's limit, a velocity limit), kept as (i, a) only:
+  /// in the null space each is a copy of a row of Z, not a row times Z (Lola: 47-52 general rows
+  /// before, 60-70 of them unit rows). Cu_ gets them only where a stage needs all rows
+  /// (fill_unit_rows). cu_ holds every row's bound, in that order.
   int inequality_rows(const S* q, int num_near) {
     const QpStepOptions& o = options_.qp;
-    int mi = 0;
+    for (int r = 0; r < num_rows_; ++r) row_of_key_[static_cast<std::size_t>(row_key_[static_cast<std::size_t>(r)])] = -1;
+    int mi = 0, units = 0;
+    // Each row's key says what it is, whichever rows come and go: limit l's side s is 2 l + s,
+    // pair p is 2 L + p, coordinate i's velocity limit from above/below 2 L + P + 2 i + 0/1.
+    const int num_limits = static_cast<int>(options_.joint_limits.limits.size());
+    const auto unit = [&](int column, S coefficient, S bound, int key) {
+      const std::size_t j = static_cast<std::size_t>(units++);
+      unit_column_[j] = column;
+      unit_coefficient_[j] = coefficient;
+      unit_bound_[j] = bound;
+      unit_key_[j] = key;
+    };
     const S activation(options_.joint_limits.activation), margin(o.limit_margin), h(o.limit_horizon);
-    for (const JointLimit& l : options_.joint_limits.limits) {
+    for (int li = 0; li < num_limits; ++li) {
+      const JointLimit& l = options_.joint_limits.limits[static_cast<std::size_t>(li)];
       const S x = q[l.q_index];
       const S below = x - S(l.lower), above = S(l.upper) - x;
       for (int side = 0; side < 2; ++side) {
         const S gap = side == 0 ? below : above;
         if (!(gap < activation)) continue;
         const S sign = side == 0 ? S(1) : S(-1);
-        auto row = Cu_.row(mi);
-        if (loops_) {
-          row = sign * T_.row(l.v_index).cwiseProduct(scale_.transpose());
-        } else {
-          row.setZero();
-          row[l.v_index] = sign * scale_[l.v_index];
+        const S bound = -(gap - margin) / h;
+        // An independent coordinate's row of T is its unit row (the backend's contract).
+        const int column = loops_ ? independent_column_[static_cast<std::size_t>(l.v_index)] : l.v_index;
+        if (column >= 0) {
+          unit(column, sign * (loops_ ? T_(l.v_index, column) : S(1)) * scale_[column], bound, 2 * li + side);
+          continue;
         }
-        cu_[mi] = -(gap - margin) / h;
+        Cu_.row(mi) = sign * T_.row(l.v_index).cwiseProduct(scale_.transpose());
+        cu_[mi] = bound;
+        row_key_[static_cast<std::size_t>(mi)] = 2 * li + side;
         ++mi;
       }
     }
@@ -661,20 +706,32 @@ template <typename Backend> class BasicDifferentialIk {
       for (int i = 0; i < num_near; ++i, ++mi) {
         Cu_.row(mi) = out.row(i).cwiseProduct(scale_.transpose());
         cu_[mi] = (S(o.min_distance) - distance_[static_cast<std::size_t>(near_[static_cast<std::size_t>(i)])]) / S(o.collision_horizon);
+        row_key_[static_cast<std::size_t>(mi)] = 2 * num_limits + near_[static_cast<std::size_t>(i)];
       }
     }
-    general_rows_ = mi;
     if (!options_.velocity_limits.empty())
-      for (int i = 0; i < nc_; ++i)
-        for (const S sign : {S(1), S(-1)}) {
-          if (!std::isfinite(limits_[i])) continue;
-          velocity_row_[static_cast<std::size_t>(mi - general_rows_)] = i;
-          Cu_.row(mi).setZero();
-          Cu_(mi, i) = sign * scale_[i];
-          cu_[mi] = -limits_[i];
-          ++mi;
-        }
-    return mi;
+      for (int i = 0; i < nc_; ++i) {
+        if (!std::isfinite(limits_[i])) continue;
+        const int key = 2 * num_limits + pairs_ + 2 * i;
+        unit(i, scale_[i], -limits_[i], key);
+        unit(i, -scale_[i], -limits_[i], key + 1);
+      }
+    general_rows_ = mi;
+    for (int j = 0; j < units; ++j) {
+      cu_[mi + j] = unit_bound_[static_cast<std::size_t>(j)];
+      row_key_[static_cast<std::size_t>(mi + j)] = unit_key_[static_cast<std::size_t>(j)];
+    }
+    num_rows_ = mi + units;
+    for (int r = 0; r < num_rows_; ++r) row_of_key_[static_cast<std::size_t>(row_key_[static_cast<std::size_t>(r)])] = r;
+    return num_rows_;
+  }
+  /// Writes the unit rows into Cu_ (rows general_rows_ .. mi - 1), for the stages that take Cu_ whole.
+  void fill_unit_rows(int mi) {
+    for (int r = general_rows_; r < mi; ++r) {
+      const std::size_t j = static_cast<std::size_t>(r - general_rows_);
+      Cu_.row(r).setZero();
+      Cu_(r, unit_column_[j]) = unit_coefficient_[j];
+    }
   }
   /// The entries of T that are not zero, row by row: T is the identity off the loops and each
   /// sub-system's G on its coordinates (Lola: 42 of 46 x 30 entries), so J T as a dense product
@@ -736,7 +793,12 @@ template <typename Backend> class BasicDifferentialIk {
   bool repulsion_ = false;  ///< a collision or joint-limit potential to descend
   bool qp_ = false;         ///< the QP form (QpStepOptions)
   int num_soft_ = 0, max_inequalities_ = 0, general_rows_ = 0;
-  std::vector<int> velocity_row_;  ///< per velocity-limit row, its coordinate
+  std::vector<int> unit_column_;  ///< per unit row (inequality_rows), its coordinate, coefficient and bound
+  std::vector<S> unit_coefficient_, unit_bound_;
+  /// The QP's warm start across steps (inequality_rows' keys): per row its key, per key its row
+  /// (-1: not a row this step), the last solve's active rows' keys, the start rows handed over.
+  std::vector<int> unit_key_, row_key_, row_of_key_, active_key_, start_row_;
+  int num_rows_ = 0, num_active_keys_ = 0;
   DenseQp<S> solver_{1, 0, 1};
   MatX<S> Z_, Cu_, Ct_, soft_, soft_Z_, Gq_, Aw_, no_rows_;  ///< the QP form's: null basis, inequalities, soft rows, ...
   VecX<S> cu_, ct_, soft_target_, soft_residual_, aq_, xw_, no_values_, row_weight_;
