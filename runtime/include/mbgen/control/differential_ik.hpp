@@ -657,9 +657,9 @@ template <typename Backend> class BasicDifferentialIk {
   /// the near pairs, the velocity limits. Returns the number of rows. The dense rows (a dependent
   /// joint's limit through T, the near pairs) come first, general_rows_ of them, in Cu_; then the
   /// unit rows a e_i (an independent coordinate's limit, a velocity limit), kept as (i, a) only:
-  /// in the null space each is a copy of a row of Z, not a row times Z (Lola: 47-52 general rows
-  /// before, 60-70 of them unit rows). Cu_ gets them only where a stage needs all rows
-  /// (fill_unit_rows). cu_ holds every row's bound, in that order.
+  /// in the null space each is a copy of a row of Z, not a row times Z (Lola along the bench's
+  /// motion: 107-112 rows, about 32 of them dense). Cu_ gets them only where a stage needs all
+  /// rows (fill_unit_rows). cu_ holds every row's bound, in that order.
   int inequality_rows(const S* q, int num_near) {
     const QpStepOptions& o = options_.qp;
     for (int r = 0; r < num_rows_; ++r) row_of_key_[static_cast<std::size_t>(row_key_[static_cast<std::size_t>(r)])] = -1;
