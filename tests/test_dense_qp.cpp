@@ -378,6 +378,10 @@ TEST(DenseQp, InvalidInputIsReportedNotSolved) {
   p.a[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(solve(qp, p), QpStatus::invalid_input);
   p.a[1] = 0;
+  // Finite entries whose sum overflows are input, not garbage (the check sums first).
+  p.C(0, 0) = p.C(0, 1) = 1e308;
+  EXPECT_EQ(solve(qp, p), QpStatus::solved);
+  p.C = Mat::Identity(1, 2);
   p.G(1, 1) = -1;  // indefinite
   EXPECT_EQ(solve(qp, p), QpStatus::not_convex);
   EXPECT_THROW(DenseQp<double>(0, 0, 0), std::invalid_argument);
