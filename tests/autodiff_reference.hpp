@@ -19,32 +19,33 @@ inline VecX<Dual> seeded_vector(const VecX<double>& x, int k = -1) {
   return out;
 }
 
-/// q (+) eps e_k to first order in eps, as a dual configuration: a 1-DoF joint's coordinate plus
-/// eps; a floating base's position plus R eps e (linear) or its quaternion times (eps e/2, 1)
-/// (angular): the first-order terms of `integrate`'s exponential (whose own sqrt of |w|^2 has no
-/// derivative at w = 0).
-inline VecX<Dual> seeded_configuration(const Model& model, const VecX<double>& q, int k) {
+/// q (+) eps delta to first order in eps (delta in v-space), as a dual configuration: a 1-DoF
+/// joint's coordinate plus eps delta; a floating base's position plus R eps delta_lin and its
+/// quaternion times (eps delta_ang/2, 1): the first-order terms of `integrate`'s exponential (whose
+/// own sqrt of |w|^2 has no derivative at w = 0).
+inline VecX<Dual> seeded_configuration_along(const Model& model, const VecX<double>& q, const VecX<double>& delta) {
   VecX<Dual> out = seeded_vector(q);
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
-    if (k < joint.idx_v || k >= joint.idx_v + joint.nv) continue;
     if (joint.type != JointType::Floating) {
-      out[joint.idx_q].derivatives()[0] = 1;
+      for (int k = 0; k < joint.nv; ++k) out[joint.idx_q + k].derivatives()[0] = delta[joint.idx_v + k];
       continue;
     }
-    const int m = k - joint.idx_v;
     const double* qj = q.data() + joint.idx_q;
-    if (m < 3) {
-      const Mat3<double> R = quaternion_to_rotation<double>(qj[3], qj[4], qj[5], qj[6]);
-      for (int r = 0; r < 3; ++r) out[joint.idx_q + r].derivatives()[0] = R(r, m);
-    } else {
-      Eigen::Matrix<double, 4, 1> half_e = Eigen::Matrix<double, 4, 1>::Zero();
-      half_e[m - 3] = 0.5;  // (x, y, z, w) = (e/2, 0): the eps part of (eps e/2, 1)
-      const Eigen::Matrix<double, 4, 1> dquat = detail::quat_multiply<double>(Eigen::Matrix<double, 4, 1>(qj[3], qj[4], qj[5], qj[6]), half_e);
-      for (int r = 0; r < 4; ++r) out[joint.idx_q + 3 + r].derivatives()[0] = dquat[r];
-    }
+    const Mat3<double> R = quaternion_to_rotation<double>(qj[3], qj[4], qj[5], qj[6]);
+    const Vec3<double> linear = R * delta.segment<3>(joint.idx_v);
+    for (int r = 0; r < 3; ++r) out[joint.idx_q + r].derivatives()[0] = linear[r];
+    Eigen::Matrix<double, 4, 1> half_e = Eigen::Matrix<double, 4, 1>::Zero();
+    half_e.head<3>() = 0.5 * delta.segment<3>(joint.idx_v + 3);  // (x, y, z, w) = (e/2, 0): the eps part of (eps e/2, 1)
+    const Eigen::Matrix<double, 4, 1> dquat = detail::quat_multiply<double>(Eigen::Matrix<double, 4, 1>(qj[3], qj[4], qj[5], qj[6]), half_e);
+    for (int r = 0; r < 4; ++r) out[joint.idx_q + 3 + r].derivatives()[0] = dquat[r];
   }
   return out;
+}
+
+/// q (+) eps e_k to first order in eps.
+inline VecX<Dual> seeded_configuration(const Model& model, const VecX<double>& q, int k) {
+  return seeded_configuration_along(model, q, VecX<double>::Unit(model.nv(), k));
 }
 
 inline VecX<double> derivative_part(const VecX<Dual>& x) {

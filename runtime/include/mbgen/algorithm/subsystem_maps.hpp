@@ -154,10 +154,9 @@ void full_velocities(const Model& model, Data<S>& data, const ConstVecRef<S>& q,
   detail::expand_independent<S>(model, data, vy, false, v);
 }
 
-/// The velocity map T (nv x ny) at q: v = T vy for every velocity that keeps the loops closed.
-/// Dense; controllers that only need T vy use full_velocities.
-template <typename S, typename Out> void velocity_map(const Model& model, Data<S>& data, const ConstVecRef<S>& q, Out&& T) {
-  subsystem_velocity_maps<S>(model, data, q);
+namespace detail {
+/// T (nv x ny) from the sub-systems' G already at q (velocity_map without computing them).
+template <typename S, typename Out> void velocity_map_from_maps(const Model& model, const Data<S>& data, Out&& T) {
   T.setZero();
   for (std::size_t i = 0; i < model.structure().independent_v.size(); ++i) T(model.structure().independent_v[i], static_cast<int>(i)) = S(1);
   for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
@@ -170,6 +169,14 @@ template <typename S, typename Out> void velocity_map(const Model& model, Data<S
         T(sub.coordinates[j], model.structure().column_of_v[static_cast<std::size_t>(sub.independent[c])]) = w.G(static_cast<int>(j), static_cast<int>(c));
     }
   }
+}
+}  // namespace detail
+
+/// The velocity map T (nv x ny) at q: v = T vy for every velocity that keeps the loops closed.
+/// Dense; controllers that only need T vy use full_velocities.
+template <typename S, typename Out> void velocity_map(const Model& model, Data<S>& data, const ConstVecRef<S>& q, Out&& T) {
+  subsystem_velocity_maps<S>(model, data, q);
+  detail::velocity_map_from_maps<S>(model, data, T);
 }
 
 /// The acceleration bias g (nv) at (q, vy): qdd = T ydd + g keeps the loops closed; zero at the
