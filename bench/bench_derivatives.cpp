@@ -5,6 +5,14 @@
 //                                           for dqdd/dq, each after the runtime's integrate, 2 nv for dqdd/dv, 2 nv for
 //                                           dqdd/dtau: what an MPC user without derivatives writes)
 //   id_derivatives/<robot>/{generated,generic}  tau, dtau/dq, dtau/dv
+// and for the closed-loop robots lola (floating) and cassie_like (fixed), in the independent
+// coordinates y along the closed set (loop_dynamics_derivatives.hpp):
+//   derivatives/<robot>/generated           NAME::forward_dynamics_derivatives: ydd, dydd/dy, dydd/dyd, dydd/dtau
+//   derivatives/<robot>/generic             forward_dynamics_loops_derivatives<double>, same outputs
+//   derivatives/<robot>/finite_differences  central differences of the generated forward_dynamics: per y, the
+//                                           runtime's integrate then the generated closure_positions (Newton,
+//                                           warm-started at the state) on each side; 2 ny calls for dydd/dyd,
+//                                           2 nv for dydd/dtau
 #include "bench_derivatives.hpp"
 
 #include <memory>
@@ -13,7 +21,12 @@
 #include "hyq_derivatives.hpp"
 #include "iiwa14.hpp"
 #include "iiwa14_derivatives.hpp"
+#include "lola.hpp"
+#include "lola_derivatives.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
+#include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
+#include "pl_cassie_like.hpp"
+#include "pl_cassie_like_derivatives.hpp"
 #include "talos.hpp"
 #include "talos_derivatives.hpp"
 
@@ -102,7 +115,108 @@ void add(const Robot& robot, const DerivativeApi& api) {
   });
 }
 
+/// The generated functions of a closed-loop robot the loop benchmarks call.
+struct LoopDerivativeApi {
+  void (*forward_dynamics_derivatives)(const double*, const double*, const double*, double*, double*, double*, double*);
+  void (*forward_dynamics)(const double*, const double*, const double*, double*);
+  void (*closure_positions)(double*);
+};
+
+/// One state in independent velocities.
+struct LoopSample {
+  VecX<double> q, vy, tau;
+};
+
+/// Central differences of the generated closed-system forward dynamics: the user's fallback.
+struct LoopFiniteDifferences {
+  LoopFiniteDifferences(const Model& model, const LoopDerivativeApi& api)
+      : model(&model), api(api), ny(model.structure().num_independent()), nv(model.nv()), q(model.nq()), vy(ny), tau(nv), plus(ny),
+        minus(ny), e(VecX<double>::Zero(nv)), a(static_cast<std::size_t>(ny * ny)), b(a), c(static_cast<std::size_t>(ny * nv)) {}
+  const double* run(const LoopSample& s) {
+    const double h = 1e-6;
+    const auto column = [&](std::vector<double>& out, int cols, int k) {
+      for (int r = 0; r < ny; ++r) out[static_cast<std::size_t>(r * cols + k)] = (plus[r] - minus[r]) / (2 * h);
+    };
+    for (int k = 0; k < ny; ++k) {
+      const int i = model->structure().independent_v[static_cast<std::size_t>(k)];
+      for (int side : {1, -1}) {
+        e[i] = side * h;
+        integrate<double>(*model, s.q, e, q);
+        api.closure_positions(q.data());
+        api.forward_dynamics(q.data(), s.vy.data(), s.tau.data(), side > 0 ? plus.data() : minus.data());
+      }
+      e[i] = 0;
+      column(a, ny, k);
+      vy = s.vy;
+      vy[k] += h;
+      api.forward_dynamics(s.q.data(), vy.data(), s.tau.data(), plus.data());
+      vy[k] -= 2 * h;
+      api.forward_dynamics(s.q.data(), vy.data(), s.tau.data(), minus.data());
+      column(b, ny, k);
+    }
+    for (int k = 0; k < nv; ++k) {
+      tau = s.tau;
+      tau[k] += h;
+      api.forward_dynamics(s.q.data(), s.vy.data(), tau.data(), plus.data());
+      tau[k] -= 2 * h;
+      api.forward_dynamics(s.q.data(), s.vy.data(), tau.data(), minus.data());
+      column(c, nv, k);
+    }
+    return a.data();
+  }
+  const Model* model;
+  LoopDerivativeApi api;
+  int ny, nv;
+  VecX<double> q, vy, tau, plus, minus, e;
+  std::vector<double> a, b, c;
+};
+
+void add_loops(const std::string& name, const std::string& urdf, const std::string& extras, const LoopDerivativeApi& api) {
+  static std::vector<std::unique_ptr<Model>> models;  // live as long as the benchmarks
+  gen::LoadOptions options;
+  if (!extras.empty()) options.extras_file = extras;
+  const gen::Description d = gen::load_description(urdf, options);
+  models.push_back(std::make_unique<Model>(d.model));
+  const Model* model = models.back().get();
+  const int ny = model->structure().num_independent(), nv = model->nv();
+  auto pool = std::make_shared<std::vector<LoopSample>>();
+  const auto states = consistent_pool(*model, d.assembly.q);  // (held: a range-for over *f() would outlive it)
+  for (const Sample& sample : *states) {
+    LoopSample x{sample.q, VecX<double>(ny), sample.tau};
+    for (int i = 0; i < ny; ++i) x.vy[i] = sample.v[model->structure().independent_v[static_cast<std::size_t>(i)]];
+    pool->push_back(std::move(x));
+  }
+  struct Out {
+    Out(int ny, int nv) : x(static_cast<std::size_t>(ny)), a(static_cast<std::size_t>(ny * ny)), b(a), c(static_cast<std::size_t>(ny * nv)) {}
+    std::vector<double> x, a, b, c;
+  };
+  add_benchmark<LoopSample>("derivatives", name, "generated", pool, [api, out = std::make_shared<Out>(ny, nv)](const LoopSample& s) {
+    api.forward_dynamics_derivatives(s.q.data(), s.vy.data(), s.tau.data(), out->x.data(), out->a.data(), out->b.data(), out->c.data());
+    return out->a.data();
+  });
+  struct Generic {
+    explicit Generic(const Model& m) : data(m), ld(m) {}
+    Data<double> data;
+    LoopDynamicsDerivatives<double> ld;
+  };
+  add_benchmark<LoopSample>("derivatives", name, "generic", pool, [model, w = std::make_shared<Generic>(*model)](const LoopSample& s) {
+    forward_dynamics_loops_derivatives<double>(*model, w->data, w->ld, s.q, s.vy, s.tau);
+    return w->ld.dydd_dy.data();
+  });
+  add_benchmark<LoopSample>("derivatives", name, "finite_differences", pool,
+                            [w = std::make_shared<LoopFiniteDifferences>(*model, api)](const LoopSample& s) { return w->run(s); });
+}
+
 }  // namespace
+
+void add_loop_derivative_benchmarks() {
+  const std::string source = MBGEN_SOURCE_DIR, shared = MBGEN_SHARED_ROBOTS;
+  add_loops("lola", source + "/robots/lola/lola.urdf", source + "/robots/lola/lola.yaml",
+            {&lola_derivatives::forward_dynamics_derivatives, &lola::forward_dynamics, [](double* q) { lola::closure_positions(q); }});
+  add_loops("cassie_like", shared + "/parallel_legs/cassie_like/robot.urdf", "",
+            {&pl_cassie_like_derivatives::forward_dynamics_derivatives, &pl_cassie_like::forward_dynamics,
+             [](double* q) { pl_cassie_like::closure_positions(q); }});
+}
 
 void add_derivative_benchmarks(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_DERIVATIVE_API(iiwa14));

@@ -203,6 +203,7 @@ int main(int argc, char** argv) {
     add_rotor_benchmarks();
     add_self_distance_benchmarks();
     add_loop_benchmarks();
+    add_loop_derivative_benchmarks();
     add_sim_benchmarks();
     add_kdl(robots[0], "base", "iiwa_link_ee");
     add_kdl_floating_rnea(robots[1]);

@@ -37,30 +37,6 @@ namespace mbgen::bench {
 
 namespace {
 
-/// Seeded consistent states: the assembled pose with the independent coordinates moved by up to
-/// 0.05 rad, loops closed by Newton (states where it fails are drawn again), v = G vy.
-std::shared_ptr<const std::vector<Sample>> consistent_pool(const Model& model, const VecX<double>& q_closed) {
-  std::mt19937_64 rng(2024);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  Data<double> data(model);
-  const int ny = model.structure().num_independent();
-  auto pool = std::make_shared<std::vector<Sample>>();
-  for (int attempt = 0; pool->size() < kPoolSize; ++attempt) {
-    if (attempt > 100 * static_cast<int>(kPoolSize)) throw std::runtime_error("bench: cannot close the loops of " + model.name);
-    Sample s;
-    s.q = q_closed;
-    for (int y : model.structure().independent_v)
-      if (model.q_index_of_v(y) >= 0) s.q[model.q_index_of_v(y)] += 0.05 * unit(rng);
-    if (closure_positions<double>(model, data, s.q).status != ClosureStatus::Converged) continue;
-    s.v.resize(model.nv());
-    full_velocities<double>(model, data, s.q, random_vector<double>(ny, rng), s.v);
-    s.a = VecX<double>::Zero(model.nv());
-    s.tau = random_vector<double>(model.nv(), rng, 5.0);
-    pool->push_back(std::move(s));
-  }
-  return pool;
-}
-
 /// The generated closed-system forward dynamics of one robot: q (nq), independent velocities, tau (nv).
 using GeneratedForwardDynamics = void (*)(const double*, const double*, const double*, double*);
 

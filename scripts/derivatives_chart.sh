@@ -8,8 +8,13 @@ build=${1:-$root/build}
 csv=$root/docs/derivatives/accuracy.csv
 mkdir -p "$root/docs/derivatives"
 "$build/bench/mbgen_derivative_accuracy" > "$csv"
-for robot in hyq talos; do
-  gnuplot -e "csv='$csv'; robot='$robot'; png='$root/docs/derivatives/accuracy_$robot.png'; plot_title='$robot: dqdd/dq and dqdd/dv by finite differences of the generated forward dynamics against the analytic derivatives'" \
+for robot in hyq talos lola; do
+  if [ "$robot" = lola ]; then
+    what="lola, closed loops (n = ny = 30): dydd/dy, dydd/dyd by differences (loops closed by Newton) and analytic"
+  else
+    what="$robot (n = nv): dqdd/dq, dqdd/dv by differences of the generated forward dynamics and analytic"
+  fi
+  gnuplot -e "csv='$csv'; robot='$robot'; png='$root/docs/derivatives/accuracy_$robot.png'; plot_title='$what'" \
     "$root/scripts/plot_derivative_accuracy.gp"
 done
-echo "wrote $csv and docs/derivatives/accuracy_{hyq,talos}.png"
+echo "wrote $csv and docs/derivatives/accuracy_{hyq,talos,lola}.png"

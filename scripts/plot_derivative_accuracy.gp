@@ -11,7 +11,7 @@ set format y "1e%T"
 set key at graph 0.02, graph 0.44 left top box opaque
 set title plot_title
 set xlabel "finite-difference step h"
-set ylabel "relative error of dqdd/dq and dqdd/dv (max-norm, worst of 8 states)"
+set ylabel "relative error of the q and v derivatives (max-norm, worst of 8 states)"
 # Each method's time per evaluation (ns, the same for every h) for the legend.
 stats csv using ((strcol(1) eq robot && strcol(2) eq "central") ? $5 : NaN) nooutput
 t_central = STATS_max
@@ -24,8 +24,8 @@ e_analytic = STATS_max
 set xrange [1e-12:0.1]
 set yrange [1e-16:1]
 plot csv using ((strcol(1) eq robot && strcol(2) eq "central") ? $3 : NaN):4 with linespoints lw 2 pt 7 \
-       title sprintf("central differences (4 nv calls): %.1f us", t_central / 1000), \
+       title sprintf("central differences (4 n calls): %.1f us", t_central / 1000), \
      csv using ((strcol(1) eq robot && strcol(2) eq "forward") ? $3 : NaN):4 with linespoints lw 2 pt 5 \
-       title sprintf("forward differences (2 nv + 1 calls): %.1f us", t_forward / 1000), \
+       title sprintf("forward differences (2 n + 1 calls): %.1f us", t_forward / 1000), \
      e_analytic with lines lw 3 dt 2 \
-       title sprintf("forward_dynamics_derivatives (and M^-1): %.1f us, error %.1e", t_analytic / 1000, e_analytic)
+       title sprintf("forward_dynamics_derivatives (and d/dtau): %.1f us, error %.1e", t_analytic / 1000, e_analytic)

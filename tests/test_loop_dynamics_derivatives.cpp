@@ -42,6 +42,13 @@ VecX<double> independent_part(const Model& model, const VecX<double>& full) {
   return out;
 }
 
+/// A consistent state of d's model drawn around its assembled pose (up to 20 draws).
+bool some_consistent_state(const gen::Description& d, std::mt19937_64& rng, VecX<double>& q, VecX<double>& v) {
+  for (int attempt = 0; attempt < 20; ++attempt)
+    if (consistent_state(d.model, d.assembly.q, rng, 0.05, q, v)) return true;
+  return false;
+}
+
 struct WorstErrors {
   double dy = 0, dyd = 0, dtau = 0, id_dy = 0, id_dyd = 0, tangent = 0;
 };
@@ -128,9 +135,7 @@ TEST_P(LoopDynamicsDerivativesTest, MatchCentralDifferencesThroughClosurePositio
   const Model& model = d.model;
   std::mt19937_64 rng(542);
   VecX<double> q, v;
-  bool found = false;
-  for (int attempt = 0; attempt < 20 && !found; ++attempt) found = consistent_state(model, d.assembly.q, rng, 0.05, q, v);
-  ASSERT_TRUE(found);
+  ASSERT_TRUE(some_consistent_state(d, rng, q, v));
   const int ny = model.structure().num_independent();
   const VecX<double> yd = independent_part(model, v), tau = random_vector<double>(model.nv(), rng, 5.0);
   Data<double> data(model), other(model);
@@ -167,9 +172,7 @@ TEST_P(LoopDynamicsDerivativesTest, AllocateNothing) {
   const Model& model = d.model;
   std::mt19937_64 rng(543);
   VecX<double> q, v;
-  bool found = false;
-  for (int attempt = 0; attempt < 20 && !found; ++attempt) found = consistent_state(model, d.assembly.q, rng, 0.05, q, v);
-  ASSERT_TRUE(found);
+  ASSERT_TRUE(some_consistent_state(d, rng, q, v));
   const VecX<double> yd = independent_part(model, v), tau = random_vector<double>(model.nv(), rng);
   Data<double> data(model);
   LoopDynamicsDerivatives<double> ld(model);
@@ -177,6 +180,31 @@ TEST_P(LoopDynamicsDerivativesTest, AllocateNothing) {
   forward_dynamics_loops_derivatives<double>(model, data, ld, q, yd, tau);
   inverse_dynamics_loops_derivatives<double>(model, data, ld, q, yd, ld.ydd);
   EXPECT_EQ(guard.count(), 0u);
+}
+
+// The solves run along the factor's chains (the model's elimination tree of M_y): every entry of
+// the dense L^T D L factor off them must be exactly zero, or the solves would drop it.
+TEST_P(LoopDynamicsDerivativesTest, TheFactorIsZeroOffItsChains) {
+  const gen::Description d = load_loop_case(GetParam());
+  const Model& model = d.model;
+  std::mt19937_64 rng(547);
+  VecX<double> q, v;
+  ASSERT_TRUE(some_consistent_state(d, rng, q, v));
+  Data<double> data(model);
+  LoopDynamicsDerivatives<double> ld(model);
+  forward_dynamics_loops_derivatives<double>(model, data, ld, q, independent_part(model, v), random_vector<double>(model.nv(), rng));
+  const int ny = model.structure().num_independent();
+  int on_chains = 0;
+  for (int k = 0; k < ny; ++k) {
+    std::vector<bool> chain(static_cast<std::size_t>(k), false);
+    for (int i = ld.y_parent[static_cast<std::size_t>(k)]; i >= 0; i = ld.y_parent[static_cast<std::size_t>(i)]) chain[static_cast<std::size_t>(i)] = true, ++on_chains;
+    for (int i = 0; i < k; ++i) {
+      if (!chain[static_cast<std::size_t>(i)]) {
+        EXPECT_EQ(ld.M_y_factor(k, i), 0.0) << k << ", " << i;
+      }
+    }
+  }
+  std::printf("  %s: ny %d, %d factor entries on the chains of %d below the diagonal\n", GetParam().name.c_str(), ny, on_chains, ny * (ny - 1) / 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(LoopModels, LoopDynamicsDerivativesTest, ::testing::ValuesIn(loop_cases()),
@@ -187,9 +215,7 @@ TEST(LoopDynamicsDerivatives, LolaWithAFloatingBaseMatchesDualNumbers) {
   const Model& model = d.model;
   std::mt19937_64 rng(544);
   VecX<double> q, v;
-  bool found = false;
-  for (int attempt = 0; attempt < 20 && !found; ++attempt) found = consistent_state(model, d.assembly.q, rng, 0.05, q, v);
-  ASSERT_TRUE(found);
+  ASSERT_TRUE(some_consistent_state(d, rng, q, v));
   const int ny = model.structure().num_independent();
   const VecX<double> yd = independent_part(model, v), tau = random_vector<double>(model.nv(), rng, 5.0), ydd = random_vector<double>(ny, rng, 5.0);
   const WorstErrors e = compare_with_duals(model, q, yd, tau, ydd);

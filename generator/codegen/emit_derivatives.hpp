@@ -5,8 +5,11 @@
 // that factor printed here as loops over whole rows of dqdd/dq and dqdd/dv (M^-1 is traced:
 // Z^T D^-1 Z, aba_derivatives.hpp). Unrolled, the 3 nv solves were two thirds of the function's
 // operations and made its code too large for the instruction caches (talos: 150k statements,
-// twice Pinocchio's time); as row operations they are short and vectorise.
+// twice Pinocchio's time); as row operations they are short and vectorise. A closed system's
+// (loop_dynamics_derivatives.hpp) the same: M_y's factor along its elimination tree, and its
+// three matrices solved (dydd/dtau = M_y^-1 T^T too: T^T has few entries, its solve fills them).
 #include <string>
+#include <vector>
 
 #include "codegen/emit_context.hpp"
 #include "codegen/traced_function.hpp"
@@ -14,8 +17,10 @@
 
 namespace mbgen::codegen {
 
-/// The source file of forward_dynamics_derivatives from its trace (trace_forward_dynamics_derivatives:
-/// the work outputs factor_entries and inverse_pivot last) for the tree it was traced on.
-std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const Model& tree, const EmitContext& ctx);
+/// The source file of forward_dynamics_derivatives from its trace (trace_forward_dynamics_derivatives
+/// or trace_loop_forward_dynamics_derivatives: the work outputs factor_entries and inverse_pivot
+/// last), with the factor's structure: each row's parent (a tree's velocity parents; a closed
+/// system's LoopDynamicsDerivatives::y_parent).
+std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent, const EmitContext& ctx);
 
 }  // namespace mbgen::codegen

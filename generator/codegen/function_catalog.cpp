@@ -10,6 +10,7 @@
 #include "codegen/trace_derivatives.hpp"
 #include "codegen/trace_dynamics.hpp"
 #include "codegen/trace_loop_maps.hpp"
+#include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 
 namespace mbgen::codegen {
 
@@ -132,20 +133,22 @@ const std::vector<GeneratedFunction>& function_catalog() {
          {"id_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) { return trace_inverse_dynamics_derivatives(in.tree); };
-    row("forward_dynamics_derivatives", Batch::no, "the tree's forward dynamics and its derivatives dqdd/dq, dqdd/dv, M^-1",
+    row("forward_dynamics_derivatives", Batch::no, "the forward dynamics and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau",
          {"fd_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) {
-      if (!in.model.closures.empty())
-        throw std::invalid_argument(
-            "fd_derivatives: the robot has closed loops, and the derivatives of the closed system's forward dynamics are not "
-            "generated yet (only the spanning tree's, which would not be the derivatives of its forward_dynamics); "
-            "id_derivatives gives the spanning tree's inverse dynamics derivatives");
+      if (!in.model.subsystems.empty()) return trace_loop_forward_dynamics_derivatives(in.model);
       return trace_forward_dynamics_derivatives(in.tree);
     };
-    // Loops refused above: the model is its tree.
+    // The solves with M (a tree) or M_y (a closed system) run as row loops (emit_derivatives.hpp).
     r.back().definition = [](const DefinitionInputs& in) {
-      return emit_forward_dynamics_derivatives_definition(in.function, in.model, in.ctx);
+      std::vector<int> parent;
+      if (!in.model.subsystems.empty()) {
+        parent = closed_mass_matrix_elimination_tree(in.model);
+      } else {
+        for (int k = 0; k < in.model.nv(); ++k) parent.push_back(in.model.velocity_parent(k));
+      }
+      return emit_forward_dynamics_derivatives_definition(in.function, parent, in.ctx);
     };
     // clang-format on
     return r;

@@ -183,7 +183,7 @@ std::vector<TemplateSpec> make_catalog() {
         {"size", "A's number of entries"},
         {"arguments", "the inputs A depends on, comma-separated"},
         {"rows", "the statements computing y, one per line"}}},
-      {"solve_entry_point", "forward_dynamics_derivatives for one scalar: <function>_impl<scalar> (the traced part), then <function>_solves<scalar> on dqdd/dq and dqdd/dv",
+      {"solve_entry_point", "forward_dynamics_derivatives for one scalar: <function>_impl<scalar> (the traced part), then <function>_solves<scalar> on the matrices it solves in place (dqdd/dq and dqdd/dv; with loops dqdd/dtau too)",
        {kPublicName, kParameters, kScalar, kRobot,
         {"function", "the function's name"},
         {"work_declarations", "the local work arrays the impl writes and the solves read: factor_entries[..], inverse_pivot[..]"},

@@ -4,6 +4,7 @@
 
 #include "codegen/trace_support.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
+#include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 
 namespace mbgen::codegen {
 
@@ -58,6 +59,37 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
   // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv.
   f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(d.Minv), ids_of(d.factor_entries),
                   ids_of(d.inverse_pivot)};
+  return f;
+}
+
+TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model) {
+  const int ny = num_independent(model), nv = model.nv();
+  TracedFunction f;
+  f.name = "forward_dynamics_derivatives";
+  f.doc = "The closed system's forward dynamics in its independent coordinates (forward_dynamics) and its derivatives "
+          "dydd/dy, dydd/dyd and dydd/dtau = M_y^-1 T^T, the loops held closed: d/dy moves q along the closed set (the "
+          "dependent coordinates follow, a floating base by integrate). The tree's analytic derivatives projected by the "
+          "velocity map, with the closure's own dependence on y by the implicit-function theorem through Phi_z "
+          "(loop_dynamics_derivatives.hpp). Unrolled up to the solves with M_y, which run as loops over whole rows "
+          "(its L^T D L factor along its elimination tree). q must close the loops.";
+  f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
+              v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through T^T)")};
+  f.outputs = {y_spec(model, "qdd", "independent accelerations"),
+               {"dqdd_dq", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dy along the closed set", ny)},
+               {"dqdd_dv", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dyd", ny)},
+               {"dqdd_dtau", ny * nv, fmt::format("[{} x {}, row-major] dydd/dtau = M_y^-1 T^T", ny, nv)}};
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  LoopDynamicsDerivatives<Sym> ld(model);
+  const int entries = static_cast<int>(ld.factor_entries.size());
+  f.outputs.push_back({"factor_entries", entries, fmt::format("[{}] L(k, i) of M_y's factor along its elimination tree", entries)});
+  f.outputs.push_back(y_spec(model, "inverse_pivot", "1 / D of M_y's factor"));
+  f.work_outputs = 2;
+  const SymVec q = inputs(0, model.nq()), vy = inputs(1, ny), tau = inputs(2, nv);
+  forward_dynamics_loops_derivatives_before_solves<Sym>(model, data, ld, q, vy, tau);
+  // The solves run in place (emit_derivatives.cpp): the matrices leave the trace as -R_q, -R_v, T^T.
+  f.output_ids = {ids_of(ld.ydd),         ids_of(ld.dydd_dy),        ids_of(ld.dydd_dyd),
+                  ids_of(ld.dydd_dtau),   ids_of(ld.factor_entries), ids_of(ld.inverse_pivot)};
   return f;
 }
 

@@ -11,5 +11,8 @@ namespace mbgen::codegen {
 TracedFunction trace_inverse_dynamics_derivatives(const Model& tree);
 /// qdd, dqdd/dq, dqdd/dv and M^-1 of the spanning tree's forward dynamics at (q, v, tau).
 TracedFunction trace_forward_dynamics_derivatives(const Model& tree);
+/// A closed system's: ydd, dydd/dy (along the closed set), dydd/dyd and dydd/dtau in its
+/// independent coordinates (loop_dynamics_derivatives.hpp), every matrix row-major.
+TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model);
 
 }  // namespace mbgen::codegen

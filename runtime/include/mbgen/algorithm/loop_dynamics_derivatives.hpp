@@ -30,16 +30,58 @@
 // Phi_z and M_y lose rank: the status is Singular, as forward_dynamics_loops reports it, and the
 // results must not be used. On a model without loops T = I and these are the tree's derivatives
 // (aba_derivatives.hpp) in plain coordinates, the floating base by the same tangent convention.
+#include <cmath>
+#include <type_traits>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <unsupported/Eigen/AutoDiff>
 
 #include "mbgen/algorithm/crba.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/rnea_derivatives.hpp"
+#include "mbgen/algorithm/small_ldlt.hpp"
 
 namespace mbgen {
+
+/// The elimination tree of the closed system's mass matrix M_y = T^T M T in its L^T D L factor
+/// (small_ldlt.hpp's ltdl_factor, from the last row up): per independent coordinate k, the nearest
+/// i < k with L(k, i) possibly nonzero, -1 for none; L(k, i) is zero unless i is on k's chain of
+/// parents. Without loops, the velocity parents.
+inline std::vector<int> closed_mass_matrix_elimination_tree(const Model& model) {
+  const int ny = model.structure().num_independent();
+  std::vector<int> y_parent;
+  // M_y(k, i) can be nonzero where a coordinate y_k moves (itself, its sub-system's dependent
+  // ones) is an ancestor of, or below, one that y_i moves (M's own sparsity); elimination from the
+  // last row up then fills in only along the elimination tree it builds.
+  const ModelStructure& st = model.structure();
+  std::vector<std::vector<int>> moves(static_cast<std::size_t>(ny));
+  for (int i = 0; i < ny; ++i) moves[static_cast<std::size_t>(i)].push_back(st.independent_v[static_cast<std::size_t>(i)]);
+  for (const SubSystem& sub : model.subsystems)
+    for (int c : sub.independent)
+      for (int z : sub.dependent) moves[static_cast<std::size_t>(st.column_of_v[static_cast<std::size_t>(c)])].push_back(z);
+  const auto above = [&](int a, int b) {  // a is b or one of its ancestors
+    for (int x = b; x >= 0; x = model.velocity_parent(x))
+      if (x == a) return true;
+    return false;
+  };
+  std::vector<std::vector<bool>> pattern(static_cast<std::size_t>(ny), std::vector<bool>(static_cast<std::size_t>(ny), false));
+  for (int k = 0; k < ny; ++k)
+    for (int i = 0; i < k; ++i)
+      for (int a : moves[static_cast<std::size_t>(k)])
+        for (int b : moves[static_cast<std::size_t>(i)])
+          if (above(a, b) || above(b, a)) pattern[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] = true;
+  y_parent.assign(static_cast<std::size_t>(ny), -1);
+  for (int k = ny - 1; k >= 0; --k) {
+    const std::vector<bool>& row = pattern[static_cast<std::size_t>(k)];
+    int parent = -1;
+    for (int i = 0; i < k; ++i)
+      if (row[static_cast<std::size_t>(i)]) parent = i;
+    y_parent[static_cast<std::size_t>(k)] = parent;
+    for (int i = 0; i < parent; ++i)
+      if (row[static_cast<std::size_t>(i)]) pattern[static_cast<std::size_t>(parent)][static_cast<std::size_t>(i)] = true;
+  }
+  return y_parent;
+}
 
 /// Results and work memory of the closed system's derivatives. Making it allocates; the
 /// algorithms then do not. All matrices are Eigen's column-major; row r, column c is
@@ -73,15 +115,22 @@ template <typename S> struct LoopDynamicsDerivatives {
   std::vector<MatX<S>> dG;        ///< per sub-system: k x p^2, block c = dG/dy_c
   std::vector<MatX<S>> dg_y, dg_v;  ///< per sub-system: k x p, column c = dg/dy_c, dg/dyd_c
   std::vector<MatX<S>> rhs;       ///< per sub-system: rank x p
-  Eigen::LLT<MatX<S>> M_y_factor;
+  MatX<S> M_y_factor;  ///< ny x ny: M_y = L^T D L (small_ldlt.hpp's ltdl_factor: branch-free, and as sparse as M_y's tree)
+  /// The factor's sparsity, a property of the model: y_parent[k] is the nearest i < k with L(k, i)
+  /// possibly nonzero (-1: none), and L(k, i) is zero unless i is on k's chain of y_parents (M_y's
+  /// elimination tree; for a tree without loops, the velocity parents). factor_entries holds
+  /// L(k, i) along the chains, k's from factor_first[k]; inverse_pivot 1/d. The solves run along
+  /// the chains (detail::factor_chain_solve), as the generated code's loops do.
+  std::vector<int> y_parent, factor_first;
+  VecX<S> factor_entries, inverse_pivot;
   int max_independent = 0;  ///< the largest sub-system's p: the dual passes per call, times 3
 };
 
 template <typename S>
-LoopDynamicsDerivatives<S>::LoopDynamicsDerivatives(const Model& model) : tree(model), closure(model), M_y_factor(model.structure().num_independent()) {
+LoopDynamicsDerivatives<S>::LoopDynamicsDerivatives(const Model& model) : tree(model), closure(model) {
   const int nv = model.nv(), ny = model.structure().num_independent();
   ydd = tau_y = VecX<S>::Zero(ny);
-  dydd_dy = dydd_dyd = dtauy_dy = dtauy_dyd = M_y = R_q = R_v = MatX<S>::Zero(ny, ny);
+  dydd_dy = dydd_dyd = dtauy_dy = dtauy_dyd = M_y = M_y_factor = R_q = R_v = MatX<S>::Zero(ny, ny);
   dydd_dtau = MatX<S>::Zero(ny, nv);
   T = dV = dQdd = dQdd_v = A = MatX<S>::Zero(nv, ny);
   qdd = v = f = VecX<S>::Zero(nv);
@@ -98,6 +147,14 @@ LoopDynamicsDerivatives<S>::LoopDynamicsDerivatives(const Model& model) : tree(m
     rhs.push_back(MatX<S>::Zero(sub.rank(), p));
     max_independent = std::max(max_independent, p);
   }
+  y_parent = closed_mass_matrix_elimination_tree(model);
+  int entries = 0;
+  for (int k = 0; k < ny; ++k) {
+    factor_first.push_back(entries);
+    for (int i = y_parent[static_cast<std::size_t>(k)]; i >= 0; i = y_parent[static_cast<std::size_t>(i)]) ++entries;
+  }
+  factor_entries = VecX<S>::Zero(std::max(entries, 1));
+  inverse_pivot = VecX<S>::Zero(ny);
 }
 
 namespace detail {
@@ -252,7 +309,60 @@ void closed_residual_derivatives(const Model& model, LoopDynamicsDerivatives<S>&
   ld.M_y.noalias() = ld.T.transpose() * ld.A;
 }
 
+/// b = M_y^-1 b in place from the factor along its chains (ld.factor_entries, ld.inverse_pivot):
+/// L^T z = b from the last row up, D^-1, L x = z from the first down; the generated code's row
+/// loops are these sweeps (emit_derivatives.cpp).
+template <typename S, typename Vector> void factor_chain_solve(const LoopDynamicsDerivatives<S>& ld, Vector&& b) {
+  const int n = static_cast<int>(ld.y_parent.size());
+  const auto parent = [&](int k) { return ld.y_parent[static_cast<std::size_t>(k)]; };
+  for (int k = n - 1; k >= 0; --k) {
+    int e = ld.factor_first[static_cast<std::size_t>(k)];
+    for (int i = parent(k); i >= 0; i = parent(i), ++e) b[i] -= ld.factor_entries[e] * b[k];
+  }
+  for (int k = 0; k < n; ++k) b[k] *= ld.inverse_pivot[k];
+  for (int k = 0; k < n; ++k) {
+    int e = ld.factor_first[static_cast<std::size_t>(k)];
+    for (int i = parent(k); i >= 0; i = parent(i), ++e) b[k] -= ld.factor_entries[e] * b[i];
+  }
+}
+
 }  // namespace detail
+
+/// What comes before the solves with M_y (the part the generator unrolls; it prints the solves as
+/// loops over whole rows): ld.ydd, ld.dydd_dy = -R_q, ld.dydd_dyd = -R_v, ld.dydd_dtau = T^T, the
+/// factor of M_y (ld.M_y_factor, and along its chains ld.factor_entries, ld.inverse_pivot), ld.T,
+/// ld.M_y, ld.qdd. The status as forward_dynamics_loops_derivatives'. No allocation.
+template <typename S>
+ClosureStatus forward_dynamics_loops_derivatives_before_solves(const Model& model, Data<S>& data, LoopDynamicsDerivatives<S>& ld,
+                                                               const ConstVecRef<S>& q, const ConstVecRef<S>& yd, const ConstVecRef<S>& tau,
+                                                               const ClosureOptions& options = {}) {
+  const ModelStructure& st = model.structure();
+  const int ny = st.num_independent();
+  forward_dynamics_loops_independent<S>(model, data, q, yd, tau);
+  bool regular = true;
+  if constexpr (std::is_floating_point_v<S>) regular = subsystem_pivot_ratio<S>(model, data) > S(options.singular_tolerance);
+  ld.qdd = data.ddq;
+  ld.v = data.v_full;
+  for (int i = 0; i < ny; ++i) ld.ydd[i] = ld.qdd[st.independent_v[static_cast<std::size_t>(i)]];
+  detail::velocity_map_from_maps<S>(model, data, ld.T);
+  detail::closure_map_derivatives<S>(model, data, ld, q);
+  inverse_dynamics_derivatives<S>(model, data, ld.tree, q, ld.v, ld.qdd);
+  ld.f = ld.tree.tau - tau;
+  detail::closed_residual_derivatives<S>(model, ld, crba<S>(model, data, q), ld.ydd);
+  ld.M_y_factor = ld.M_y;
+  ltdl_factor<S>(ld.M_y_factor, ny);
+  for (int k = 0; k < ny; ++k) {
+    ld.inverse_pivot[k] = ld.M_y_factor(k, k);
+    int e = ld.factor_first[static_cast<std::size_t>(k)];
+    for (int i = ld.y_parent[static_cast<std::size_t>(k)]; i >= 0; i = ld.y_parent[static_cast<std::size_t>(i)]) ld.factor_entries[e++] = ld.M_y_factor(k, i);
+  }
+  ld.dydd_dy = -ld.R_q;
+  ld.dydd_dyd = -ld.R_v;
+  ld.dydd_dtau = ld.T.transpose();
+  if constexpr (std::is_floating_point_v<S>)  // M_y positive definite: every 1/d positive and finite
+    for (int i = 0; i < ny; ++i) regular = regular && std::isfinite(ld.inverse_pivot[i]) && ld.inverse_pivot[i] > S(0);
+  return regular ? ClosureStatus::Converged : ClosureStatus::Singular;
+}
 
 /// ydd (ld.ydd), dydd/dy (ld.dydd_dy), dydd/dyd (ld.dydd_dyd) and dydd/dtau (ld.dydd_dtau) of the
 /// closed system at the closed configuration q (nq; closure_positions), the independent
@@ -262,25 +372,13 @@ void closed_residual_derivatives(const Model& model, LoopDynamicsDerivatives<S>&
 template <typename S>
 ClosureStatus forward_dynamics_loops_derivatives(const Model& model, Data<S>& data, LoopDynamicsDerivatives<S>& ld, const ConstVecRef<S>& q,
                                                  const ConstVecRef<S>& yd, const ConstVecRef<S>& tau, const ClosureOptions& options = {}) {
-  const ModelStructure& st = model.structure();
-  forward_dynamics_loops_independent<S>(model, data, q, yd, tau);
-  const bool regular = subsystem_pivot_ratio<S>(model, data) > S(options.singular_tolerance);
-  ld.qdd = data.ddq;
-  ld.v = data.v_full;
-  for (std::size_t i = 0; i < st.independent_v.size(); ++i) ld.ydd[static_cast<int>(i)] = ld.qdd[st.independent_v[i]];
-  detail::velocity_map_from_maps<S>(model, data, ld.T);
-  detail::closure_map_derivatives<S>(model, data, ld, q);
-  inverse_dynamics_derivatives<S>(model, data, ld.tree, q, ld.v, ld.qdd);
-  ld.f = ld.tree.tau - tau;
-  detail::closed_residual_derivatives<S>(model, ld, crba<S>(model, data, q), ld.ydd);
-  ld.M_y_factor.compute(ld.M_y);
-  ld.dydd_dy = -ld.R_q;
-  ld.dydd_dyd = -ld.R_v;
-  ld.dydd_dtau = ld.T.transpose();
-  ld.M_y_factor.solveInPlace(ld.dydd_dy);
-  ld.M_y_factor.solveInPlace(ld.dydd_dyd);
-  ld.M_y_factor.solveInPlace(ld.dydd_dtau);
-  return regular && ld.M_y_factor.info() == Eigen::Success ? ClosureStatus::Converged : ClosureStatus::Singular;
+  const ClosureStatus status = forward_dynamics_loops_derivatives_before_solves<S>(model, data, ld, q, yd, tau, options);
+  for (int c = 0; c < ld.dydd_dy.cols(); ++c) {
+    detail::factor_chain_solve<S>(ld, ld.dydd_dy.col(c));
+    detail::factor_chain_solve<S>(ld, ld.dydd_dyd.col(c));
+  }
+  for (int c = 0; c < ld.dydd_dtau.cols(); ++c) detail::factor_chain_solve<S>(ld, ld.dydd_dtau.col(c));
+  return status;
 }
 
 /// tau_y = T^T ID(q, T yd, T ydd + g) (ld.tau_y, as inverse_dynamics_independent computes it),
@@ -291,7 +389,8 @@ template <typename S>
 ClosureStatus inverse_dynamics_loops_derivatives(const Model& model, Data<S>& data, LoopDynamicsDerivatives<S>& ld, const ConstVecRef<S>& q,
                                                  const ConstVecRef<S>& yd, const ConstVecRef<S>& ydd, const ClosureOptions& options = {}) {
   subsystem_velocity_maps<S>(model, data, q);
-  const bool regular = subsystem_pivot_ratio<S>(model, data) > S(options.singular_tolerance);
+  bool regular = true;
+  if constexpr (std::is_floating_point_v<S>) regular = subsystem_pivot_ratio<S>(model, data) > S(options.singular_tolerance);
   detail::expand_independent<S>(model, data, yd, false, ld.v);
   subsystem_acceleration_biases<S>(model, data, q, ld.v);
   detail::expand_independent<S>(model, data, ydd, true, ld.qdd);

@@ -37,4 +37,33 @@ template <typename S, typename MatrixF> void ldlt_solve(const MatrixF& F, int n,
     for (int k = i + 1; k < n; ++k) b[i] -= F(k, i) * b[k];
 }
 
+/// Factors the leading n x n block of A (SPD) in place as L^T D L, L unit lower triangular,
+/// eliminating from the last row up (Featherstone's LTDL): for a matrix whose nonzeros follow a
+/// tree with parents before children (a mass matrix, the closed system's M_y in independent
+/// coordinates) there is no fill-in, so the symbolic scalar's folding of exact zeros leaves the
+/// factor as sparse as the tree, where ldlt_factor's top-down order would fill it. A's lower
+/// triangle receives L strictly below the diagonal and 1/d on it (one division per pivot); its
+/// strict upper triangle is left as it was. No branch on values.
+template <typename S, typename MatrixA> void ltdl_factor(MatrixA& A, int n) {
+  for (int k = n - 1; k >= 0; --k) {
+    const S inverse_pivot = S(1) / A(k, k);
+    for (int i = k - 1; i >= 0; --i) {
+      const S a = A(k, i) * inverse_pivot;
+      for (int j = i; j >= 0; --j) A(i, j) -= a * A(k, j);
+      A(k, i) = a;
+    }
+    A(k, k) = inverse_pivot;
+  }
+}
+
+/// Solves A x = b in place (b has n entries) from ltdl_factor's L^T D L of A: L^T y = b from the
+/// bottom up, y scaled by 1/d, then L x = y from the top down.
+template <typename S, typename MatrixF> void ltdl_solve(const MatrixF& F, int n, S* b) {
+  for (int k = n - 1; k >= 0; --k)
+    for (int i = k - 1; i >= 0; --i) b[i] -= F(k, i) * b[k];
+  for (int k = 0; k < n; ++k) b[k] *= F(k, k);
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < k; ++i) b[k] -= F(k, i) * b[i];
+}
+
 }  // namespace mbgen
