@@ -242,6 +242,8 @@ TEST(LoopDynamicsDerivatives, WithoutLoopsTheyAreTheTreesDerivatives) {
   EXPECT_LT(max_relative(ld.dydd_dy, tree.dddq_dq), 1e-12);
   EXPECT_LT(max_relative(ld.dydd_dyd, tree.dddq_dv), 1e-12);
   EXPECT_LT(max_relative(ld.dydd_dtau, tree.Minv), 1e-12);
+  // And the factor's elimination tree is the tree's own: each coordinate's velocity parent.
+  for (int k = 0; k < model.nv(); ++k) EXPECT_EQ(ld.y_parent[static_cast<std::size_t>(k)], model.velocity_parent(k)) << k;
 }
 
 // At the slider-driven slider-crank's stroke end crank and rod are in line: Phi_z is singular and
