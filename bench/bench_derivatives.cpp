@@ -13,6 +13,10 @@
 //                                           runtime's integrate then the generated closure_positions (Newton,
 //                                           warm-started at the state) on each side; 2 ny calls for dydd/dyd,
 //                                           2 nv for dydd/dtau
+// and with both feet of talos held flat (rigid_contact_derivatives.hpp):
+//   contact_derivatives/talos/generic             rigid_contact_dynamics_derivatives<double>: a, lambda and their
+//                                                 derivatives wrt q, v, tau
+//   contact_derivatives/talos/finite_differences  central differences of rigid_contact_dynamics<double> (6 nv calls)
 #include "bench_derivatives.hpp"
 
 #include <memory>
@@ -25,6 +29,7 @@
 #include "lola_derivatives.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
+#include "mbgen/algorithm/rigid_contact_derivatives.hpp"
 #include "pl_cassie_like.hpp"
 #include "pl_cassie_like_derivatives.hpp"
 #include "talos.hpp"
@@ -113,6 +118,64 @@ void add(const Robot& robot, const DerivativeApi& api) {
     inverse_dynamics_derivatives<double>(robot.model, w->data, w->d, s.q, s.v, s.a);
     return w->d.dtau_dq.data();
   });
+}
+
+/// Central differences of the generic rigid_contact_dynamics: the fallback without its derivatives.
+struct ContactFiniteDifferences {
+  ContactFiniteDifferences(const Model& model, const std::vector<RigidContact>& contacts)
+      : model(&model), data(model), ws(model, contacts), nv(model.nv()), q(model.nq()), v(nv), tau(nv), plus(nv), minus(nv),
+        e(VecX<double>::Zero(nv)), da(nv, 3 * nv) {}
+  const double* run(const Sample& s) {
+    const double h = 1e-6;
+    for (int k = 0; k < nv; ++k) {
+      for (int side : {1, -1}) {
+        e[k] = side * h;
+        integrate<double>(*model, s.q, e, q);
+        (side > 0 ? plus : minus) = rigid_contact_dynamics<double>(*model, data, ws, q, s.v, s.tau);
+      }
+      e[k] = 0;
+      da.col(k) = (plus - minus) / (2 * h);
+      v = s.v;
+      v[k] += h;
+      plus = rigid_contact_dynamics<double>(*model, data, ws, s.q, v, s.tau);
+      v[k] -= 2 * h;
+      minus = rigid_contact_dynamics<double>(*model, data, ws, s.q, v, s.tau);
+      da.col(nv + k) = (plus - minus) / (2 * h);
+      tau = s.tau;
+      tau[k] += h;
+      plus = rigid_contact_dynamics<double>(*model, data, ws, s.q, s.v, tau);
+      tau[k] -= 2 * h;
+      minus = rigid_contact_dynamics<double>(*model, data, ws, s.q, s.v, tau);
+      da.col(2 * nv + k) = (plus - minus) / (2 * h);
+    }
+    return da.data();
+  }
+  const Model* model;
+  Data<double> data;
+  RigidContactWorkspace<double> ws;
+  int nv;
+  VecX<double> q, v, tau, plus, minus, e;
+  MatX<double> da;
+};
+
+/// contact_derivatives/<robot>/{generic,finite_differences}: both feet held flat (6-D contacts
+/// at the sole frames), rigid_contact_dynamics_derivatives against central differences of
+/// rigid_contact_dynamics (6 nv calls).
+void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
+  std::vector<RigidContact> contacts;
+  for (const std::string& foot : feet) contacts.push_back({robot.model.frame_index(foot), RigidContactKind::Frame});
+  struct Generic {
+    Generic(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c), d(m, ws) {}
+    Data<double> data;
+    RigidContactWorkspace<double> ws;
+    RigidContactDerivatives<double> d;
+  };
+  add_benchmark("contact_derivatives", robot, "generic", [&robot, w = std::make_shared<Generic>(robot.model, contacts)](const Sample& s) {
+    rigid_contact_dynamics_derivatives<double>(robot.model, w->data, w->ws, w->d, s.q, s.v, s.tau);
+    return w->d.da_dq.data();
+  });
+  add_benchmark("contact_derivatives", robot, "finite_differences",
+                [w = std::make_shared<ContactFiniteDifferences>(robot.model, contacts)](const Sample& s) { return w->run(s); });
 }
 
 /// The generated functions of a closed-loop robot the loop benchmarks call.
@@ -221,7 +284,10 @@ void add_loop_derivative_benchmarks() {
 void add_derivative_benchmarks(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_DERIVATIVE_API(iiwa14));
   if (robot.name == "hyq") add(robot, MBGEN_DERIVATIVE_API(hyq));
-  if (robot.name == "talos") add(robot, MBGEN_DERIVATIVE_API(talos));
+  if (robot.name == "talos") {
+    add(robot, MBGEN_DERIVATIVE_API(talos));
+    add_contacts(robot, {"left_sole_link", "right_sole_link"});
+  }
 }
 
 }  // namespace mbgen::bench

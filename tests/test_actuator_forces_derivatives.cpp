@@ -10,6 +10,7 @@
 #include <random>
 
 #include "autodiff_reference.hpp"
+#include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/actuator_forces_derivatives.hpp"
 #include "model/actuated_coordinates.hpp"
@@ -17,11 +18,6 @@
 
 namespace mbgen::test {
 namespace {
-
-double max_relative(const MatX<double>& got, const MatX<double>& want) {
-  const double scale = want.cwiseAbs().maxCoeff();
-  return (got - want).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
-}
 
 VecX<double> independent_of(const Model& model, const VecX<double>& v) {
   VecX<double> vy(model.structure().num_independent());

@@ -10,6 +10,7 @@
 #include <random>
 
 #include MBGEN_GENERATED_HEADER
+#include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "test_support.hpp"
@@ -36,11 +37,6 @@ template <typename T> MatX<double> square(const std::vector<T>& x, int n) {
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) m(r, c) = static_cast<double>(x[static_cast<std::size_t>(r * n + c)]);
   return m;
-}
-
-double max_relative(const MatX<double>& got, const MatX<double>& want) {
-  const double scale = want.cwiseAbs().maxCoeff();
-  return (got - want).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
 }
 
 template <typename T> std::vector<T> as(const VecX<double>& x) {

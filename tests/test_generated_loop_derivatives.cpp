@@ -12,6 +12,7 @@
 #include <random>
 
 #include MBGEN_GENERATED_HEADER
+#include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 #include "test_support.hpp"
@@ -34,11 +35,6 @@ template <typename T> MatX<double> matrix(const std::vector<T>& x, int rows, int
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) m(r, c) = static_cast<double>(x[static_cast<std::size_t>(r * cols + c)]);
   return m;
-}
-
-double weighted_relative(const MatX<double>& M, const MatX<double>& got, const MatX<double>& want) {
-  const double scale = M.cwiseAbs().maxCoeff() * want.cwiseAbs().maxCoeff();
-  return (M * (got - want)).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
 }
 
 template <typename T> std::vector<T> as(const VecX<double>& x) {

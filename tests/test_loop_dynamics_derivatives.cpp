@@ -16,24 +16,13 @@
 #include <random>
 
 #include "autodiff_reference.hpp"
+#include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {
 namespace {
-
-double max_relative(const MatX<double>& got, const MatX<double>& want) {
-  const double scale = want.cwiseAbs().maxCoeff();
-  return (got - want).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
-}
-
-/// |M (got - want)| / (|M| |want|), max-norms: a solve with an ill-conditioned M_y (the
-/// parallel_legs models' light links) is exact only in the directions M_y resists.
-double weighted_relative(const MatX<double>& M, const MatX<double>& got, const MatX<double>& want) {
-  const double scale = M.cwiseAbs().maxCoeff() * want.cwiseAbs().maxCoeff();
-  return (M * (got - want)).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
-}
 
 VecX<double> independent_part(const Model& model, const VecX<double>& full) {
   const std::vector<int>& y = model.structure().independent_v;

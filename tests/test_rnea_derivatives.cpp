@@ -15,25 +15,13 @@
 #include <random>
 
 #include "autodiff_reference.hpp"
+#include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {
 namespace {
-
-double max_relative(const MatX<double>& got, const MatX<double>& want) {
-  const double scale = want.cwiseAbs().maxCoeff();
-  return (got - want).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
-}
-
-/// The same for a result of a solve with M, weighted by M: |M (got - want)| / (|M| |want|), all
-/// max-norms. Any two ways of solving with an ill-conditioned M (the parallel_legs models' light
-/// links: their tree's M reaches a condition number of 1e9) differ by up to cond(M) eps in the
-/// directions M hardly resists; M times the difference is what each solve answers for.
-double weighted_relative(const MatX<double>& M, const MatX<double>& got, const MatX<double>& want) {
-  return (M * (got - want)).cwiseAbs().maxCoeff() / (M.cwiseAbs().maxCoeff() * want.cwiseAbs().maxCoeff());
-}
 
 enum class Drives { None, Armature, Body };
 

@@ -21,6 +21,8 @@
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/loop_inverse_dynamics.hpp"
 #include "mbgen/algorithm/mass_matrix_factor.hpp"
+#include "mbgen/algorithm/rigid_contact_derivatives.hpp"
+#include "mbgen/algorithm/rigid_contact_dynamics.hpp"
 #include "mbgen/algorithm/rnea.hpp"
 #include "mbgen/data.hpp"
 #include "mbgen/model.hpp"
