@@ -11,6 +11,7 @@
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
 #include "mbgen/algorithm/contact_dynamics.hpp"
+#include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
 #include "mbgen/algorithm/crba.hpp"
 #include "mbgen/algorithm/energy.hpp"
