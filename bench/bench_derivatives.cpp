@@ -17,6 +17,11 @@
 //   contact_derivatives/talos/generic             rigid_contact_dynamics_derivatives<double>: a, lambda and their
 //                                                 derivatives wrt q, v, tau
 //   contact_derivatives/talos/finite_differences  central differences of rigid_contact_dynamics<double> (6 nv calls)
+// and one simulator step of talos standing on 8 sole spheres pressed 1 mm into the ground (RK4, 1e-4 s,
+// sim/step_derivatives.hpp):
+//   step_derivatives/talos/generic             sim::StepDerivatives<double>::compute: q+, v+, dx+/dx, dx+/du
+//   step_derivatives/talos/finite_differences  central differences of the simulator's step (6 nv steps, each
+//                                               after set_state)
 #include "bench_derivatives.hpp"
 
 #include <memory>
@@ -30,6 +35,7 @@
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/rigid_contact_derivatives.hpp"
+#include "mbgen/sim/step_derivatives.hpp"
 #include "pl_cassie_like.hpp"
 #include "pl_cassie_like_derivatives.hpp"
 #include "talos.hpp"
@@ -178,6 +184,99 @@ void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
                 [w = std::make_shared<ContactFiniteDifferences>(robot.model, contacts)](const Sample& s) { return w->run(s); });
 }
 
+/// talos standing: neutral joints, four spheres (r 1 cm) at each sole's corners, the ground 1 mm
+/// above the lowest sphere; a simulator (RK4, 1e-4 s) at rest there.
+struct StandingOnSpheres {
+  explicit StandingOnSpheres(const Model& model) : q(neutral_configuration<double>(model)), v(VecX<double>::Zero(model.nv())),
+                                                   tau(VecX<double>::Zero(model.nv())) {
+    for (const char* foot : {"left_sole_link", "right_sole_link"}) {
+      const Frame& f = model.frame(model.frame_index(foot));
+      for (double x : {-0.1, 0.1})
+        for (double y : {-0.05, 0.05}) spheres.push_back({f.body, f.X_BF.act(Vec3<double>(x, y, 0.01)), 0.01, foot});
+    }
+    Data<double> data(model);
+    VecX<double> c(3 * static_cast<int>(spheres.size())), J(6 * model.nv() * static_cast<int>(spheres.size()));
+    contact_points<double>(model, data, spheres, q, c.data(), J.data());
+    double lowest = 1e9;
+    for (std::size_t k = 0; k < spheres.size(); ++k) lowest = std::min(lowest, c[3 * static_cast<int>(k) + 2] - spheres[k].radius);
+    sim::SimulatorOptions o;
+    o.ground.offset = lowest + 1e-3;
+    o.energy_check_interval = 0;
+    simulator = std::make_unique<sim::Simulator<sim::GenericBackend<double>>>(sim::GenericBackend<double>(model, spheres), o);
+    simulator->set_controller([this](double, const double*, const double*, double* t) {
+      for (int i = 0; i < this->tau.size(); ++i) t[i] = this->tau[i];
+    });
+    simulator->set_state(q.data(), v.data());
+  }
+  std::vector<ContactSphere> spheres;
+  VecX<double> q, v, tau;
+  std::unique_ptr<sim::Simulator<sim::GenericBackend<double>>> simulator;
+};
+
+/// Central differences of the simulator's step: the fallback without StepDerivatives.
+struct StepFiniteDifferences {
+  explicit StepFiniteDifferences(const Model& model)
+      : model(&model), scene(model), nv(model.nv()), q(model.nq()), e(VecX<double>::Zero(nv)), dq(nv), dq_minus(nv),
+        center(model.nq()), jacobian(2 * nv, 3 * nv) {
+    sim::StepDerivatives<double> d(*scene.simulator);
+    d.compute(scene.q.data(), scene.v.data(), scene.tau.data());
+    center = d.q_next();
+  }
+  /// The state one step after (qx, vx) under ux: its tangent from `center` in dq, its v in v_out.
+  void step(const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& out_dq, VecX<double>& v_out) {
+    scene.tau = ux;
+    scene.simulator->set_state(qx.data(), vx.data());
+    scene.simulator->step();
+    difference<double>(*model, center, scene.simulator->q(), out_dq);
+    v_out = scene.simulator->v();
+  }
+  const double* run() {
+    const double h = 1e-6;
+    const VecX<double> q0 = scene.q, v0 = scene.v, u0 = scene.tau;
+    VecX<double> v_plus(nv), v_minus(nv), x(nv);
+    for (int k = 0; k < 3 * nv; ++k) {
+      for (int side : {1, -1}) {
+        VecX<double> vx = v0, ux = u0;
+        if (k < nv) {
+          e[k] = side * h;
+          integrate<double>(*model, q0, e, q);
+          e[k] = 0;
+        } else {
+          q = q0;
+          (k < 2 * nv ? vx[k - nv] : ux[k - 2 * nv]) += side * h;
+        }
+        step(q, vx, ux, side > 0 ? dq : dq_minus, side > 0 ? v_plus : v_minus);
+      }
+      jacobian.col(k) << (dq - dq_minus) / (2 * h), (v_plus - v_minus) / (2 * h);
+    }
+    scene.tau = u0;
+    return jacobian.data();
+  }
+  const Model* model;
+  StandingOnSpheres scene;
+  int nv;
+  VecX<double> q, e, dq, dq_minus, center;
+  MatX<double> jacobian;
+};
+
+/// step_derivatives/<robot>/{generic,finite_differences} (header comment).
+void add_step_derivatives(const Robot& robot) {
+  const Model* model = &robot.model;
+  const std::string prefix = "step_derivatives/" + robot.name + "/";
+  benchmark::RegisterBenchmark((prefix + "generic").c_str(), [model](benchmark::State& state) {
+    StandingOnSpheres scene(*model);
+    sim::StepDerivatives<double> d(*scene.simulator);
+    for (auto _ : state) {
+      d.compute(scene.q.data(), scene.v.data(), scene.tau.data());
+      benchmark::DoNotOptimize(d.dx_dx().data());
+    }
+  })->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark((prefix + "finite_differences").c_str(), [model](benchmark::State& state) {
+    StepFiniteDifferences fd(*model);
+    for (auto _ : state) benchmark::DoNotOptimize(fd.run());
+  })->Unit(benchmark::kMicrosecond);
+}
+
 /// The generated functions of a closed-loop robot the loop benchmarks call.
 struct LoopDerivativeApi {
   void (*forward_dynamics_derivatives)(const double*, const double*, const double*, double*, double*, double*, double*);
@@ -287,6 +386,7 @@ void add_derivative_benchmarks(const Robot& robot) {
   if (robot.name == "talos") {
     add(robot, MBGEN_DERIVATIVE_API(talos));
     add_contacts(robot, {"left_sole_link", "right_sole_link"});
+    add_step_derivatives(robot);
   }
 }
 

@@ -20,6 +20,7 @@
 // (Eigen's AutoDiffScalar over six inputs: the law is a dozen lines, branch-free but for max).
 #include <vector>
 
+#include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
 
 #include "mbgen/algorithm/aba_derivatives.hpp"

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
 
 #include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
