@@ -267,14 +267,53 @@ TEST(LoadMjcf, SiteConnectAndWeldToTheWorld) {
   EXPECT_NEAR((weld.X_BC.rotation - rot(Vec3<double>::UnitX(), 0.2)).norm(), 0, 1e-15);
 }
 
+// <frame>s compile away onto their children (mjcf_frames.cpp): frames.xml nests three (one in
+// <worldbody>, two in a body, one with a childclass) around a body, sites and geoms;
+// frames_flat.xml is the same model with the poses composed by hand. Every frame's world pose
+// at random joint values, the inertias and the geoms' SSV points agree to 1e-15.
+TEST(LoadMjcf, FramesComposeOntoTheirChildren) {
+  const gen::Description framed = load("frames.xml"), flat = load("frames_flat.xml");
+  ASSERT_EQ(framed.model.nq(), 2);
+  ASSERT_EQ(flat.model.nq(), 2);
+  ASSERT_EQ(framed.model.num_bodies(), flat.model.num_bodies());
+  for (int i = 1; i < framed.model.num_bodies(); ++i) {
+    const BodyIndex b(i);
+    const Inertia<double>& a = framed.model.body(b).inertia;
+    const Inertia<double>& c = flat.model.body(b).inertia;
+    EXPECT_NEAR(a.mass, c.mass, 1e-15);
+    EXPECT_NEAR((a.com - c.com).norm(), 0, 1e-15) << framed.model.body(b).name;
+    EXPECT_NEAR((a.inertia_com - c.inertia_com).norm(), 0, 1e-15) << framed.model.body(b).name;
+  }
+  for (const VecX<double>& q : {VecX<double>(VecX<double>::Zero(2)), VecX<double>(Eigen::Vector2d(0.7, -1.3))})
+    for (const char* frame : {"base", "arm", "j1", "j2", "tip", "hand"}) {
+      const SE3<double> a = frame_pose(framed.model, frame, q), b = frame_pose(flat.model, frame, q);
+      EXPECT_NEAR((a.translation - b.translation).norm(), 0, 1e-15) << frame;
+      EXPECT_NEAR((a.rotation - b.rotation).norm(), 0, 1e-15) << frame;
+    }
+  // The site took the frame's childclass (euler 0 0 30 after the frame's quarter turn about x).
+  EXPECT_NEAR((frame_pose(framed.model, "tip", VecX<double>::Zero(2)).rotation -
+               rot(Vec3<double>::UnitZ(), kPi / 2) * rot(Vec3<double>::UnitX(), kPi / 2) * rot(Vec3<double>::UnitZ(), kPi / 6)).norm(),
+              0, 1e-15);
+  EXPECT_FALSE(framed.model.find_frame("outer"));  // a frame leaves no frame of its own
+  ASSERT_EQ(framed.ssv.at("base").size(), 2u);
+  ASSERT_EQ(flat.ssv.at("base").size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const gen::SsvPrimitive &a = framed.ssv.at("base")[k], &b = flat.ssv.at("base")[k];
+    EXPECT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.radius, b.radius);  // the capsule's radius from the frame's childclass
+    ASSERT_EQ(a.points.size(), b.points.size());
+    for (std::size_t i = 0; i < a.points.size(); ++i) EXPECT_NEAR((a.points[i] - b.points[i]).norm(), 0, 1e-15) << k;
+  }
+}
+
 // ---- Errors, by their text -------------------------------------------------------------------
 
-TEST(LoadMjcf, FrameElementIsNotSupported) {
+TEST(LoadMjcf, JointInsideAFrameIsAnError) {
   const gen::LoadError e = load_error("bad/frame.xml");
   EXPECT_EQ(e.line(), 6);
-  EXPECT_EQ(e.element(), "<frame>");
-  EXPECT_EQ(e.problem(), "not supported: <frame> inside a body");
-  EXPECT_TRUE(contains(e.fix(), "write its children's poses in the enclosing body")) << e.what();
+  EXPECT_EQ(e.element(), "<joint>");
+  EXPECT_EQ(e.problem(), "not supported: <joint> inside a <frame>");
+  EXPECT_TRUE(contains(e.fix(), "put it in the body itself")) << e.what();
 }
 
 // Mesh assets: two meshes under one name (the second takes its file's stem), and a geom naming

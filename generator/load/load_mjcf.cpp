@@ -214,8 +214,7 @@ struct Builder {
       const std::string kind = e->Name();
       static const std::set<std::string> known = {"inertial", "joint", "freejoint", "geom", "site", "camera", "light", "body"};
       if (!known.count(kind))
-        not_supported(path(), e, fmt::format("<{}> inside a body", kind),
-                      kind == "frame" ? "write its children's poses in the enclosing body" : "remove it or expand it by hand");
+        not_supported(path(), e, fmt::format("<{}> inside a body", kind), "remove it or expand it by hand");
     }
     const Inertia<double> I_B = read_inertial(b);
     std::optional<std::string> free;
@@ -341,7 +340,7 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
     throw xml_parse_error(path, doc);
-  const tinyxml2::XMLElement* root = doc.FirstChildElement("mujoco");
+  tinyxml2::XMLElement* root = doc.FirstChildElement("mujoco");
   if (!root) {
     const tinyxml2::XMLElement* r = doc.RootElement();
     throw LoadError(path, r ? r->GetLineNum() : 1, "",
@@ -355,6 +354,7 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
   tree.root = root;
   tree.defaults = &defaults;
   tree.compiler = mjcf::read_compiler(path, root, defaults);
+  mjcf::dissolve_frames(path, root, defaults, tree.compiler);
 
   d.model = Model{};
   d.model.name = root->Attribute("model") ? root->Attribute("model") : "mujoco_model";

@@ -82,4 +82,9 @@ Mat3<double> orientation(const Element& e, const Compiler& compiler);
 /// Pose from `pos` and the orientation attributes.
 SE3<double> pose(const Element& e, const Compiler& compiler);
 
+/// Compiles every <frame> away, as MuJoCo does (mjcf_frames.cpp): its children move into the
+/// enclosing body or <worldbody> with the frame's pose composed onto theirs and its childclass as
+/// their class; a joint or inertial inside a frame is an error.
+void dissolve_frames(const std::string& path, tinyxml2::XMLElement* root, const Defaults& defaults, const Compiler& compiler);
+
 }  // namespace mbgen::gen::mjcf
