@@ -428,6 +428,48 @@ TEST(LoadMjcf, CassieLoadsWithItsClosures) {
   EXPECT_EQ(d.closed_dof, 22);
 }
 
+// The file's `home` keyframe (standing, every joint in its range) starts the assembly
+// (mjcf_keyframe.cpp): its hinge values are the seed as written, the achilles rods' quaternions
+// become their three hinges' angles, and the closed pose kept is near it with every bounded
+// joint inside its range (from the zero pose the knees closed outside theirs).
+TEST(LoadMjcf, CassieAssemblesFromItsKeyframeInsideItsRanges) {
+  gen::LoadOptions options;
+  options.pick_up_robot_yaml = false;
+  const gen::Description d = gen::load_description(test::shared_robot("cassie_mjcf/cassie.xml"), options);
+  EXPECT_TRUE(contains(d.assembly_seed_source, "keyframe 'home'")) << d.assembly_seed_source;
+  EXPECT_EQ(d.assembly_seed.at("left-knee"), -1.1997);
+  EXPECT_EQ(d.assembly_seed.at("right-tarsus"), 1.42671);
+  EXPECT_EQ(d.assembly_seed.at("left-foot"), -1.59681);
+  const Mat3<double> R = rot(Vec3<double>::UnitX(), d.assembly_seed.at("left-achilles-rod_x")) *
+                         rot(Vec3<double>::UnitY(), d.assembly_seed.at("left-achilles-rod_y")) *
+                         rot(Vec3<double>::UnitZ(), d.assembly_seed.at("left-achilles-rod_z"));
+  const Mat3<double> expected = Eigen::Quaterniond(0.97861, -0.0164104, 0.0177766, -0.204298).normalized().toRotationMatrix();
+  EXPECT_NEAR((R - expected).norm(), 0, 1e-12);
+  const Model& model = d.model;
+  ASSERT_EQ(d.assembly.q.size(), model.nq());
+  EXPECT_LT(d.assembly.residual, 1e-12);
+  EXPECT_EQ(d.assembly.outside_ranges, 0);
+  int bounded = 0;
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    if (joint.nq != 1) continue;
+    const double x = d.assembly.q[joint.idx_q];
+    if (joint.bounded) {
+      ++bounded;
+      EXPECT_GE(x, joint.lower) << joint.name;
+      EXPECT_LE(x, joint.upper) << joint.name;
+    }
+    if (d.assembly_seed.count(joint.name)) EXPECT_NEAR(x, d.assembly_seed.at(joint.name), 0.05) << joint.name;
+  }
+  EXPECT_EQ(bounded, 16);
+}
+
+TEST(LoadMjcf, KeyframeOfTheWrongLengthIsAnError) {
+  const gen::LoadError e = load_error("bad/keyframe_length.xml");
+  EXPECT_EQ(e.line(), 9);
+  EXPECT_TRUE(contains(e.problem(), "qpos has 2 numbers; the joints need 1")) << e.what();
+}
+
 TEST(LoadMjcf, H1Loads) {
   gen::LoadOptions options;
   options.pick_up_robot_yaml = false;

@@ -104,11 +104,12 @@ void print_loops(const Description& d, std::ostream& out) {
     out << fmt::format("  {}: {}, {} rows: {}\n", c.name, mbgen::to_string(c.type), c.rows(),
                        fmt::join(body_names(m, gen::cycle_path(m, c)), " - "));
   const gen::AssemblyReport& a = d.assembly;
-  out << fmt::format("assembly: largest joint change from the zero pose {:.6g} (joint '{}'), max |Phi| {:.3g}, "
+  out << fmt::format("assembly: from {}; largest joint change from it {:.6g} (joint '{}'), max |Phi| {:.3g}, "
                      "smallest kept singular value of Phi_q {:.6g} (largest {:.6g}), worst condition of Phi_z {:.4g}, "
-                     "{} starting pose(s), {} iterations\n",
+                     "{} starting pose(s), {} iterations, {} joint(s) outside their ranges\n",
+                     d.assembly_seed_source.empty() ? std::string("the zero pose") : d.assembly_seed_source,
                      a.max_joint_change, a.max_change_joint, a.residual, a.sigma_min, a.sigma_max,
-                     a.dependent_conditioning > 0 ? 1 / a.dependent_conditioning : INFINITY, a.seeds, a.iterations);
+                     a.dependent_conditioning > 0 ? 1 / a.dependent_conditioning : INFINITY, a.seeds, a.iterations, a.outside_ranges);
   out << fmt::format("sub-systems ({}):\n", m.subsystems.size());
   for (std::size_t k = 0; k < m.subsystems.size(); ++k) {
     const SubSystem& s = m.subsystems[k];
@@ -332,6 +333,8 @@ Json to_json(const Description& d) {
                 {"sigma_max", d.assembly.sigma_max},
                 {"dependent_condition", d.assembly.dependent_conditioning > 0 ? 1 / d.assembly.dependent_conditioning : -1.0},
                 {"seeds", d.assembly.seeds},
+                {"start", d.assembly_seed_source.empty() ? std::string("zero pose") : d.assembly_seed_source},
+                {"outside_ranges", d.assembly.outside_ranges},
                 {"q", std::vector<double>(d.assembly.q.data(), d.assembly.q.data() + d.assembly.q.size())}};
   Json overrides = Json::object();
   for (const auto& [joint, type] : d.joint_type_overrides) overrides[joint] = type;

@@ -115,17 +115,19 @@ struct SourceLines {
   }
 };
 
-/// What assembly found (topology.hpp): the closed pose nearest the zero pose that is well
-/// conditioned, and how far it is from the zero pose.
+/// What assembly found (topology.hpp): the closed pose nearest the starting pose (the zero pose,
+/// or the description's assembly_seed) that is well conditioned, within the joint ranges where
+/// one of the poses tried is, and how far it is from the starting pose.
 struct AssemblyReport {
   VecX<double> q;                  ///< assembled configuration (nq); empty without closures
-  double max_joint_change = 0;     ///< max |q - q0| over the 1-DoF joints (rad or m)
+  double max_joint_change = 0;     ///< max |q - q0| over the 1-DoF joints (rad or m), q0 the starting pose
   std::string max_change_joint;    ///< the joint that moved most
   double residual = 0;             ///< max |Phi| at q
   double sigma_min = 0;            ///< smallest kept singular value of Phi_q at q
   double sigma_max = 0;            ///< largest singular value of Phi_q at q
   double dependent_conditioning = 0;  ///< worst 1 / condition number of the sub-systems' Phi_z at q
-  int seeds = 0;                   ///< starting points tried (1: the zero pose sufficed)
+  int seeds = 0;                   ///< starting points tried (1: the zero pose, or the seed, sufficed)
+  int outside_ranges = 0;          ///< joints outside their ranges in the pose kept
   int iterations = 0;              ///< Levenberg-Marquardt iterations, all seeds
 };
 
@@ -168,6 +170,10 @@ struct Description {
   /// Loops (topology.hpp): model.closures and model.subsystems are filled from `closures`
   /// after an assembly; these say how the pose was found.
   AssemblyReport assembly;
+  /// Where the assembly starts (joint name -> value, rad or m): an MJCF file's first <key qpos>
+  /// (mjcf_keyframe.cpp); joints not named start at 0. assembly_seed_source says where it came from.
+  std::map<std::string, double> assembly_seed;
+  std::string assembly_seed_source;
   int closed_dof = 0;  ///< DoF of the closed system: nv - total rank of the closure rows
   std::map<std::string, std::vector<SsvPrimitive>> ssv;  ///< link name -> compound (extras, else URDF spheres/cylinders)
   std::map<std::string, int> collision_geometry_not_modelled;  ///< URDF <collision> kinds with no SSV (box, mesh) -> count

@@ -131,6 +131,7 @@ struct Builder {
                  "give free joints only to bodies directly under <worldbody> (a floating base)");
         free = name;
         free_line = e->GetLineNum();
+        tree.qpos_layout.push_back({name, "free"});
         tree.joints[name] = {};
         d.urdf_lines.joint[name] = e->GetLineNum();
         continue;
@@ -171,6 +172,7 @@ struct Builder {
           d.urdf_lines.joint[axis_joint.name] = j.line;
         }
         tree.joints[name] = parts;
+        tree.qpos_layout.push_back({name, "ball"});
         continue;
       }
       if (type != "hinge" && type != "slide")
@@ -189,6 +191,7 @@ struct Builder {
       }
       out.push_back(j);
       tree.joints[name] = {name};
+      tree.qpos_layout.push_back({name, type});
       d.urdf_lines.joint[name] = j.line;
     }
     return out;
@@ -386,6 +389,7 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
   mjcf::add_mjcf_geoms(tree, d);
   mjcf::add_mjcf_equalities(tree, d);
   mjcf::add_mjcf_actuators(tree, d);
+  mjcf::read_mjcf_keyframe(tree, d);
 }
 
 }  // namespace mbgen::gen

@@ -36,6 +36,12 @@ struct Tree {
   std::map<std::string, Site> sites;
   /// MJCF joint name -> the mbgen joints it became (one, or three for a ball); "" for a free joint.
   std::map<std::string, std::vector<std::string>> joints;
+  /// The joints in MuJoCo's qpos order (document order, depth first): free 7 numbers, ball 4, hinge and slide 1.
+  struct QposJoint {
+    std::string name;
+    std::string type;  ///< free, ball, hinge, slide
+  };
+  std::vector<QposJoint> qpos_layout;
 
   /// An element of body b (or of <equality>, <actuator>: b = -1) with its class resolved.
   Element element(const tinyxml2::XMLElement* e, int b) const;
@@ -46,5 +52,7 @@ void add_mjcf_geoms(const Tree& tree, Description& d);
 /// <equality> -> closures, <actuator> -> actuated joints (mjcf_equality.cpp).
 void add_mjcf_equalities(const Tree& tree, Description& d);
 void add_mjcf_actuators(const Tree& tree, Description& d);
+/// The first <keyframe><key> with a qpos -> d.assembly_seed (mjcf_keyframe.cpp).
+void read_mjcf_keyframe(const Tree& tree, Description& d);
 
 }  // namespace mbgen::gen::mjcf

@@ -111,6 +111,7 @@ struct Attempt {
   int dependent_actuated = 0;         ///< actuated joints that are dependent coordinates there
   int rank = 0;
   int iterations = 0;
+  int outside_ranges = 0;  ///< bounded 1-DoF joints outside their ranges
 };
 
 double max_abs_phi(const Model& model, Data<double>& data, const VectorXd& q) {
@@ -154,6 +155,7 @@ int levenberg_marquardt(const Model& model, AssemblyResidual& res, Data<double>&
 /// change from q0.
 void finish(const Model& model, const VectorXd& q0, Attempt& a) {
   a.displacement = 0;
+  a.outside_ranges = 0;
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
     if (joint.nq != 1) continue;
@@ -165,6 +167,7 @@ void finish(const Model& model, const VectorXd& q0, Attempt& a) {
         if (joint.bounded && (x < joint.lower || x > joint.upper) && x + turn >= joint.lower && x + turn <= joint.upper)
           x += turn;
     }
+    if (joint.bounded && (x < joint.lower || x > joint.upper)) ++a.outside_ranges;
     const double change = std::abs(x - q0[joint.idx_q]);
     if (change > a.displacement) {
       a.displacement = change;
@@ -193,12 +196,14 @@ void measure_conditioning(const Description& d, const Model& model, Data<double>
 }
 
 /// Better: higher rank (a lower one is a singular pose), then fewer actuators forced dependent
-/// (a pose singular for the actuators), then well conditioned, then nearer.
+/// (a pose singular for the actuators), then well conditioned, then fewer joints outside their
+/// ranges, then nearer the starting pose.
 bool better(const Attempt& x, const Attempt& y, double conditioning) {
   if (x.rank != y.rank) return x.rank > y.rank;
   if (x.dependent_actuated != y.dependent_actuated) return x.dependent_actuated < y.dependent_actuated;
   const bool wx = x.dependent_conditioning >= conditioning, wy = y.dependent_conditioning >= conditioning;
   if (wx != wy) return wx;
+  if (x.outside_ranges != y.outside_ranges) return x.outside_ranges < y.outside_ranges;
   if (!wx) return x.dependent_conditioning > y.dependent_conditioning;
   return x.displacement < y.displacement;
 }
@@ -234,7 +239,10 @@ Assembled assemble_closures(const Description& d, const AssemblyOptions& options
   const Model& model = d.model;
   Data<double> data(model);
   AssemblyResidual residual(model);
-  const VectorXd q0 = neutral_configuration<double>(model);
+  // The starting pose: the neutral one, with the description's seed (an MJCF keyframe) where it names joints.
+  VectorXd q0 = neutral_configuration<double>(model);
+  for (const auto& [name, value] : d.assembly_seed)
+    if (const auto j = model.find_joint(name); j && model.joint(*j).nq == 1) q0[model.joint(*j).idx_q] = value;
   std::optional<Attempt> best;
   Attempt closest_open;
   int iterations = 0, seeds = 0;
@@ -274,6 +282,7 @@ Assembled assemble_closures(const Description& d, const AssemblyOptions& options
   report.sigma_max = best->sigma_max;
   report.seeds = seeds;
   report.iterations = iterations;
+  report.outside_ranges = best->outside_ranges;
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));
     const double x = joint.nq == 1 ? best->q[joint.idx_q] : 0.0;
