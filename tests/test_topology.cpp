@@ -313,5 +313,26 @@ TEST(Assembly, ZeroPoseIsNotClosedButTheAssembledOneIs) {
   EXPECT_GE(d.assembly.sigma_min, 1e-3 * d.assembly.sigma_max);
 }
 
+// The extras' `assembly:` seed is where the assembly starts: the four-bar closes at the zero
+// pose, and seeded at crank 0.6 rad it closes on the way from there (crank 0.31, coupler -0.32,
+// rocker 0.13) instead of staying at zero.
+TEST(Assembly, ExtrasSeedIsWhereTheAssemblyStarts) {
+  const Description plain = load(kMechanisms + "four_bar.urdf", kMechanisms + "four_bar.yaml");
+  const Description seeded = load(kMechanisms + "four_bar.urdf", kData + "/extras/four_bar_seeded.yaml");
+  const int crank = seeded.model.joint(*seeded.model.find_joint("crank_joint")).idx_q;
+  EXPECT_EQ(plain.assembly.q[crank], 0.0);
+  EXPECT_LT(max_abs_phi(seeded.model, seeded.assembly.q), 1e-12);
+  EXPECT_GT(std::abs(seeded.assembly.q[crank]), 0.3);
+  EXPECT_NE(seeded.assembly_seed_source.find("four_bar_seeded.yaml:"), std::string::npos) << seeded.assembly_seed_source;
+  EXPECT_TRUE(plain.assembly_seed_source.empty());
+  try {
+    load(kMechanisms + "four_bar.urdf", kData + "/extras/bad_assembly_seed.yaml");
+    FAIL() << "no LoadError";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.element(), "assembly: crank");
+    EXPECT_EQ(e.line(), 13);
+  }
+}
+
 }  // namespace
 }  // namespace mbgen

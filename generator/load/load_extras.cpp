@@ -1,5 +1,5 @@
 // The YAML extras file, mbgen's own schema (docs/extras.md): what URDF cannot say.
-//   robot, base, snap_quarter_turns, closures, independent, drives, ssv, scene
+//   robot, base, snap_quarter_turns, closures, independent, assembly, drives, ssv, scene
 // Also reads any extras file and tells the two schemas apart by their top-level keys.
 #include <fmt/format.h>
 
@@ -17,7 +17,7 @@ namespace {
 
 using namespace yaml;
 
-const std::vector<std::string> kMbgenKeys = {"base", "closures", "drives", "independent", "robot", "scene", "snap_quarter_turns", "ssv"};
+const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closures", "drives", "independent", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
@@ -89,6 +89,23 @@ void read_independent(const ExtrasFile& x, const YAML::Node& node, Description& 
     resolve_moving_joint(x.path, node[i], fmt::format("independent[{}]", i), d.model);
     d.actuated_joints.push_back(node[i].Scalar());
   }
+}
+
+/// assembly: {joint: value}: where the loops' assembly starts (rad or m; joints not named at 0);
+/// over an MJCF keyframe's values where both give a joint.
+void read_assembly(const ExtrasFile& x, const YAML::Node& node, Description& d) {
+  require_map(x.path, node, "assembly", "{knee: -0.8, ankle_pitch: 0.3}");
+  for (const auto& entry : node) {
+    const std::string element = fmt::format("assembly: {}", entry.first.Scalar());
+    const JointIndex j = resolve_moving_joint(x.path, entry.first, element, d.model);
+    if (d.model.joint(j).nq != 1)
+      fail(x.path, entry.first, element, "is not a one-coordinate joint", "seed revolute and prismatic joints only");
+    const double value = to_number(x.path, entry.second, element);
+    if (!std::isfinite(value)) fail(x.path, entry.second, element, "is not finite", "give a number (rad or m)");
+    d.assembly_seed[entry.first.Scalar()] = value;
+  }
+  const std::string here = fmt::format("{}:{}", x.path, line_of(node));
+  d.assembly_seed_source = d.assembly_seed_source.empty() ? here : d.assembly_seed_source + " and " + here;
 }
 
 void read_drives(const ExtrasFile& x, const YAML::Node& node, Description& d) {
@@ -462,6 +479,7 @@ void apply_mbgen_extras(const ExtrasFile& x, Description& d) {
     if (root["robot"]) d.robot_name = to_string(x.path, root["robot"], "robot");
     if (root["closures"]) read_closures(x, root["closures"], d);
     if (root["independent"]) read_independent(x, root["independent"], d);
+    if (root["assembly"]) read_assembly(x, root["assembly"], d);
     if (root["drives"]) read_drives(x, root["drives"], d);
     if (root["ssv"]) read_ssv(x, root["ssv"], d);
     if (root["scene"]) read_scene(x, root["scene"], d);
