@@ -139,7 +139,7 @@ TEST_P(ClosureTest, RowsDependOnTheCyclesAlone) {
   // through the world frame, their poses cancelled only to round-off.
   std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
   for (const LoopClosure& c : model.closures) {
-    const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+    const BodyIndex top = closure_top(model, c);  // a coupling's: above both of its joints
     for (BodyIndex b : {c.body_a, c.body_b})
       for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
   }

@@ -4,6 +4,8 @@
 // (test_generated) runs the hoisted Newton step against the runtime's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -146,13 +148,19 @@ TEST_P(HoistNewtonStep, EqualsTheTracedStepBitForBit) {
   std::vector<bool> moves(static_cast<std::size_t>(model.nq()), false);
   for (const SubSystem& sub : model.subsystems)
     for (int z : sub.dependent) moves[static_cast<std::size_t>(model.q_index_of_v(z))] = true;
+  const bool only_couplings = std::all_of(model.closures.begin(), model.closures.end(),
+                                          [](const LoopClosure& c) { return c.type == ClosureType::Coupling; });
   for (const bool with_velocities : {false, true}) {
     const TracedFunction step = trace_closure_newton_step(model, with_velocities);
     const HoistedFunction h = hoist_invariants(step, [&](int argument, int index) {
       return argument == 0 && moves[static_cast<std::size_t>(index)];
     });
-    EXPECT_LT(count_operations(h.body).total(), count_operations(step).total());
-    EXPECT_GT(h.setup.outputs[0].size, 0);
+    // A coupling's step (q_b - ratio q_a - offset) may be one subtraction with nothing invariant
+    // in it (panda's fingers: ratio 1, offset 0); every closure with kinematics has some.
+    if (!only_couplings) {
+      EXPECT_LT(count_operations(h.body).total(), count_operations(step).total());
+      EXPECT_GT(h.setup.outputs[0].size, 0);
+    }
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1, 1);
     for (int trial = 0; trial < 8; ++trial) {

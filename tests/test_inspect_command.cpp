@@ -233,7 +233,31 @@ TEST(Inspect, MjcfRobotsAreReadByTheirExtension) {
   EXPECT_EQ(j["closures"].size(), 4u);
   const Outcome toddlerbot = run_mbgen("inspect " + quote(test::shared_robot("toddlerbot_2xc/toddlerbot_2xc.xml")));
   EXPECT_EQ(toddlerbot.status, 1);
-  EXPECT_NE(toddlerbot.err.find("<tendon>: not supported: tendons"), std::string::npos) << toddlerbot.err;
+  EXPECT_NE(toddlerbot.err.find("fixed 'waist_roll_coupling': not supported: a tendon with a range"), std::string::npos)
+      << toddlerbot.err;
+}
+
+TEST(Inspect, MimicShowsTheCouplingWhenCoupledAndSaysHowOtherwise) {
+  const std::string urdf = quote(kData + "/mimic/two_link.urdf");
+  const Outcome coupled = run_mbgen("inspect " + urdf + " --mimic couple");
+  ASSERT_EQ(coupled.status, 0) << coupled.err;
+  EXPECT_NE(coupled.out.find("mimic_elbow: coupling 'elbow' = 0.5 * 'shoulder' + 0.1 ("), std::string::npos) << coupled.out;
+  EXPECT_NE(coupled.out.find("mimic_elbow: coupling, 1 row: joint 'elbow' follows 'shoulder'"), std::string::npos) << coupled.out;
+  EXPECT_NE(coupled.out.find("closed-system DoF: 1 (tree 2 - rank 1)"), std::string::npos) << coupled.out;
+  EXPECT_EQ(coupled.out.find("mimics"), std::string::npos) << coupled.out;
+  const nlohmann::json j = nlohmann::json::parse(run_mbgen("inspect " + urdf + " --mimic couple --json").out);
+  ASSERT_EQ(j["closures"].size(), 1u);
+  EXPECT_EQ(j["closures"][0]["type"], "coupling");
+  EXPECT_EQ(j["closures"][0]["leader"], "shoulder");
+  EXPECT_EQ(j["closures"][0]["follower"], "elbow");
+  EXPECT_EQ(j["closures"][0]["ratio"], 0.5);
+  EXPECT_EQ(j["closures"][0]["offset"], 0.1);
+  const Outcome independent = run_mbgen("inspect " + urdf);
+  ASSERT_EQ(independent.status, 0) << independent.err;
+  EXPECT_NE(independent.out.find("joint 'elbow' mimics 'shoulder' (line 14): loaded as an independent joint"), std::string::npos)
+      << independent.out;
+  EXPECT_NE(independent.out.find("--mimic couple"), std::string::npos) << independent.out;
+  EXPECT_EQ(run_mbgen("inspect " + urdf + " --mimic sometimes").status, 2);
 }
 
 TEST(Inspect, UsageErrorsExitTwo) {

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "load/load_error.hpp"
+#include "model/topology.hpp"
 #include "test_support.hpp"
 
 namespace mbgen {
@@ -336,19 +337,68 @@ TEST(LoadMjcf, MissingInertialIsAnErrorWithAFix) {
   EXPECT_TRUE(contains(e.fix(), "add an <inertial")) << e.what();
 }
 
-TEST(LoadMjcf, TendonIsNotSupported) {
+TEST(LoadMjcf, TendonThatCarriesForcesIsAnError) {
   const gen::LoadError e = load_error("bad/tendon.xml");
-  EXPECT_EQ(e.line(), 8);
-  EXPECT_EQ(e.element(), "<tendon>");
-  EXPECT_TRUE(contains(e.problem(), "not supported: tendons")) << e.what();
-  EXPECT_TRUE(contains(e.fix(), "remove the <tendon>")) << e.what();
+  EXPECT_EQ(e.line(), 9);
+  EXPECT_EQ(e.element(), "fixed 't'");
+  EXPECT_EQ(e.problem(), "not supported: stiffness on a tendon (the tendon carries forces of its own)");
+  EXPECT_TRUE(contains(e.fix(), "remove stiffness")) << e.what();
 }
 
-TEST(LoadMjcf, JointCouplingIsNotSupported) {
+/// A coupling as read: follower = ratio leader + offset, from the element on `line`.
+void expect_coupling(const gen::ClosureSpec& c, const std::string& leader, const std::string& follower, double ratio,
+                     double offset, int line) {
+  EXPECT_EQ(c.type, "coupling");
+  EXPECT_EQ(c.frame_a, leader);
+  EXPECT_EQ(c.frame_b, follower);
+  EXPECT_DOUBLE_EQ(c.ratio, ratio);
+  EXPECT_NEAR(c.offset, offset, 1e-16);
+  EXPECT_EQ(c.source_line, line);
+}
+
+TEST(LoadMjcf, TendonEqualityCouplesItsTwoJoints) {
+  // 0.5 (q1 - 0.005) - 0.25 (q2 - 0.002) = 0.001: q2 = 2 q1 - 0.012, the second joint following.
+  const gen::Description d = load("tendon_coupling.xml");
+  ASSERT_EQ(d.closures.size(), 1u);
+  EXPECT_EQ(d.closures[0].name, "split_held");
+  expect_coupling(d.closures[0], "finger_joint1", "finger_joint2", 2.0, -0.012, 28);
+  EXPECT_EQ(d.closed_dof, 2);
+}
+
+TEST(LoadMjcf, JointEqualityIsACouplingWithMujocosOffset) {
+  // q1 - ref1 = c0 + c1 (q2 - ref2): fingers 0 + 0.002 - 1 * 0.01; thumb -0.1 + 0.05 - 0.7 * 0.
+  const gen::Description d = load("joint_coupling.xml");
+  ASSERT_EQ(d.closures.size(), 2u);
+  expect_coupling(d.closures[0], "left_slide", "right_slide", 1.0, -0.008, 30);
+  expect_coupling(d.closures[1], "thumb_base", "thumb_tip", 0.7, -0.05, 31);
+  // The followers are the dependent coordinates: five joints, three of them the closed system's.
+  EXPECT_EQ(d.model.nv(), 5);
+  EXPECT_EQ(d.closed_dof, 3);
+  std::vector<std::string> dependent;
+  for (const SubSystem& s : d.model.subsystems)
+    for (int z : s.dependent) dependent.push_back(gen::coordinate_name(d.model, z));
+  EXPECT_EQ(dependent, (std::vector<std::string>{"right_slide", "thumb_tip"}));
+  // The assembled pose keeps the file's pose where it is closed (the fingers at their refs are
+  // not: right = 0.01 - 0.008) and satisfies both rows.
+  const VecX<double>& q = d.assembly.q;
+  const auto at = [&](const char* joint) { return q[d.model.joint(*d.model.find_joint(joint)).idx_q]; };
+  EXPECT_NEAR(at("right_slide"), at("left_slide") - 0.008, 1e-12);
+  EXPECT_NEAR(at("thumb_tip"), 0.7 * at("thumb_base") - 0.05, 1e-12);
+}
+
+TEST(LoadMjcf, NonlinearJointCouplingIsAnError) {
   const gen::LoadError e = load_error("bad/joint_coupling.xml");
   EXPECT_EQ(e.line(), 13);
   EXPECT_EQ(e.element(), "<joint> (unnamed)");
-  EXPECT_TRUE(contains(e.problem(), "not supported: a <joint> equality")) << e.what();
+  EXPECT_TRUE(contains(e.problem(), "is a polynomial of degree 2: mbgen couples joints linearly")) << e.what();
+  EXPECT_TRUE(contains(e.fix(), "polycoef=\"c0 c1 0 0 0\"")) << e.what();
+}
+
+TEST(LoadMjcf, JointHeldConstantIsAnErrorPointingToLock) {
+  const gen::LoadError e = load_error("bad/joint_held.xml");
+  EXPECT_EQ(e.line(), 9);
+  EXPECT_TRUE(contains(e.problem(), "holds 'ja' at a constant position (no joint2): not a coupling")) << e.what();
+  EXPECT_TRUE(contains(e.fix(), "scene: lock")) << e.what();
 }
 
 TEST(LoadMjcf, UnknownClassIsNamed) {
@@ -495,7 +545,10 @@ TEST(LoadMjcf, ToddlerbotTendonIsReported) {
     gen::load_description(test::shared_robot("toddlerbot_2xc/toddlerbot_2xc.xml"));
     ADD_FAILURE() << "toddlerbot's tendons were accepted";
   } catch (const gen::LoadError& e) {
-    EXPECT_EQ(e.element(), "<tendon>");
+    // Its waist tendons have ranges: their limits carry forces that no coupling stands for.
+    EXPECT_EQ(e.line(), 589);
+    EXPECT_EQ(e.element(), "fixed 'waist_roll_coupling'");
+    EXPECT_EQ(e.problem(), "not supported: a tendon with a range (its limit carries forces)");
   }
 }
 

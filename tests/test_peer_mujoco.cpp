@@ -392,5 +392,98 @@ INSTANTIATE_TEST_SUITE_P(Robots, PeerMujoco,
                                            MujocoCase{"peer_mix", MBGEN_TEST_DATA "/mjcf/peer_mix.xml", 1e-12, 1e-12}),
                          [](const auto& info) { return info.param.name; });
 
+// Couplings (load/mjcf_equality.cpp, load/mjcf_tendons.cpp): mbgen eliminates each follower,
+// MuJoCo keeps every joint and holds the equality by its (soft) constraint solver. So MuJoCo's
+// side is its unconstrained mass matrix and bias projected onto the leaders by the coupling map
+// written here from the file's numbers (q_follower' = ratio q_leader'): T^T M_mj T y'' =
+// T^T (tau - b_mj), against mbgen's O(n) forward dynamics of the closed system at the same
+// closed state; and MuJoCo's own equality residual (efc_pos) at mbgen's closed poses, which
+// checks the offsets (refs, c0, coefs) independently.
+struct Coupling {
+  const char *follower, *leader;
+  double ratio;
+};
+
+void expect_closed_dynamics_as_mujocos(const std::string& file, const std::vector<Coupling>& couplings) {
+  const std::string path = MBGEN_TEST_DATA "/mjcf/" + file;
+  gen::LoadOptions options;
+  options.pick_up_robot_yaml = false;
+  const gen::Description d = gen::load_description(path, options);
+  const Model& model = d.model;
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+  ASSERT_TRUE(m) << error;
+  mjData* md = mj_makeData(m);
+  ASSERT_EQ(m->nv, model.nv());
+  const int n = model.nv();
+  std::vector<int> dof(n);  // mbgen's v index -> MuJoCo's dof
+  for (int j = 1; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joint(JointIndex(j));
+    dof[joint.idx_v] = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, joint.name.c_str())];
+  }
+  const std::vector<int>& independent = model.structure().independent_v;
+  const int ny = static_cast<int>(independent.size());
+  ASSERT_EQ(ny, n - static_cast<int>(couplings.size()));
+  const auto v_of = [&](const char* name) { return model.joint(*model.find_joint(name)).idx_v; };
+  MatX<double> T = MatX<double>::Zero(n, ny);
+  for (int k = 0; k < ny; ++k) T(independent[k], k) = 1;
+  for (const Coupling& c : couplings) T(v_of(c.follower), model.structure().column_of_v[v_of(c.leader)]) = c.ratio;
+  Data<double> data(model);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0, worst_closure = 0;
+  int rows = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    VecX<double> q = d.assembly.q;
+    for (int y : independent)
+      q[model.q_index_of_v(y)] += 0.5 * u(rng) * (model.joint(model.joint_of_v(y)).type == JointType::Prismatic ? 0.02 : 1.0);
+    ASSERT_EQ(closure_positions<double>(model, data, q).status, ClosureStatus::Converged);
+    VecX<double> vy(ny), v(n);
+    for (int k = 0; k < ny; ++k) vy[k] = u(rng);
+    full_velocities<double>(model, data, q, vy, v);
+    const VecX<double> tau = random_vector<double>(n, rng, 2.0);
+    for (int j = 1; j < model.num_joints(); ++j) {
+      const Joint& joint = model.joint(JointIndex(j));
+      const int id = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+      md->qpos[m->jnt_qposadr[id]] = q[joint.idx_q];
+      md->qvel[m->jnt_dofadr[id]] = v[joint.idx_v];
+    }
+    mj_forward(m, md);
+    rows = 0;
+    for (int r = 0; r < md->nefc; ++r)
+      if (md->efc_type[r] == mjCNSTR_EQUALITY) worst_closure = std::max(worst_closure, std::abs(md->efc_pos[r])), ++rows;
+    std::vector<mjtNum> dense(n * n);
+    mj_fullM(m, dense.data(), md->qM);
+    MatX<double> M(n, n);
+    VecX<double> b(n);
+    for (int r = 0; r < n; ++r) {
+      b[r] = md->qfrc_bias[dof[r]];
+      for (int c = 0; c < n; ++c) M(r, c) = dense[dof[r] * n + dof[c]];
+    }
+    const VecX<double> expected = (T.transpose() * M * T).ldlt().solve(T.transpose() * (tau - b));
+    ASSERT_EQ(forward_dynamics_loops<double>(model, data, q, v, tau), ClosureStatus::Converged);
+    VecX<double> ydd(ny);
+    for (int k = 0; k < ny; ++k) ydd[k] = data.ddq[independent[k]];
+    worst = std::max(worst, relative_error(ydd, expected));
+  }
+  std::printf("  %s vs MuJoCo projected: worst relative %.2e; MuJoCo's equality residual %.2e\n", file.c_str(), worst,
+              worst_closure);
+  EXPECT_EQ(rows, static_cast<int>(couplings.size()));
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_LT(worst_closure, 1e-15);  // the two programs agree on where each coupling holds
+  mj_deleteData(md);
+  mj_deleteModel(m);
+}
+
+TEST(PeerMujocoCouplings, JointEqualitiesSideBySideAndAlongAChain) {
+  // polycoef "0.002 1 0 0 0" and "0.05 0.7 0 0 0"
+  expect_closed_dynamics_as_mujocos("joint_coupling.xml", {{"right_slide", "left_slide", 1.0}, {"thumb_tip", "thumb_base", 0.7}});
+}
+
+TEST(PeerMujocoCouplings, FixedTendonHeldAtItsLength) {
+  // coefs 0.5 and -0.25: q2' = -(0.5 / -0.25) q1' = 2 q1'
+  expect_closed_dynamics_as_mujocos("tendon_coupling.xml", {{"finger_joint2", "finger_joint1", 2.0}});
+}
+
 }  // namespace
 }  // namespace mbgen::test

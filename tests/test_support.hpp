@@ -128,6 +128,11 @@ inline std::vector<LoopCase> loop_cases() {
   cases.push_back({"cassie_mjcf", shared_robot("cassie_mjcf/cassie.xml"), ""});
   // Every closure type (weld, point, revolute, prismatic, universal) on its own 6-DoF chain.
   cases.push_back({"closure_types", MBGEN_TEST_DATA "/closure_types.urdf", MBGEN_TEST_DATA "/closure_types.yaml"});
+  // Couplings (URDF <mimic>, MJCF joint equalities): side by side and a follower below its leader.
+  cases.push_back({"panda_coupled", shared_robot("panda/panda.urdf"), MBGEN_TEST_DATA "/mimic/panda_coupled.yaml"});
+  cases.push_back({"two_link_mimic", MBGEN_TEST_DATA "/mimic/two_link.urdf", MBGEN_TEST_DATA "/mimic/two_link.yaml"});
+  cases.push_back({"mjcf_joint_coupling", MBGEN_TEST_DATA "/mjcf/joint_coupling.xml", ""});
+  cases.push_back({"mjcf_tendon_coupling", MBGEN_TEST_DATA "/mjcf/tendon_coupling.xml", ""});
   return cases;
 }
 inline void PrintTo(const LoopCase& c, std::ostream* os) { *os << c.name; }

@@ -12,6 +12,7 @@ gen::LoadOptions DescriptionOptions::load_options() const {
   if (floating) load.base = gen::BaseType::Floating;
   if (fixed) load.base = gen::BaseType::Fixed;
   load.repair_inertia = repair_inertia;
+  if (!mimic.empty()) load.couple_mimics = mimic == "couple";
   for (const std::string& p : package_paths) load.package_paths.insert(mesh::parse_package_path(p));
   return load;
 }
@@ -23,6 +24,11 @@ void add_description_options(CLI::App* command, DescriptionOptions& options, con
   command->add_flag("--fixed", options.fixed, "fixed base (overrides the extras)")->excludes(floating);
   command->add_flag("--repair-inertia", options.repair_inertia,
                     "replace inertias no rigid body has by the nearest valid ones (a note each) instead of refusing");
+  command
+      ->add_option("--mimic", options.mimic,
+                   "couple: a URDF <mimic> joint follows its leader through a coupling (one DoF fewer); independent: it "
+                   "is a joint of its own, as Pinocchio and MuJoCo load it by default (overrides the extras' `mimic`)")
+      ->check(CLI::IsMember({"couple", "independent"}));
   command
       ->add_option("--package-path", options.package_paths,
                    "NAME=DIR: package://NAME/x is DIR/x (repeatable; ROS_PACKAGE_PATH is searched after these), " +

@@ -1,6 +1,6 @@
 #pragma once
 // The options every command that loads a robot shares, parsed one way for all: the description
-// (URDF or MJCF), --extras, --floating/--fixed, --repair-inertia and --package-path. Checked when
+// (URDF or MJCF), --extras, --floating/--fixed, --repair-inertia, --mimic and --package-path. Checked when
 // the command line is parsed, so a malformed value is a usage error (exit 2) naming it.
 #include <CLI/CLI.hpp>
 
@@ -17,6 +17,7 @@ struct DescriptionOptions {
   bool floating = false, fixed = false;    ///< override the extras' base
   bool repair_inertia = false;             ///< nearest valid inertias instead of refusing
   std::vector<std::string> package_paths;  ///< NAME=DIR: where package://NAME/ meshes are
+  std::string mimic;                       ///< couple | independent: overrides the extras' `mimic`
 
   /// What gen::load_description reads; throws std::invalid_argument on a malformed package path
   /// (the parse-time check makes that a usage error first).

@@ -101,8 +101,12 @@ void print_loops(const Description& d, std::ostream& out) {
   out << fmt::format("\nloops ({}), each closure's cycle from its first body through the root to its second:\n",
                      m.closures.size());
   for (const LoopClosure& c : m.closures)
-    out << fmt::format("  {}: {}, {} rows: {}\n", c.name, mbgen::to_string(c.type), c.rows(),
-                       fmt::join(body_names(m, gen::cycle_path(m, c)), " - "));
+    if (c.type == ClosureType::Coupling)
+      out << fmt::format("  {}: coupling, 1 row: joint '{}' follows '{}'\n", c.name, m.joint(m.body(c.body_b).joint).name,
+                         m.joint(m.body(c.body_a).joint).name);
+    else
+      out << fmt::format("  {}: {}, {} rows: {}\n", c.name, mbgen::to_string(c.type), c.rows(),
+                         fmt::join(body_names(m, gen::cycle_path(m, c)), " - "));
   const gen::AssemblyReport& a = d.assembly;
   out << fmt::format("assembly: from {}; largest joint change from it {:.6g} (joint '{}'), max |Phi| {:.3g}, "
                      "smallest kept singular value of Phi_q {:.6g} (largest {:.6g}), worst condition of Phi_z {:.4g}, "
@@ -150,7 +154,11 @@ void print_text(const Description& d, const codegen::FunctionSelection& selectio
   }
   out << fmt::format("\nclosures as given ({}):\n", d.closures.size());
   for (const gen::ClosureSpec& c : d.closures)
-    out << fmt::format("  {}: {} between '{}' and '{}'\n", c.name, c.type, c.frame_a, c.frame_b);
+    if (c.type == "coupling")
+      out << fmt::format("  {}: coupling '{}' = {} * '{}' {} {} ({})\n", c.name, c.frame_b, c.ratio, c.frame_a,
+                         c.offset < 0 ? "-" : "+", std::abs(c.offset), c.source);
+    else
+      out << fmt::format("  {}: {} between '{}' and '{}'\n", c.name, c.type, c.frame_a, c.frame_b);
   print_loops(d, out);
   out << fmt::format("\nactuated joints ({}): {}\n", d.actuated_joints.size(), fmt::join(d.actuated_joints, ", "));
   if (!d.joint_type_overrides.empty()) {
@@ -241,7 +249,17 @@ Json to_json(const Description& d) {
     frames.push_back({{"name", frame.name}, {"kind", to_string(frame.kind)}, {"body", m.body(frame.body).name}});
   }
   Json closures = Json::array();
-  for (const gen::ClosureSpec& c : d.closures)
+  for (const gen::ClosureSpec& c : d.closures) {
+    if (c.type == "coupling") {
+      closures.push_back({{"name", c.name},
+                          {"type", c.type},
+                          {"leader", c.frame_a},
+                          {"follower", c.frame_b},
+                          {"ratio", c.ratio},
+                          {"offset", c.offset},
+                          {"source", c.source}});
+      continue;
+    }
     closures.push_back({{"name", c.name},
                         {"type", c.type},
                         {"parent", c.frame_a},
@@ -250,6 +268,7 @@ Json to_json(const Description& d) {
                         {"child_origin", origin_json(c.X_BC)},
                         {"axis", vec_json(c.axis)},
                         {"source", c.source}});
+  }
   Json drives = Json::array();
   for (const gen::DriveSpec& drive : d.drives)
     drives.push_back({{"joint", drive.joint},
@@ -304,7 +323,7 @@ Json to_json(const Description& d) {
                      {"rows", c.rows()},
                      {"body_a", m.body(c.body_a).name},
                      {"body_b", m.body(c.body_b).name},
-                     {"root", m.body(common_ancestor(m, c.body_a, c.body_b)).name},
+                     {"root", m.body(closure_top(m, c)).name},
                      {"bodies", body_names(m, gen::cycle_path(m, c))}});
   Json subsystems = Json::array();
   for (const SubSystem& s : m.subsystems) {

@@ -25,6 +25,9 @@ struct ClosureSpec {
   SE3<double> X_AC;     ///< closure frame in frame_a (identity unless the extras give an origin)
   SE3<double> X_BC;     ///< closure frame in frame_b
   Vec3<double> axis = Vec3<double>::UnitZ();  ///< closure joint axis in the closure frame, where it has one
+  /// type "coupling": frame_a names the leader joint, frame_b the follower, and
+  /// q_follower = ratio q_leader + offset (URDF <mimic>, MJCF joint equalities and fixed tendons).
+  double ratio = 1.0, offset = 0.0;
   std::string source;   ///< file and line it came from
   int source_line = 0;  ///< the line alone (1-based; 0 when unknown), for error messages
   /// The model frames the two names resolve to (a moving joint's name resolves to its child
@@ -200,6 +203,11 @@ struct LoadOptions {
   /// Fit SSVs to the meshes when the scene says `collision: fit: true`. `fit-ssv` turns it off
   /// and fits with its own budget.
   bool apply_scene_fit = true;
+  /// URDF <mimic>: true couples the joints (coupling closures, urdf_mimic.cpp), false loads the
+  /// mimicking joint as an independent one (a warning each), as Pinocchio's buildModel and
+  /// MuJoCo's URDF import do by default; unset: the extras' `mimic:` (couple | independent),
+  /// else independent. `--mimic` on the command line.
+  std::optional<bool> couple_mimics;
 };
 
 /// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked
@@ -220,6 +228,12 @@ bool is_mjcf_path(const std::string& path);
 
 /// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
 void add_collision_ssvs(const std::string& path, Description& d);
+/// The frame of the body that the moving joint `joint` moves (a coupling's side); invalid when
+/// there is no such joint.
+FrameIndex moved_body_frame(const Model& model, const std::string& joint);
+/// The URDF's <mimic> elements as coupling closures (urdf_mimic.cpp), in document order; with
+/// `couple` false, a warning each that the joint is loaded as an independent one.
+void add_urdf_mimics(const std::string& path, Description& d, bool couple);
 
 /// Builds the tree Model from a URDF file alone (fixed joints merged). Warnings are appended.
 Model load_urdf_model(const std::string& path, BaseType base, std::vector<std::string>& warnings);

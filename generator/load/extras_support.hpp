@@ -26,6 +26,9 @@ std::optional<BaseType> extras_base(const ExtrasFile& extras);
 /// `snap_quarter_turns:` of an mbgen-schema file (a tolerance in [0, 1e-6]), else 0; a LoadError
 /// when the description it extends is an MJCF (the option is the URDF loader's).
 double extras_quarter_turns(const ExtrasFile& extras, const std::string& description);
+/// `mimic: couple` (true) or `independent` (false, also when absent) of an mbgen-schema file; a
+/// LoadError when the description it extends is an MJCF (its couplings are <equality> elements).
+bool extras_couples_mimics(const ExtrasFile& extras, const std::string& description);
 /// Fills closures, independent, drives, ssv, scene, robot from an mbgen-schema file.
 void apply_mbgen_extras(const ExtrasFile& extras, Description& d);
 /// Fills closures, actuated joints and joint type overrides from a parallel_legs robot.yaml.

@@ -17,7 +17,7 @@ namespace {
 
 using namespace yaml;
 
-const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closures", "drives", "independent", "robot", "scene", "snap_quarter_turns", "ssv"};
+const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closures", "drives", "independent", "mimic", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
@@ -465,6 +465,15 @@ double extras_quarter_turns(const ExtrasFile& x, const std::string& description)
     fail(x.path, n, "snap_quarter_turns", fmt::format("{} is outside [0, 1e-6]", tolerance),
          "give the rounding of the URDF's quarter turns, e.g. 1e-9 for rpy written as 1.57079632679");
   return tolerance;
+}
+
+bool extras_couples_mimics(const ExtrasFile& x, const std::string& description) {
+  if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["mimic"]) return false;
+  const YAML::Node n = x.root["mimic"];
+  if (is_mjcf_path(description))
+    fail(x.path, n, "mimic", "applies to a URDF's <mimic> elements, and " + description + " is an MJCF",
+         "remove it: an MJCF couples joints with <equality><joint> or a fixed <tendon>, which are always read");
+  return one_of(x.path, n, "mimic", {"couple", "independent"}) == "couple";
 }
 
 std::optional<BaseType> extras_base(const ExtrasFile& x) {

@@ -191,7 +191,7 @@ struct Builder {
       }
       out.push_back(j);
       tree.joints[name] = {name};
-      tree.qpos_layout.push_back({name, type});
+      tree.qpos_layout.push_back({name, type, j.ref});
       d.urdf_lines.joint[name] = j.line;
     }
     return out;

@@ -274,9 +274,6 @@ struct Builder {
         j.damping = joint->dynamics->damping;
         j.friction = joint->dynamics->friction;
       }
-      if (joint->mimic)
-        warnings.push_back(fmt::format("joint '{}' mimics '{}': the coupling is ignored, it is loaded as an independent joint",
-                                       joint->name, joint->mimic->joint_name));
       BodyIndex child_body = model.add_body(body, j, child.name, to_inertia(child, quarter_turn_tolerance));
       attach(child.name, child_body, SE3<double>::Identity(), true);
     }

@@ -5,11 +5,17 @@
 //     anchor in body1 (X_AC) and at that point in body2 (X_BC), the two coinciding at qpos0;
 //   <connect site1 site2>: a point closure between the two site frames;
 //   <weld body1 body2>: a weld closure holding the relative pose of qpos0.
-// body2 defaults to the world. Couplings (<joint>, <tendon> equalities) and <distance> are load
-// errors: mbgen has no closure type for them yet, and dropping them would change the dynamics.
+//   <joint joint1 joint2 polycoef>: a coupling closure (loop_closure.hpp), joint1 following
+//     joint2: MuJoCo's q1 - ref1 = c0 + c1 (q2 - ref2) is q1 = c1 q2 + (ref1 + c0 - c1 ref2).
+//   <tendon tendon1 polycoef>: a coupling of the fixed tendon's two joints (mjcf_tendons.cpp).
+// body2 defaults to the world. A joint equality with higher polynomial terms or without joint2
+// (a joint held constant), a tendon equality with tendon2 or over other than two joints, and
+// <distance> are load errors: dropping them would change the dynamics.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "load/load_error.hpp"
 #include "load/mjcf_tree.hpp"
@@ -47,9 +53,52 @@ Side site_side(const Tree& tree, const Element& x, const char* attribute) {
   return Side{name, it->second.body, it->second.frame, it->second.X_BS};
 }
 
+/// The hinge or slide joint `attribute` names, and its ref.
+std::pair<std::string, double> coupled_joint(const Tree& tree, const Element& x, const char* attribute) {
+  const std::string name = *x.attribute(attribute);
+  const auto it = std::find_if(tree.qpos_layout.begin(), tree.qpos_layout.end(), [&](const Tree::QposJoint& j) { return j.name == name; });
+  if (it == tree.qpos_layout.end()) x.fail(fmt::format("{}=\"{}\" names no joint", attribute, name), "name a <joint> of the file");
+  if (it->type != "hinge" && it->type != "slide")
+    x.fail(fmt::format("{}=\"{}\" is a {} joint", attribute, name, it->type), "couple hinge or slide joints");
+  return {name, it->ref};
+}
+
+/// <equality><joint>: joint1 = c1 joint2 + offset, as a coupling closure.
+ClosureSpec joint_coupling(const Tree& tree, const Model& model, const Element& x, int index) {
+  if (!x.attribute("joint1")) x.fail("has no joint1", "name the joint that follows: joint1=\"...\"");
+  const auto [follower, ref1] = coupled_joint(tree, x, "joint1");
+  if (!x.attribute("joint2"))
+    x.fail(fmt::format("holds '{}' at a constant position (no joint2): not a coupling", follower),
+           "weld the joint instead (`scene: lock` in the YAML extras), or name the joint it follows: joint2=\"...\"");
+  const auto [leader, ref2] = coupled_joint(tree, x, "joint2");
+  if (follower == leader) x.fail(fmt::format("couples '{}' to itself", follower), "name two different joints");
+  const std::vector<double> c = x.numbers("polycoef", 5).value_or(std::vector<double>{0, 1, 0, 0, 0});
+  if (c[2] != 0 || c[3] != 0 || c[4] != 0)
+    x.fail(fmt::format("polycoef=\"{} {} {} {} {}\" is a polynomial of degree {}: mbgen couples joints linearly", c[0], c[1], c[2], c[3], c[4],
+                       c[4] != 0 ? 4 : c[3] != 0 ? 3 : 2),
+           "keep the constant and linear terms (polycoef=\"c0 c1 0 0 0\"), or model the coupling as a closure in the YAML extras");
+  if (c[1] == 0)
+    x.fail(fmt::format("polycoef's linear term is 0: '{}' is held at a constant position, not coupled", follower),
+           "weld the joint instead (`scene: lock` in the YAML extras), or give a non-zero linear term");
+  ClosureSpec spec;
+  spec.name = x.string("name", fmt::format("joint_{}", index));
+  spec.type = "coupling";
+  spec.frame_a = leader;
+  spec.frame_b = follower;
+  spec.ratio = c[1];
+  spec.offset = ref1 + c[0] - c[1] * ref2;
+  spec.resolved_a = moved_body_frame(model, leader);
+  spec.resolved_b = moved_body_frame(model, follower);
+  if (!spec.resolved_a.valid() || !spec.resolved_b.valid()) x.fail("couples a joint that moves no body", "report this model");
+  spec.source = fmt::format("{}:{}: <joint>", tree.path, x.line());
+  spec.source_line = x.line();
+  return spec;
+}
+
 }  // namespace
 
 void add_mjcf_equalities(const Tree& tree, Description& d) {
+  const std::map<std::string, FixedTendon> tendons = read_fixed_tendons(tree);
   int index = 0;
   for (const tinyxml2::XMLElement* eq = tree.root->FirstChildElement("equality"); eq;
        eq = eq->NextSiblingElement("equality")) {
@@ -57,9 +106,14 @@ void add_mjcf_equalities(const Tree& tree, Description& d) {
       ++index;
       const std::string kind = e->Name();
       const Element x = tree.element(e, -1);
-      if (kind == "joint" || kind == "tendon")
-        x.fail(fmt::format("not supported: a <{}> equality (a polynomial coupling of {}s)", kind, kind),
-               "remove it and model the coupling as a closure in the YAML extras, or drive both joints");
+      if (kind == "joint" || kind == "tendon") {
+        if (x.string("active", "true") == "false") {
+          d.warnings.push_back(fmt::format("{}:{}: inactive <{}> equality skipped", tree.path, e->GetLineNum(), kind));
+          continue;
+        }
+        d.closures.push_back(kind == "joint" ? joint_coupling(tree, d.model, x, index) : tendon_coupling(tree, d.model, x, index, tendons));
+        continue;
+      }
       if (kind != "connect" && kind != "weld")
         x.fail(fmt::format("not supported: a <{}> equality", kind), "use <connect> or <weld>");
       if (x.string("active", "true") == "false") {

@@ -69,13 +69,10 @@ Vec3<double> read_gravity(const std::string& path, const tinyxml2::XMLElement* r
 void check_top_level(const std::string& path, const tinyxml2::XMLElement* root) {
   static const std::set<std::string> ignored = {"compiler", "option", "size",  "default", "asset",   "worldbody",
                                                 "equality", "actuator", "sensor", "keyframe", "contact", "visual",
-                                                "statistic", "custom"};
+                                                "statistic", "custom", "tendon"};  // tendon: mjcf_tendons.cpp
   for (const tinyxml2::XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string kind = e->Name();
     if (ignored.count(kind)) continue;
-    if (kind == "tendon")
-      not_supported(path, e, "tendons (their lengths couple joints and carry forces)",
-                    "remove the <tendon> and its actuators, or model the coupling as closures in the YAML extras");
     if (kind == "include")
       not_supported(path, e, "<include> (files are not merged)", "paste the included file's content in place");
     not_supported(path, e, fmt::format("the top-level element <{}>", kind), "remove it (see docs/mjcf.md for what is read)");

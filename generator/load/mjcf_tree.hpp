@@ -40,6 +40,7 @@ struct Tree {
   struct QposJoint {
     std::string name;
     std::string type;  ///< free, ball, hinge, slide
+    double ref = 0;    ///< hinge, slide: the position at MuJoCo's reference pose qpos0 (its `ref`)
   };
   std::vector<QposJoint> qpos_layout;
 
@@ -49,6 +50,22 @@ struct Tree {
 
 /// Swept-sphere volumes for the colliding sphere, capsule and cylinder geoms (mjcf_geoms.cpp).
 void add_mjcf_geoms(const Tree& tree, Description& d);
+/// A <tendon><fixed>: its length sum coef_i q_i over its joints (mjcf_tendons.cpp).
+struct FixedTendon {
+  struct Term {
+    std::string joint;
+    double coef = 1, ref = 0;  ///< ref: the joint's position at qpos0
+  };
+  std::vector<Term> joints;
+  int line = 0;
+};
+/// Every <tendon><fixed> by name, checked: a tendon that carries forces of its own (stiffness,
+/// damping, friction, armature, a range) or a <spatial> one is a LoadError.
+std::map<std::string, FixedTendon> read_fixed_tendons(const Tree& tree);
+/// <equality><tendon tendon1>: a coupling of the tendon's two joints, the second following.
+ClosureSpec tendon_coupling(const Tree& tree, const Model& model, const Element& x, int index,
+                            const std::map<std::string, FixedTendon>& tendons);
+
 /// <equality> -> closures, <actuator> -> actuated joints (mjcf_equality.cpp).
 void add_mjcf_equalities(const Tree& tree, Description& d);
 void add_mjcf_actuators(const Tree& tree, Description& d);

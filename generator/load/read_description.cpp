@@ -42,6 +42,7 @@ Description read_description(const std::string& path, const LoadOptions& options
   }
   // Read (and, for an MJCF, refused with its line) before either loader runs.
   const double quarter_turns = extras ? extras_quarter_turns(*extras, path) : 0.0;
+  const bool extras_couple = extras && extras_couples_mimics(*extras, path);
   if (is_mjcf_path(path)) {
     // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
@@ -53,6 +54,7 @@ Description read_description(const std::string& path, const LoadOptions& options
     d.model = load_urdf_model(path, d.base, report, &d.urdf_lines, quarter_turns);
     d.robot_name = d.model.name;
     add_collision_ssvs(path, d);
+    add_urdf_mimics(path, d, options.couple_mimics.value_or(extras_couple));
   }
   if (extras) {
     if (extras->schema == ExtrasFile::Schema::ParallelLegs)

@@ -33,6 +33,7 @@ int assembly_rows(ClosureType type) {
     case ClosureType::Revolute: return 6;
     case ClosureType::Prismatic: return 12;
     case ClosureType::Universal: return 4;
+    case ClosureType::Coupling: return 1;
   }
   return 0;
 }
@@ -51,6 +52,13 @@ class AssemblyResidual {
     compute_joint_jacobians<double>(model_, data_, q);
     int row = 0;
     for (const LoopClosure& c : model_.closures) {
+      if (c.type == ClosureType::Coupling) {  // linear in q: its own row is the assembly's
+        r[row] = detail::coupling_residual<double>(model_, c, q.data());
+        J.row(row).setZero();
+        detail::coupling_jacobian_row<double>(model_, c, J.middleRows(row, 1));
+        row += 1;
+        continue;
+      }
       const SE3<double> Xa = data_.X_WB[c.body_a] * c.X_ACa, Xb = data_.X_WB[c.body_b] * c.X_BCb;
       detail::point_frame_jacobian<double>(model_, data_, c.body_a, Xa.translation, Xa.rotation,
                                            ReferenceFrame::LocalWorldAligned, Ja_);
@@ -89,7 +97,8 @@ class AssemblyResidual {
           row += 1;
           break;
         }
-        case ClosureType::Point: break;
+        case ClosureType::Point:
+        case ClosureType::Coupling: break;
       }
     }
   }
@@ -216,14 +225,18 @@ bool better(const Attempt& x, const Attempt& y, double conditioning) {
   for (const LoopClosure& c : model.closures) {
     const auto rows = data.Phi.segment(c.row_offset, c.rows());
     if (rows.cwiseAbs().maxCoeff() < 1e-9) continue;
+    names.push_back(fmt::format("'{}'", c.name));
+    for (const ClosureSpec& spec : d.closures)
+      if (spec.name == c.name && line == 0) line = spec.source_line;
+    if (c.type == ClosureType::Coupling) {
+      open.push_back(fmt::format("'{}' by {:.3g}", c.name, rows[0]));
+      continue;
+    }
     const int lin = c.type == ClosureType::Prismatic ? 2 : 3;
     const double position = rows.head(lin).norm(), rotation = rows.tail(c.rows() - lin).norm();
     open.push_back(c.type == ClosureType::Point
                        ? fmt::format("'{}' by {:.3g} m", c.name, position)
                        : fmt::format("'{}' by {:.3g} m and {:.3g} rad", c.name, position, rotation));
-    names.push_back(fmt::format("'{}'", c.name));
-    for (const ClosureSpec& spec : d.closures)
-      if (spec.name == c.name && line == 0) line = spec.source_line;
   }
   throw LoadError(d.extras_file, line, fmt::format("closure{} {}", names.size() > 1 ? "s" : "", fmt::join(names, ", ")),
                   fmt::format("cannot be assembled: no pose of the tree closes {0}; the best of {1} starting poses leaves {0} "

@@ -1,6 +1,9 @@
 // Closures as given (ClosureSpec) as the Model's (LoopClosure), and the topology stage composed.
 #include <fmt/format.h>
 
+#include <cmath>
+#include <utility>
+
 #include "mbgen/algorithm/closure.hpp"
 #include "load/load_error.hpp"
 #include "model/topology.hpp"
@@ -15,9 +18,30 @@ ClosureType closure_type(const Description& d, const ClosureSpec& spec) {
   if (spec.type == "revolute") return ClosureType::Revolute;
   if (spec.type == "prismatic") return ClosureType::Prismatic;
   if (spec.type == "universal") return ClosureType::Universal;
+  if (spec.type == "coupling") return ClosureType::Coupling;
   throw LoadError(d.extras_file, spec.source_line, fmt::format("closure '{}'", spec.name),
                   fmt::format("has type '{}', which the loop builder does not know", spec.type),
                   "use revolute, prismatic, universal, spherical or weld (6d / 3d in robot.yaml)");
+}
+
+/// A coupling relates two 1-DoF joints with one position coordinate each, named as joints.
+void check_coupling(const Description& d, const ClosureSpec& spec, const LoopClosure& c) {
+  const Model& model = d.model;
+  for (const auto& [name, body] : {std::pair{spec.frame_a, c.body_a}, std::pair{spec.frame_b, c.body_b}}) {
+    const Joint& joint = model.joint(model.body(body).joint);
+    if (joint.name != name || joint.nv != 1 || joint.nq != 1)
+      throw LoadError(d.extras_file, spec.source_line, fmt::format("coupling '{}'", spec.name),
+                      fmt::format("'{}' is not a moving 1-DoF joint of the tree (a coupling relates two joints' positions)", name),
+                      "name a revolute or prismatic joint");
+  }
+  if (c.body_a == c.body_b)
+    throw LoadError(d.extras_file, spec.source_line, fmt::format("coupling '{}'", spec.name),
+                    fmt::format("couples '{}' to itself", spec.frame_a), "name two different joints");
+  if (!(std::isfinite(spec.ratio) && std::isfinite(spec.offset)) || spec.ratio == 0)
+    throw LoadError(d.extras_file, spec.source_line, fmt::format("coupling '{}'", spec.name),
+                    fmt::format("has ratio {} and offset {}: the ratio must be finite and non-zero, the offset finite", spec.ratio,
+                                spec.offset),
+                    "a joint held at a constant value is a lock (scene: lock), not a coupling");
 }
 
 }  // namespace
@@ -38,6 +62,9 @@ std::vector<LoopClosure> closures_of(const Description& d) {
     c.X_BCb = fb.X_BF * spec.X_BC;
     c.axis = spec.axis.normalized();
     c.axis_b = closure_axis_basis(c.axis).col(0);
+    c.ratio = spec.ratio;
+    c.offset = spec.offset;
+    if (c.type == ClosureType::Coupling) check_coupling(d, spec, c);
     c.row_offset = offset;
     offset += c.rows();
     closures.push_back(c);
@@ -46,7 +73,7 @@ std::vector<LoopClosure> closures_of(const Description& d) {
 }
 
 std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure) {
-  const BodyIndex top = common_ancestor(model, closure.body_a, closure.body_b);
+  const BodyIndex top = closure_top(model, closure);
   std::vector<BodyIndex> path, down;
   for (BodyIndex b = closure.body_a; b != top; b = model.body(b).parent) path.push_back(b);
   path.push_back(top);

@@ -24,7 +24,7 @@ using Eigen::MatrixXd;
 /// Non-root bodies of a closure's fundamental cycle: body_a and body_b up to (without) their
 /// common ancestor.
 std::set<int> cycle_bodies(const Model& model, const LoopClosure& c) {
-  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+  const BodyIndex top = closure_top(model, c);
   std::set<int> bodies;
   for (BodyIndex start : {c.body_a, c.body_b})
     for (BodyIndex b = start; b != top; b = model.body(b).parent) bodies.insert(b.value());
@@ -201,6 +201,13 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
   Data<double> data(model);
   const MatrixXd Phi_q = closure_jacobian<double>(model, data, q);
   std::set<std::string> hinted(d.actuated_joints.begin(), d.actuated_joints.end());
+  // A coupling's follower is the dependent coordinate (a mimic joint has none of its own), its
+  // leader the independent one, whatever the actuators say.
+  for (const LoopClosure& c : model.closures)
+    if (c.type == ClosureType::Coupling) {
+      hinted.insert(model.joint(model.body(c.body_a).joint).name);
+      hinted.erase(model.joint(model.body(c.body_b).joint).name);
+    }
   out.worst_conditioning = 1.0;
   for (int i = 0; i < n; ++i) {
     if (find_root(parent, i) != i) continue;
@@ -212,7 +219,7 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
       s.closures.push_back(k);
       bodies.insert(cycles[k].begin(), cycles[k].end());
       const LoopClosure& c = model.closures[k];
-      root = common_ancestor(model, root, common_ancestor(model, c.body_a, c.body_b));
+      root = common_ancestor(model, root, closure_top(model, c));
       for (int r = 0; r < c.rows(); ++r) s.rows.push_back(c.row_offset + r);
     }
     s.root = root;

@@ -46,7 +46,7 @@ std::map<std::string, double> plan_transmissions(Description& d) {
     for (int c : sub.closures) {
       const LoopClosure& closure = m.closures[static_cast<std::size_t>(c)];
       t.closures.push_back(closure.name);
-      const BodyIndex root = common_ancestor(m, closure.body_a, closure.body_b);
+      const BodyIndex root = closure_top(m, closure);
       const std::vector<BodyIndex> a = path_below(m, closure.body_a, root), b = path_below(m, closure.body_b, root);
       const auto driven = [&](const std::vector<BodyIndex>& path) {
         return std::any_of(path.begin(), path.end(), [&](BodyIndex x) { return independent.count(x.value()) > 0; });

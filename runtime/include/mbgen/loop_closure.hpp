@@ -9,6 +9,12 @@
 //   revolute   3 linear + 2 angular (perpendicular to axis) (5 rows)
 //   prismatic  2 linear (perpendicular to axis) + 3 angular (5 rows)
 //   universal  3 linear + 1 angular (about axis x axis_b)   (4 rows)
+//   coupling   q_b - ratio q_a - offset                     (1 row)
+// A coupling is not a joint between two frames but a linear relation between the positions of
+// the 1-DoF joints that move body_a (the leader) and body_b (the follower): URDF <mimic>, MJCF
+// joint equalities and fixed tendons. Its frames are unused; its cycle is the tree path between
+// the two joints (closure_top), so both joints are coordinates of its sub-system and the
+// follower, solved from the leader, has no coordinate of its own in the closed system.
 // The residual rows and the exact definitions are in algorithm/closure.hpp.
 // The stacked rows of all closures, in closure order, are the system's constraint rows;
 // `row_offset` is where a closure's rows start. Rows may be redundant (a 6d closure of a planar
@@ -21,7 +27,7 @@
 
 namespace mbgen {
 
-enum class ClosureType { Weld, Point, Revolute, Prismatic, Universal };
+enum class ClosureType { Weld, Point, Revolute, Prismatic, Universal, Coupling };
 
 inline const char* to_string(ClosureType type) {
   switch (type) {
@@ -30,6 +36,7 @@ inline const char* to_string(ClosureType type) {
     case ClosureType::Revolute: return "revolute";
     case ClosureType::Prismatic: return "prismatic";
     case ClosureType::Universal: return "universal";
+    case ClosureType::Coupling: return "coupling";
   }
   return "unknown";
 }
@@ -42,6 +49,7 @@ inline int closure_rows(ClosureType type) {
     case ClosureType::Revolute: return 5;
     case ClosureType::Prismatic: return 5;
     case ClosureType::Universal: return 4;
+    case ClosureType::Coupling: return 1;
   }
   return 0;
 }
@@ -54,6 +62,7 @@ struct LoopClosure {
   SE3<double> X_BCb;         ///< closure frame Cb in body B (coincides with Ca when closed, up to the free motion)
   Vec3<double> axis = Vec3<double>::UnitZ();    ///< revolute/prismatic: free axis, in Ca; universal: first axis, fixed in Ca
   Vec3<double> axis_b = Vec3<double>::UnitY();  ///< universal: second axis, fixed in Cb (perpendicular to `axis` when closed)
+  double ratio = 1.0, offset = 0.0;  ///< coupling: q_b = ratio q_a + offset (the joints of body_a and body_b)
   int row_offset = 0;        ///< first row of this closure in the stacked constraint vector
   int rows() const { return closure_rows(type); }
 };

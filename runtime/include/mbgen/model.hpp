@@ -267,6 +267,16 @@ inline BodyIndex common_ancestor(const Model& model, BodyIndex a, BodyIndex b) {
   return a;
 }
 
+/// The top of a closure's fundamental cycle: the deepest body supporting both of its sides, the
+/// bodies strictly below it on the two paths being the cycle. A coupling relates the joints that
+/// move body_a and body_b, so its cycle must contain both bodies (and what lies between them):
+/// its top is taken from their parents (a follower below its leader still has the leader's body
+/// on its cycle).
+inline BodyIndex closure_top(const Model& model, const LoopClosure& c) {
+  if (c.type == ClosureType::Coupling) return common_ancestor(model, model.body(c.body_a).parent, model.body(c.body_b).parent);
+  return common_ancestor(model, c.body_a, c.body_b);
+}
+
 /// The structure of `model` as it is now (Model::update_structure stores it).
 inline ModelStructure compute_structure(const Model& model) {
   ModelStructure out;
@@ -286,7 +296,7 @@ inline ModelStructure compute_structure(const Model& model) {
     for (BodyIndex b : model.subsystems[k].bodies) out.subsystem_of_body[b] = static_cast<int>(k);
   std::vector<bool> on_cycle(static_cast<std::size_t>(model.num_bodies()), false);
   for (const LoopClosure& c : model.closures) {
-    const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+    const BodyIndex top = closure_top(model, c);
     for (BodyIndex b : {c.body_a, c.body_b})
       for (; b != top; b = model.body(b).parent) on_cycle[static_cast<std::size_t>(b.value())] = true;
   }

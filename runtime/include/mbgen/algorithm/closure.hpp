@@ -9,6 +9,8 @@
 //   revolute   [r; -u2.(R a); u1.(R a)]
 //   prismatic  [u1.r; u2.r; vee(R - R^T)/2]
 //   universal  [r; -a.(R b)]                    (b = axis_b, fixed in Cb)
+//   coupling   q_b - ratio q_a - offset         (q_a, q_b: the positions of the joints moving
+//                                                body_a and body_b; linear, so gamma = 0)
 // Phi_q has the rows of the relative motion of Cb with respect to Ca, expressed in Ca: the
 // linear rows are the exact derivative of Phi everywhere, the angular rows on the closed set
 // Phi = 0 (where R a = a, R = I), which is where the dynamics use them; Newton, which may start
@@ -77,7 +79,7 @@ template <typename S> void cycle_branch(const Model& model, Data<S>& data, BodyI
 /// The closure's top T (common ancestor of its bodies) after filling the cycle's data.X_TB (and
 /// with v, data.v_T, data.a_T) on both branches. Needs data.X_PB (forward kinematics).
 template <typename S> BodyIndex cycle_kinematics(const Model& model, Data<S>& data, const LoopClosure& c, const S* v) {
-  const BodyIndex top = common_ancestor(model, c.body_a, c.body_b);
+  const BodyIndex top = closure_top(model, c);
   cycle_branch<S>(model, data, top, c.body_a, v);
   cycle_branch<S>(model, data, top, c.body_b, v);
   return top;
@@ -152,6 +154,7 @@ template <typename S> void closure_residual_rows(const Data<S>& data, const Loop
       for (int k = 0; k < 3; ++k) out[k] = r[k];
       out[3] = -a.dot(R * c.axis_b.cast<S>());
       break;
+    case ClosureType::Coupling: break;  // not a relative motion: coupling_residual
   }
 }
 
@@ -182,6 +185,7 @@ void select_closure_rows(const LoopClosure& c, const Mat3<double>& basis, const 
       for (int k = 0; k < 3; ++k) out[k * stride] = lin[k];
       out[3 * stride] = n_u.dot(ang);
       break;
+    case ClosureType::Coupling: break;  // not a relative motion: coupling_jacobian_row
   }
 }
 
@@ -249,13 +253,37 @@ template <typename S> void closure_velocity_product_rows(const Data<S>& data, co
   }
 }
 
+/// A coupling's row, q_b - ratio q_a - offset: the positions themselves, not the placements
+/// (the loaders give couplings 1-DoF joints with one position coordinate each).
+template <typename S> S coupling_residual(const Model& model, const LoopClosure& c, const S* q) {
+  const int qa = model.joint(model.body(c.body_a).joint).idx_q, qb = model.joint(model.body(c.body_b).joint).idx_q;
+  return q[qb] - S(c.ratio) * q[qa] - S(c.offset);
+}
+
+/// A coupling's Jacobian row into the 1-row block J: +1 at the follower, -ratio at the leader,
+/// the rest of its cycle's columns zero (closure_jacobian_rows' contract).
+template <typename S, typename Block> void coupling_jacobian_row(const Model& model, const LoopClosure& c, Block&& J) {
+  const BodyIndex top = closure_top(model, c);
+  for (BodyIndex j : {c.body_a, c.body_b})
+    for (; j != top; j = model.body(j).parent) {
+      const Joint& joint = model.joint(model.body(j).joint);
+      for (int k = 0; k < joint.nv; ++k) J(0, joint.idx_v + k) = S(0);
+    }
+  J(0, model.joint(model.body(c.body_b).joint).idx_v) = S(1);
+  J(0, model.joint(model.body(c.body_a).joint).idx_v) = S(-c.ratio);
+}
+
 // The stacked rows of every closure from the joints' placements X_PB of the cycles' bodies
 // (forward kinematics places them with the rest of the tree, cycle_placements alone): the public
 // functions below run the former, Newton and the sub-systems' maps the latter.
 
-/// The residual into data.Phi.
-template <typename S> void residual_from_placements(const Model& model, Data<S>& data) {
+/// The residual into data.Phi (q: the positions the placements are of, for the couplings).
+template <typename S> void residual_from_placements(const Model& model, Data<S>& data, const S* q) {
   for (const LoopClosure& c : model.closures) {
+    if (c.type == ClosureType::Coupling) {
+      data.Phi[c.row_offset] = coupling_residual<S>(model, c, q);
+      continue;
+    }
     const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
     closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
   }
@@ -264,6 +292,10 @@ template <typename S> void residual_from_placements(const Model& model, Data<S>&
 /// The constraint Jacobian into data.Phi_q.
 template <typename S> void jacobian_from_placements(const Model& model, Data<S>& data) {
   for (const LoopClosure& c : model.closures) {
+    if (c.type == ClosureType::Coupling) {
+      coupling_jacobian_row<S>(model, c, data.Phi_q.middleRows(c.row_offset, 1));
+      continue;
+    }
     const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
     closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
   }
@@ -272,6 +304,10 @@ template <typename S> void jacobian_from_placements(const Model& model, Data<S>&
 /// The bias into data.gamma, for velocities v (nv).
 template <typename S> void bias_from_placements(const Model& model, Data<S>& data, const S* v) {
   for (const LoopClosure& c : model.closures) {
+    if (c.type == ClosureType::Coupling) {  // Phi_q is constant
+      data.gamma[c.row_offset] = S(0);
+      continue;
+    }
     const BodyIndex top = cycle_kinematics<S>(model, data, c, v);
     S* out = data.gamma.data() + c.row_offset;
     closure_velocity_product_rows<S>(data, c, top, out);
@@ -285,7 +321,7 @@ template <typename S> void bias_from_placements(const Model& model, Data<S>& dat
 /// returned. Runs forward kinematics for q (size nq).
 template <typename S> const VecX<S>& closure_residual(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   forward_kinematics<S>(model, data, q);
-  detail::residual_from_placements<S>(model, data);
+  detail::residual_from_placements<S>(model, data, q.data());
   return data.Phi;
 }
 
@@ -313,7 +349,7 @@ const VecX<S>& closure_bias(const Model& model, Data<S>& data, const ConstVecRef
 template <typename S>
 void closure_constraints(const Model& model, Data<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   forward_kinematics<S>(model, data, q);
-  detail::residual_from_placements<S>(model, data);
+  detail::residual_from_placements<S>(model, data, q.data());
   detail::jacobian_from_placements<S>(model, data);
   detail::bias_from_placements<S>(model, data, v.data());
 }

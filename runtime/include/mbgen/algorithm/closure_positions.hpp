@@ -124,6 +124,11 @@ template <typename S> void step_from_factor(const Model& model, Data<S>& data) {
 template <typename S> void closure_newton_step(const Model& model, Data<S>& data, const ConstVecRef<S>& q) {
   cycle_placements<S>(model, data, q.data());
   for (const LoopClosure& c : model.closures) {
+    if (c.type == ClosureType::Coupling) {
+      coupling_jacobian_row<S>(model, c, data.Phi_q.middleRows(c.row_offset, 1));
+      data.Phi[c.row_offset] = coupling_residual<S>(model, c, q.data());
+      continue;
+    }
     const BodyIndex top = cycle_kinematics<S>(model, data, c, nullptr);
     closure_jacobian_rows<S>(model, data, c, top, data.Phi_q.middleRows(c.row_offset, c.rows()));
     closure_residual_rows<S>(data, c, top, data.Phi.data() + c.row_offset);
@@ -263,7 +268,7 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
       cycle_placements<S>(model, data, q.data());
-      residual_from_placements<S>(model, data);
+      residual_from_placements<S>(model, data, q.data());
       S residual;
       const bool finite = kept_residual<S>(model, data, residual);
       if (finite && residual < S(options.tolerance)) {
