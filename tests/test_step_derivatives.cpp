@@ -96,8 +96,49 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
   std::unique_ptr<Simulator<Backend>> simulator(const VecX<double>& q0, const VecX<double>& v0) {
     auto s = std::make_unique<Simulator<Backend>>(Backend(model, scene.spheres), options);
     s->set_controller([this](double, const double*, const double*, double* t) { Eigen::Map<VecX<double>>(t, model.nv()) = tau; });
+    if (passive) s->set_passive_forces(passive);
     s->set_state(q0.data(), v0.data());
     return s;
+  }
+
+  /// The step's Jacobians by central differences through the simulator (dq along integrate, the
+  /// result's dq+ by difference from d's q+), and the tolerances they are compared at.
+  void central_differences(const StepDerivatives<double>& d, MatX<double>& dx_dx, MatX<double>& dx_du, double& tol_x,
+                           double& tol_u) {
+    const int nv = model.nv();
+    const auto step_from = [&](const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& q1,
+                               VecX<double>& v1) {
+      const VecX<double> held = tau;
+      tau = ux;
+      auto t = simulator(qx, vx);
+      EXPECT_EQ(t->step(), sim::StepStatus::ok);
+      tau = held;
+      q1 = t->q(), v1 = t->v();
+    };
+    dx_dx.resize(2 * nv, 2 * nv), dx_du.resize(2 * nv, nv);
+    VecX<double> qp, vp, qm, vm, dq(nv), dq_minus(nv);
+    const auto column = [&](const VecX<double>& qa, const VecX<double>& va, const VecX<double>& ua, const VecX<double>& qb,
+                            const VecX<double>& vb, const VecX<double>& ub, double h) {
+      step_from(qa, va, ua, qp, vp);
+      step_from(qb, vb, ub, qm, vm);
+      difference<double>(model, d.q_next(), qp, dq);
+      difference<double>(model, d.q_next(), qm, dq_minus);
+      VecX<double> c(2 * nv);
+      c << (dq - dq_minus) / (2 * h), (vp - vm) / (2 * h);
+      return c;
+    };
+    const double h = 1e-6, hv = 1e-5, hu = 1e-4;
+    for (int k = 0; k < nv; ++k) {
+      const VecX<double> e = VecX<double>::Unit(nv, k);
+      const CentralPair p = central_pair(model, q, e, h);
+      dx_dx.col(k) = column(p.plus, v, tau, p.minus, v, tau, h);
+      dx_dx.col(nv + k) = column(q, v + hv * e, tau, q, v - hv * e, tau, hv);
+      dx_du.col(k) = column(q, v, tau + hu * e, q, v, tau - hu * e, hu);
+    }
+    Data<double> other(model);
+    const double condition = condition_number(crba<double>(model, other, q));
+    tol_x = std::max(1e-6, 2.2e-16 * condition / h);
+    tol_u = std::max(1e-6, 2.2e-16 * condition / hu);
   }
 
   /// The reference step in dual numbers: stage by stage as the simulator, the ground on the
@@ -158,6 +199,7 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
   CompliantScene scene;
   VecX<double> q, v, tau;
   sim::SimulatorOptions options;
+  Simulator<Backend>::PassiveForces passive;  ///< none unless a test sets them
 };
 
 TEST_P(StepDerivativesTest, ValuesAreTheSimulatorsStep) {
@@ -218,42 +260,55 @@ TEST_P(StepDerivativesTest, MatchCentralDifferencesThroughTheSimulator) {
   auto s = simulator(q, v);
   StepDerivatives<double> d(*s);
   d.compute(q.data(), v.data(), tau.data());
-  const int nv = model.nv();
-  const auto step_from = [&](const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& q1,
-                             VecX<double>& v1) {
-    const VecX<double> held = tau;
-    tau = ux;
-    auto t = simulator(qx, vx);
-    EXPECT_EQ(t->step(), sim::StepStatus::ok);
-    tau = held;
-    q1 = t->q(), v1 = t->v();
-  };
-  MatX<double> dx_dx(2 * nv, 2 * nv), dx_du(2 * nv, nv);
-  VecX<double> qp, vp, qm, vm, dq(nv), dq_minus(nv);
-  const auto column = [&](const VecX<double>& qa, const VecX<double>& va, const VecX<double>& ua, const VecX<double>& qb,
-                          const VecX<double>& vb, const VecX<double>& ub, double h) {
-    step_from(qa, va, ua, qp, vp);
-    step_from(qb, vb, ub, qm, vm);
-    difference<double>(model, d.q_next(), qp, dq);
-    difference<double>(model, d.q_next(), qm, dq_minus);
-    VecX<double> c(2 * nv);
-    c << (dq - dq_minus) / (2 * h), (vp - vm) / (2 * h);
-    return c;
-  };
-  const double h = 1e-6, hv = 1e-5, hu = 1e-4;
-  for (int k = 0; k < nv; ++k) {
-    const VecX<double> e = VecX<double>::Unit(nv, k);
-    const CentralPair p = central_pair(model, q, e, h);
-    dx_dx.col(k) = column(p.plus, v, tau, p.minus, v, tau, h);
-    dx_dx.col(nv + k) = column(q, v + hv * e, tau, q, v - hv * e, tau, hv);
-    dx_du.col(k) = column(q, v, tau + hu * e, q, v, tau - hu * e, hu);
-  }
-  Data<double> other(model);
-  const double condition = condition_number(crba<double>(model, other, q));
-  SCOPED_TRACE("condition number " + std::to_string(condition));
-  EXPECT_LT(relative_error(d.dx_dx(), dx_dx), std::max(1e-6, 2.2e-16 * condition / h));
-  EXPECT_LT(relative_error(d.dx_du(), dx_du), std::max(1e-6, 2.2e-16 * condition / hu));
+  MatX<double> dx_dx, dx_du;
+  double tol_x, tol_u;
+  central_differences(d, dx_dx, dx_du, tol_x, tol_u);
+  EXPECT_LT(relative_error(d.dx_dx(), dx_dx), tol_x);
+  EXPECT_LT(relative_error(d.dx_du(), dx_du), tol_u);
 }
+
+// Passive forces (Simulator::set_passive_forces) with their Jacobians given: a spring to 0.1 and a
+// damper on every 1-DoF joint, and a damper coupling each to the next (so the law is not
+// diagonal), against central differences through the simulator that applies them. RK4 only (the
+// stage composition is the integrators' common code, checked for all three above), on the real
+// robots of the suite: the parallel_legs stand-ins' milligram links would make the spring a
+// frequency no step resolves.
+class StepDerivativesPassiveTest : public StepDerivativesTest {};
+
+TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
+  const int nv = model.nv(), first = model.floating_base() ? 6 : 0;
+  const double k = 40, c = 0.7, coupling = 0.2;
+  const int base_q = model.floating_base() ? 7 : 0;
+  passive = [=](const double* qx, const double* vx, double* t) {
+    for (int i = first; i < nv; ++i) {
+      t[i] += -k * (qx[base_q + i - first] - 0.1) - c * vx[i];
+      if (i + 1 < nv) t[i] += -coupling * vx[i + 1];
+    }
+  };
+  const StepDerivatives<double>::PassiveDerivatives jacobians = [=](const double*, const double*, double* dq, double* dv) {
+    for (int i = 0; i < nv * nv; ++i) dq[i] = dv[i] = 0;
+    for (int i = first; i < nv; ++i) {
+      dq[i * nv + i] = -k;
+      dv[i * nv + i] = -c;
+      if (i + 1 < nv) dv[i * nv + i + 1] = -coupling;
+    }
+  };
+  auto s = simulator(q, v);
+  StepDerivatives<double> d(*s, jacobians);
+  d.compute(q.data(), v.data(), tau.data());
+  MatX<double> dx_dx, dx_du;
+  double tol_x, tol_u;
+  central_differences(d, dx_dx, dx_du, tol_x, tol_u);
+  EXPECT_LT(relative_error(d.dx_dx(), dx_dx), tol_x);
+  EXPECT_LT(relative_error(d.dx_du(), dx_du), tol_u);
+  // The law is felt: the same step without it differs by far more than the tolerance.
+  passive = {};
+  auto bare = simulator(q, v);
+  StepDerivatives<double> without(*bare);
+  without.compute(q.data(), v.data(), tau.data());
+  EXPECT_GT(relative_error(without.dx_dx(), dx_dx), 100 * tol_x);
+}
+
 
 TEST_P(StepDerivativesTest, AllocatesNothing) {
   auto s = simulator(q, v);
@@ -274,6 +329,31 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
          sim::to_string(std::get<1>(info.param));
 }
 INSTANTIATE_TEST_SUITE_P(AllUrdfs, StepDerivativesTest, ::testing::ValuesIn(cases()), case_name);
+
+std::vector<Case> passive_cases() {
+  std::vector<Case> out;
+  for (const UrdfCase& c : all_urdf_cases())
+    if (c.path.find("parallel_legs") == std::string::npos) out.emplace_back(c, Integrator::rk4);
+  return out;
+}
+INSTANTIATE_TEST_SUITE_P(RealRobots, StepDerivativesPassiveTest, ::testing::ValuesIn(passive_cases()), case_name);
+
+TEST(StepDerivativesRefusals, PassiveForcesWithoutTheirJacobians) {
+  const Model tree = load_tree(shared_robot("iiwa14/iiwa14_primitive_collision.urdf"), gen::BaseType::Fixed);
+  Simulator<Backend> s{Backend(tree)};
+  s.set_passive_forces([](const double*, const double* v, double* t) { t[0] -= 0.5 * v[0]; });
+  const VecX<double> q0 = neutral_configuration<double>(tree), v0 = VecX<double>::Zero(tree.nv());
+  s.set_state(q0.data(), v0.data());
+  try {
+    StepDerivatives<double> d(s);
+    ADD_FAILURE() << "passive forces without Jacobians accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("give their Jacobians"), std::string::npos) << e.what();
+  }
+  Simulator<Backend> plain{Backend(tree)};
+  plain.set_state(q0.data(), v0.data());
+  EXPECT_THROW(StepDerivatives<double>(plain, [](const double*, const double*, double*, double*) {}), std::invalid_argument);
+}
 
 // What is not differentiated is refused, with what to do.
 TEST(StepDerivativesRefusals, ClosedLoopsAndOtherIntegrators) {

@@ -184,6 +184,7 @@ template <typename Backend> class Simulator {
   /// balance like the controller's.
   using PassiveForces = std::function<void(const S* q, const S* v, S* tau)>;
   void set_passive_forces(PassiveForces passive) { passive_ = std::move(passive); }
+  const PassiveForces& passive_forces() const { return passive_; }
   /// The end stops, evaluated at the current state (each one's torque, penetration, and its
   /// activity since set_state).
   const std::vector<JointStopReport<S>>& joint_stops() {

@@ -16,8 +16,11 @@
 //
 // Not in the derivative (refused or left out, said here so a user knows): closed loops (the step's
 // projection onto the closed set is not differentiated: refused), the adaptive and the linearly
-// implicit integrators (refused), a controller called within the step and the simulator's passive
-// forces (set_passive_forces: not seen here; u is the whole joint force).
+// implicit integrators (refused), and a controller called within the step (u is the joint force
+// held over the step). The simulator's passive forces (set_passive_forces) are a law of the state
+// the derivative cannot see into: their Jacobians are the caller's to give (PassiveDerivatives),
+// and a simulator with passive forces but without them is refused.
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -32,10 +35,16 @@ namespace mbgen::sim {
 
 template <typename S> class StepDerivatives {
  public:
-  /// The step `simulator` takes (call after its set_state: the stops' stiffness is fixed there).
-  /// Throws std::invalid_argument for closed loops or an integrator other than explicit_euler,
-  /// symplectic_euler and rk4. Allocates here; compute() does not.
-  explicit StepDerivatives(Simulator<GenericBackend<S>>& simulator)
+  /// The Jacobians of the simulator's passive forces p(q, v) at (q, v): dtau_dq and dtau_dv, nv x
+  /// nv row-major each, dq a tangent increment (q (+) dq, as everywhere here), to be written whole.
+  using PassiveDerivatives = std::function<void(const S* q, const S* v, S* dtau_dq, S* dtau_dv)>;
+
+  /// The step `simulator` takes (call after its set_state: the stops' stiffness is fixed there),
+  /// with `passive_derivatives` the Jacobians of its passive forces when it has any. Throws
+  /// std::invalid_argument for closed loops, an integrator other than explicit_euler,
+  /// symplectic_euler and rk4, and passive forces without their Jacobians (or Jacobians without
+  /// passive forces). Allocates here; compute() does not.
+  explicit StepDerivatives(Simulator<GenericBackend<S>>& simulator, PassiveDerivatives passive_derivatives = {})
       : model_(simulator.backend().model()),
         options_(simulator.options()),
         data_(model_),
@@ -50,6 +59,14 @@ template <typename S> class StepDerivatives {
     if (i != Integrator::explicit_euler && i != Integrator::symplectic_euler && i != Integrator::rk4)
       throw std::invalid_argument(std::string("StepDerivatives: integrator ") + to_string(i) +
                                   " is not differentiated; pick explicit_euler, symplectic_euler or rk4");
+    passive_ = simulator.passive_forces();
+    passive_derivatives_ = std::move(passive_derivatives);
+    if (passive_ && !passive_derivatives_)
+      throw std::invalid_argument("StepDerivatives: the simulator has passive forces (set_passive_forces), a law the derivative "
+                                  "cannot see into: give their Jacobians dtau/dq, dtau/dv as the constructor's second argument");
+    if (!passive_ && passive_derivatives_)
+      throw std::invalid_argument("StepDerivatives: passive-force Jacobians given, but the simulator has no passive forces "
+                                  "(set_passive_forces before making the derivatives)");
     if (options_.contact) spheres_ = simulator.backend().contacts();
     double g[kGroundInputs], l[kLawInputs];
     contact_inputs(options_.ground, options_.contact_parameters, g, l);
@@ -65,6 +82,7 @@ template <typename S> class StepDerivatives {
     G0_ = MatX<S>::Zero(rows, cols), Gs_ = G0_, G_end_ = G0_;
     for (int s = 0; s < 4; ++s) kq_[s] = q0_, kv_[s] = v0_, dK_[s] = G0_;
     Aq_ = MatX<S>::Zero(nv_, nv_), Av_ = Aq_, stop_dq_ = Aq_, stop_dv_ = Aq_;
+    if (passive_) passive_dq_ = RowMajor::Zero(nv_, nv_), passive_dv_ = passive_dq_;
     tangent_ = MatX<S>::Zero(nv_, cols);
     dx_dx_ = MatX<S>::Zero(2 * nv_, 2 * nv_), dx_du_ = MatX<S>::Zero(2 * nv_, nv_);
     contact_out_.assign(kContactOutputs * spheres_.size(), S(0));
@@ -145,6 +163,7 @@ template <typename S> class StepDerivatives {
     qhat_ = q;
     normalize_quaternion<S>(floating_, qhat_.data());
     tau_total_ = tau_;
+    if (passive_) passive_(qhat_.data(), v.data(), tau_total_.data());  // as the simulator's stage adds them
     stops_.add_torques(qhat_.data(), v.data(), tau_total_.data(), false);
     stop_dq_.setZero(), stop_dv_.setZero();
     stops_.add_jacobians(qhat_.data(), v.data(), 0.0, stop_dv_, stop_dq_);
@@ -158,6 +177,12 @@ template <typename S> class StepDerivatives {
       const int i = r.v_index;
       if (stop_dq_(i, i) != S(0)) Aq_.col(i) += fd.Minv.col(i) * stop_dq_(i, i);
       if (stop_dv_(i, i) != S(0)) Av_.col(i) += fd.Minv.col(i) * stop_dv_(i, i);
+    }
+    // The passive forces' Jacobians through M^-1 (dense: a law may couple joints).
+    if (passive_) {
+      passive_derivatives_(qhat_.data(), v.data(), passive_dq_.data(), passive_dv_.data());
+      Aq_.noalias() += fd.Minv * passive_dq_;
+      Av_.noalias() += fd.Minv * passive_dv_;
     }
     // dK_v = Aq T(q) G_q + Av G_v, plus M^-1 on the u columns.
     output_map(q, G.topRows(nq_), tangent_);
@@ -241,6 +266,10 @@ template <typename S> class StepDerivatives {
   VecX<S> q0_, qs_, qhat_, v0_, vs_, tau_, tau_total_, q_next_, v_next_;
   VecX<S> kq_[4], kv_[4];
   MatX<S> G0_, Gs_, G_end_, dK_[4], Aq_, Av_, stop_dq_, stop_dv_, tangent_, dx_dx_, dx_du_;
+  using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  typename Simulator<GenericBackend<S>>::PassiveForces passive_;
+  PassiveDerivatives passive_derivatives_;
+  RowMajor passive_dq_, passive_dv_;
   std::vector<S> contact_out_;
 };
 
