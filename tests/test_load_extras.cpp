@@ -35,6 +35,35 @@ LoadError load_error(const std::string& urdf, const std::string& extras) {
   return LoadError("", 0, "", "", "");
 }
 
+TEST(LoadExtras, CouplingClosureIsTheSameModelAsTheMimicItWrites) {
+  // two_link.urdf's elbow mimics its shoulder (0.5, 0.1); the extras say the same as a closure,
+  // and the mimic itself stays independent (a warning). Same rows, same closed dynamics, bit for bit.
+  const Description yaml = load_with(kData + "/mimic/two_link.urdf", kData + "/mimic/two_link_gear.yaml");
+  const Description mimic = load_with(kData + "/mimic/two_link.urdf", kData + "/mimic/two_link.yaml");
+  ASSERT_EQ(yaml.closures.size(), 1u);
+  EXPECT_EQ(yaml.closures[0].type, "coupling");
+  EXPECT_EQ(yaml.closures[0].source_line, 4);
+  EXPECT_EQ(yaml.closed_dof, 1);
+  const Model& a = yaml.model;
+  const Model& b = mimic.model;
+  Data<double> da(a), db(b);
+  VecX<double> q(2), v(2), tau(2);
+  q << 0.4, 0.3;  // closed: 0.5 * 0.4 + 0.1
+  v << 0.8, 0.4;
+  tau << 1.5, -0.3;
+  ASSERT_EQ(forward_dynamics_loops<double>(a, da, q, v, tau), ClosureStatus::Converged);
+  ASSERT_EQ(forward_dynamics_loops<double>(b, db, q, v, tau), ClosureStatus::Converged);
+  EXPECT_EQ(da.ddq, db.ddq);
+  EXPECT_EQ(closure_residual<double>(a, da, q), closure_residual<double>(b, db, q));
+}
+
+TEST(LoadExtras, CouplingWithAFrameKeyIsAnError) {
+  const LoadError e = load_error(kData + "/mimic/two_link.urdf", kData + "/extras/bad_coupling.yaml");
+  EXPECT_EQ(e.line(), 7);
+  EXPECT_EQ(e.element(), "closure 'gear': axis");
+  EXPECT_NE(e.problem().find("does not apply to a coupling"), std::string::npos) << e.what();
+}
+
 TEST(LoadExtras, EveryKeyOfTheSchema) {
   const Description d = load_with(kData + "/tiny_arm.urdf", kData + "/extras/tiny_arm_full.yaml");
   EXPECT_EQ(d.robot_name, "tiny_arm_ns");

@@ -19,7 +19,7 @@ using namespace yaml;
 
 const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closures", "drives", "independent", "mimic", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
-const std::vector<std::string> kClosureTypes = {"prismatic", "revolute", "spherical", "universal", "weld"};
+const std::vector<std::string> kClosureTypes = {"coupling", "prismatic", "revolute", "spherical", "universal", "weld"};
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
   return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) { return static_cast<bool>(root[k]); });
 }
@@ -49,6 +49,30 @@ std::vector<std::pair<std::string, std::string>> frame_pairs(const std::string& 
   return pairs;
 }
 
+/// `type: coupling`: q_child = ratio q_parent + offset, parent and child moving 1-DoF joints (a
+/// gear pair or belt the URDF cannot say; docs/extras.md, "Coupled joints").
+void read_coupling(const ExtrasFile& x, const YAML::Node& c, const std::string& element, Description& d, ClosureSpec& spec) {
+  for (const char* key : {"axis", "parent_origin", "child_origin"})
+    if (c[key]) fail(x.path, c[key], element + ": " + key, "does not apply to a coupling (it relates joint positions, not frames)",
+                     "remove it");
+  for (const char* side : {"parent", "child"}) {
+    const JointIndex j = resolve_moving_joint(x.path, c[side], element + ": " + side, d.model);
+    if (d.model.joint(j).nv != 1)
+      fail(x.path, c[side], element + ": " + side, fmt::format("names '{}', a joint with {} coordinates", d.model.joint(j).name, d.model.joint(j).nv),
+           "couple revolute, continuous or prismatic joints");
+  }
+  spec.resolved_a = moved_body_frame(d.model, spec.frame_a);
+  spec.resolved_b = moved_body_frame(d.model, spec.frame_b);
+  if (c["ratio"]) spec.ratio = to_number(x.path, c["ratio"], element + ": ratio");
+  if (c["offset"]) spec.offset = to_number(x.path, c["offset"], element + ": offset");
+  if (spec.ratio == 0)
+    fail(x.path, c["ratio"], element + ": ratio", "is 0: the child would be held constant, not coupled",
+         "give a non-zero ratio, or lock the joint (`scene: lock`)");
+  spec.source_line = line_of(c);
+  spec.source = fmt::format("{}:{}", x.path, spec.source_line);
+  d.closures.push_back(spec);
+}
+
 void read_closures(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_sequence(x.path, node, "closures", "[{name: rod, type: revolute, parent: crank, child: shank}]");
   std::set<std::string> names;
@@ -56,7 +80,8 @@ void read_closures(const ExtrasFile& x, const YAML::Node& node, Description& d) 
     const YAML::Node& c = node[i];
     std::string element = fmt::format("closures[{}]", i);
     require_map(x.path, c, element, "{name: rod, type: revolute, parent: crank, child: shank, axis: [0, 1, 0]}");
-    reject_unknown_keys(x.path, c, element, {"axis", "child", "child_origin", "name", "parent", "parent_origin", "type"});
+    reject_unknown_keys(x.path, c, element,
+                        {"axis", "child", "child_origin", "name", "offset", "parent", "parent_origin", "ratio", "type"});
     ClosureSpec spec;
     spec.name = c["name"] ? to_string(x.path, c["name"], element + ".name") : fmt::format("closure_{}", i + 1);
     element = fmt::format("closure '{}'", spec.name);
@@ -68,6 +93,12 @@ void read_closures(const ExtrasFile& x, const YAML::Node& node, Description& d) 
       if (!c[side]) fail(x.path, c, element, fmt::format("has no {}", side), fmt::format("add `{}:` a link or joint name", side));
     spec.frame_a = to_string(x.path, c["parent"], element + ": parent");
     spec.frame_b = to_string(x.path, c["child"], element + ": child");
+    if (spec.type == "coupling") {  // child = ratio parent + offset, both moving 1-DoF joints
+      read_coupling(x, c, element, d, spec);
+      continue;
+    }
+    for (const char* key : {"ratio", "offset"})
+      if (c[key]) fail(x.path, c[key], element + ": " + key, "applies to a coupling", "remove it, or make the closure `type: coupling`");
     spec.resolved_a = resolve_frame(x.path, c["parent"], element + ": parent", d.model);
     spec.resolved_b = resolve_frame(x.path, c["child"], element + ": child", d.model);
     if (c["parent_origin"]) spec.X_AC = to_origin(x.path, c["parent_origin"], element + ": parent_origin");
