@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "load/load_error.hpp"
 #include "model/topology.hpp"
@@ -512,6 +514,27 @@ TEST(LoadMjcf, CassieAssemblesFromItsKeyframeInsideItsRanges) {
     if (d.assembly_seed.count(joint.name)) EXPECT_NEAR(x, d.assembly_seed.at(joint.name), 0.05) << joint.name;
   }
   EXPECT_EQ(bounded, 16);
+}
+
+TEST(LoadMjcf, CassieWithoutItsKeyframeSaysToSeedTheAssembly) {
+  // From the zero pose no closed pose tried keeps the knees and feet within their ranges: each
+  // joint outside is named, with what to do.
+  std::ifstream in(test::shared_robot("cassie_mjcf/cassie.xml"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t begin = text.find("<keyframe>"), end = text.find("</keyframe>");
+  ASSERT_NE(begin, std::string::npos);
+  text.erase(begin, end + std::string("</keyframe>").size() - begin);
+  const std::string path = ::testing::TempDir() + "mbgen_cassie_without_keyframe.xml";
+  std::ofstream(path) << text;
+  gen::LoadOptions options;
+  options.pick_up_robot_yaml = false;
+  const gen::Description d = gen::load_description(path, options);
+  EXPECT_TRUE(d.assembly_seed.empty());
+  EXPECT_GT(d.assembly.outside_ranges, 0);
+  int named = 0;
+  for (const std::string& w : d.warnings)
+    named += contains(w, "outside its limits") && contains(w, "seed the assembly nearer one (`assembly:` in the extras, or an MJCF keyframe)");
+  EXPECT_EQ(named, d.assembly.outside_ranges);
 }
 
 TEST(LoadMjcf, KeyframeOfTheWrongLengthIsAnError) {

@@ -301,8 +301,9 @@ Assembled assemble_closures(const Description& d, const AssemblyOptions& options
     const double x = joint.nq == 1 ? best->q[joint.idx_q] : 0.0;
     if (joint.bounded && (x < joint.lower || x > joint.upper))
       out.warnings.push_back(fmt::format("assembly: joint '{}' is at {:.6g}, outside its limits [{:.6g}, {:.6g}], in the "
-                                       "closed pose (limits are not imposed on the assembly)",
-                                       joint.name, x, joint.lower, joint.upper));
+                                       "closed pose: none of the {} starting poses tried led to a closed pose with every joint within its range; "
+                                       "seed the assembly nearer one (`assembly:` in the extras, or an MJCF keyframe)",
+                                       joint.name, x, joint.lower, joint.upper, seeds));
   }
   report.dependent_conditioning = best->dependent_conditioning;
   if (best->dependent_conditioning < options.conditioning / 10)
