@@ -221,6 +221,34 @@ TEST(Transmissions, FourBarBecomesItsRocker) {
   EXPECT_EQ(d.transmissions[0].actuators, std::vector<std::string>({"crank_joint"}));
 }
 
+TEST(Transmissions, CoupledJointsStayLoops) {
+  // panda's fingers coupled (`mimic: couple`): no linkage to replace, nothing welded.
+  const gen::Description d =
+      load(shared_robot("panda/panda.urdf"), with_scene_line(MBGEN_TEST_DATA "/mimic/panda_coupled.yaml", "  loops: transmission"));
+  ASSERT_EQ(d.closures.size(), 1u);
+  EXPECT_EQ(d.closures[0].type, "coupling");
+  EXPECT_EQ(d.model.nv(), 9);
+  EXPECT_EQ(d.closed_dof, 8);
+  EXPECT_TRUE(d.transmissions.empty());
+  for (const std::string& r : d.reductions) EXPECT_EQ(r.find("loops: transmission"), std::string::npos) << r;
+  // A coupling whose cycle meets a linkage's (Lola's left knee actuator leading the right hip) is
+  // refused: the transmission would weld a coupled joint.
+  std::ifstream in(kLolaYaml);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.insert(yaml.find("closures:\n") + 10, "  - {name: hip_follows_knee, type: coupling, parent: knee_act_l, child: hip_yaw_r, ratio: 0.1}\n");
+  const fs::path mixed = fs::temp_directory_path() / "mbgen_test_transmissions_mixed.yaml";
+  std::ofstream(mixed) << yaml;
+  try {
+    load(kLolaUrdf, with_scene_line(mixed.string(), "  loops: transmission"));
+    FAIL() << "no error";
+  } catch (const gen::LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("the loops of closure 'hip_follows_knee' mix joint couplings with a linkage"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Transmissions, LoopsThatAreNoTransmissionAreRefused) {
   const std::string dir = MBGEN_SOURCE_DIR "/robots/mechanisms/";
   // The slider driving: its side of the loop is the linkage, the crank and the rod the outputs.

@@ -39,6 +39,15 @@ std::map<std::string, double> plan_transmissions(Description& d) {
   std::map<std::string, double> weld;
   std::set<std::string> actuators, outputs, replaced;
   for (const SubSystem& sub : m.subsystems) {
+    // Coupled joints (a gripper's mimic, a gear pair) are no linkage to replace: they stay loops
+    // of the reduced model. Mixed into a linkage's loops they leave no clear actuator side.
+    const auto coupling = [&](int c) { return m.closures[static_cast<std::size_t>(c)].type == ClosureType::Coupling; };
+    if (std::all_of(sub.closures.begin(), sub.closures.end(), coupling)) continue;
+    if (std::any_of(sub.closures.begin(), sub.closures.end(), coupling))
+      throw refuse(fmt::format("the loops of closure '{}' mix joint couplings with a linkage: the transmission would weld "
+                               "coupled joints",
+                               m.closures[static_cast<std::size_t>(sub.closures[0])].name),
+                   "keep `loops: exact` for this robot");
     std::set<int> independent;  // bodies whose joint is an independent coordinate of the exact model
     for (int v : sub.independent) independent.insert(m.joint_of_v(v).value());
     std::set<int> linkage, output;
