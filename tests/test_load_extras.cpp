@@ -62,6 +62,10 @@ TEST(LoadExtras, CouplingWithAFrameKeyIsAnError) {
   EXPECT_EQ(e.line(), 7);
   EXPECT_EQ(e.element(), "closure 'gear': axis");
   EXPECT_NE(e.problem().find("does not apply to a coupling"), std::string::npos) << e.what();
+  const LoadError zero = load_error(kData + "/mimic/two_link.urdf", kData + "/extras/zero_ratio_coupling.yaml");
+  EXPECT_EQ(zero.line(), 2);
+  EXPECT_EQ(zero.element(), "closure 'gear': ratio");
+  EXPECT_NE(zero.problem().find("is 0: the child would be held constant"), std::string::npos) << zero.what();
 }
 
 TEST(LoadExtras, EveryKeyOfTheSchema) {

@@ -358,6 +358,13 @@ void expect_coupling(const gen::ClosureSpec& c, const std::string& leader, const
   EXPECT_EQ(c.source_line, line);
 }
 
+TEST(LoadMjcf, TendonEqualityOverThreeJointsIsAnError) {
+  const gen::LoadError e = load_error("bad/tendon_three_joints.xml");
+  EXPECT_EQ(e.line(), 11);
+  EXPECT_EQ(e.problem(), "tendon 'differential' has 3 joint(s): an equality on its length couples more than two joints");
+  EXPECT_TRUE(contains(e.fix(), "exactly two joints")) << e.what();
+}
+
 TEST(LoadMjcf, TendonEqualityCouplesItsTwoJoints) {
   // 0.5 (q1 - 0.005) - 0.25 (q2 - 0.002) = 0.001: q2 = 2 q1 - 0.012, the second joint following.
   const gen::Description d = load("tendon_coupling.xml");
@@ -511,7 +518,9 @@ TEST(LoadMjcf, CassieAssemblesFromItsKeyframeInsideItsRanges) {
       EXPECT_GE(x, joint.lower) << joint.name;
       EXPECT_LE(x, joint.upper) << joint.name;
     }
-    if (d.assembly_seed.count(joint.name)) EXPECT_NEAR(x, d.assembly_seed.at(joint.name), 0.05) << joint.name;
+    if (d.assembly_seed.count(joint.name)) {
+      EXPECT_NEAR(x, d.assembly_seed.at(joint.name), 0.05) << joint.name;
+    }
   }
   EXPECT_EQ(bounded, 16);
 }

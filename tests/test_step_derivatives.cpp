@@ -141,6 +141,15 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
     tol_u = std::max(1e-6, 2.2e-16 * condition / hu);
   }
 
+  /// d's Jacobians equal the central differences (their dx_dx and its tolerance returned).
+  void expect_central_differences(const StepDerivatives<double>& d, MatX<double>& dx_dx, double& tol_x) {
+    MatX<double> dx_du;
+    double tol_u;
+    central_differences(d, dx_dx, dx_du, tol_x, tol_u);
+    EXPECT_LT(relative_error(d.dx_dx(), dx_dx), tol_x);
+    EXPECT_LT(relative_error(d.dx_du(), dx_du), tol_u);
+  }
+
   /// The reference step in dual numbers: stage by stage as the simulator, the ground on the
   /// spheres in contact at the stage's value (zero force near it otherwise).
   void dual_step(sim::JointStops<Dual>& stops, const VecX<Dual>& q0, const VecX<Dual>& v0, const VecX<Dual>& u, VecX<Dual>& q1,
@@ -260,11 +269,9 @@ TEST_P(StepDerivativesTest, MatchCentralDifferencesThroughTheSimulator) {
   auto s = simulator(q, v);
   StepDerivatives<double> d(*s);
   d.compute(q.data(), v.data(), tau.data());
-  MatX<double> dx_dx, dx_du;
-  double tol_x, tol_u;
-  central_differences(d, dx_dx, dx_du, tol_x, tol_u);
-  EXPECT_LT(relative_error(d.dx_dx(), dx_dx), tol_x);
-  EXPECT_LT(relative_error(d.dx_du(), dx_du), tol_u);
+  MatX<double> dx_dx;
+  double tol_x;
+  expect_central_differences(d, dx_dx, tol_x);
 }
 
 // Passive forces (Simulator::set_passive_forces) with their Jacobians given: a spring to 0.1 and a
@@ -296,11 +303,9 @@ TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
   auto s = simulator(q, v);
   StepDerivatives<double> d(*s, jacobians);
   d.compute(q.data(), v.data(), tau.data());
-  MatX<double> dx_dx, dx_du;
-  double tol_x, tol_u;
-  central_differences(d, dx_dx, dx_du, tol_x, tol_u);
-  EXPECT_LT(relative_error(d.dx_dx(), dx_dx), tol_x);
-  EXPECT_LT(relative_error(d.dx_du(), dx_du), tol_u);
+  MatX<double> dx_dx;
+  double tol_x;
+  expect_central_differences(d, dx_dx, tol_x);
   // The law is felt: the same step without it differs by far more than the tolerance.
   passive = {};
   auto bare = simulator(q, v);

@@ -120,13 +120,8 @@ FrameIndex resolve_frame(const std::string& file, const YAML::Node& node, const 
                          const Model& model) {
   const std::string name = to_string(file, node, element);
   if (auto frame = model.find_frame(name)) return *frame;
-  if (auto joint = model.find_joint(name)) {
-    // A moving joint's child frame is its child body's frame (they coincide at q = 0).
-    const BodyIndex child = model.joint(*joint).child;
-    for (int f = 0; f < model.num_frames(); ++f)
-      if (model.frame(FrameIndex(f)).kind == FrameKind::Body && model.frame(FrameIndex(f)).body == child)
-        return FrameIndex(f);
-  }
+  // A moving joint's child frame is its child body's frame (they coincide at q = 0).
+  if (const FrameIndex moved = moved_body_frame(model, name); moved.valid()) return moved;
   fail(file, node, element, fmt::format("names '{}', which is no link or joint of the URDF", name),
        with_suggestion("use a <link> or <joint> name of the URDF", did_you_mean(name, frame_candidates(model))));
 }
