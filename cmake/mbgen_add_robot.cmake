@@ -2,7 +2,7 @@
 #                 [EXTRAS <yaml>] [NAME <namespace>] [SCALAR double|float|both]
 #                 [FLOATING | FIXED] [FRAMES <frame>...] [OUTPUTS <output>... | all] [OUTPUT_DIR <dir>]
 #                 [FLAVOUR cpp|c | TEMPLATES <dir>] [ARCH <cpu> | ARCH <flag>...] [BATCH <W>]
-#                 [MAX_STATEMENTS <n>])
+#                 [MAX_STATEMENTS <n>] [PYTHON])
 #
 # Generates a robot's unrolled C++ at build time and adds the static library <target> whose
 # public include directory holds its header (<NAME>.hpp; <NAME>.h in the c flavour). Shaped like protobuf_generate: the outputs follow
@@ -31,6 +31,11 @@
 #               flags; with ARCH x86-64-v3, W = 4 fills the AVX2 registers with double.
 #   MAX_STATEMENTS  statements per part above which a function is split into noinline parts
 #               (default 20000; compile time against a few loads and stores)
+#   PYTHON      also generate <NAME>_python.cpp and build it as the Python module <NAME> (target
+#               <target>_python, in its binary folder: import it with that folder on PYTHONPATH):
+#               every generated function for double, NumPy arrays in and out (docs/python.md).
+#               Needs find_package(pybind11) (Debian's pybind11-dev, python3-numpy) and the cpp
+#               flavour.
 
 # The source files of every generation, one per function of the generator's catalogue
 # (generator/codegen/function_catalog.hpp: MBGEN_GENERATED_FUNCTIONS, and MBGEN_BATCHED_FUNCTIONS
@@ -50,7 +55,7 @@ if(NOT DEFINED MBGEN_GENERATED_FUNCTIONS)
 endif()
 
 function(mbgen_add_robot)
-  cmake_parse_arguments(MB "FLOATING;FIXED" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES;BATCH;MAX_STATEMENTS" "FRAMES;OUTPUTS;ARCH"
+  cmake_parse_arguments(MB "FLOATING;FIXED;PYTHON" "TARGET;DESCRIPTION;EXTRAS;NAME;SCALAR;OUTPUT_DIR;FLAVOUR;TEMPLATES;BATCH;MAX_STATEMENTS" "FRAMES;OUTPUTS;ARCH"
                         ${ARGN})
   if(NOT MB_TARGET OR NOT MB_DESCRIPTION)
     message(FATAL_ERROR "mbgen_add_robot: TARGET and DESCRIPTION are required")
@@ -101,6 +106,16 @@ function(mbgen_add_robot)
   endif()
   if(MB_MAX_STATEMENTS)
     list(APPEND arguments --max-statements ${MB_MAX_STATEMENTS})
+  endif()
+  if(MB_PYTHON)
+    if(MB_FLAVOUR AND NOT MB_FLAVOUR STREQUAL "cpp" OR MB_TEMPLATES)
+      message(FATAL_ERROR "mbgen_add_robot: PYTHON binds the cpp flavour's functions: drop FLAVOUR ${MB_FLAVOUR} / TEMPLATES")
+    endif()
+    if(NOT COMMAND pybind11_add_module)
+      message(FATAL_ERROR "mbgen_add_robot: PYTHON needs pybind11: find_package(pybind11 CONFIG REQUIRED) first "
+                          "(Debian: pybind11-dev python3-dev python3-numpy)")
+    endif()
+    list(APPEND arguments --python)
   endif()
 
   if(MB_FLAVOUR AND MB_TEMPLATES)
@@ -154,11 +169,15 @@ function(mbgen_add_robot)
       list(APPEND sources ${MB_OUTPUT_DIR}/${source})
     endforeach()
   endif()
+  set(python_source)
+  if(MB_PYTHON)
+    set(python_source ${MB_OUTPUT_DIR}/${MB_NAME}_python.cpp)
+  endif()
   add_custom_command(
-    OUTPUT ${header} ${sources}
+    OUTPUT ${header} ${sources} ${python_source}
     COMMAND ${generator} ${arguments}
     # mbgen leaves unchanged files untouched; the build tool still needs them newer than the inputs.
-    COMMAND ${CMAKE_COMMAND} -E touch_nocreate ${header} ${sources}
+    COMMAND ${CMAKE_COMMAND} -E touch_nocreate ${header} ${sources} ${python_source}
     DEPENDS ${inputs}
     COMMENT "mbgen: generating ${MB_NAME} from ${MB_DESCRIPTION}"
     VERBATIM)
@@ -184,4 +203,13 @@ function(mbgen_add_robot)
     endif()
   endif()
   set_target_properties(${MB_TARGET} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(MB_PYTHON)
+    # NO_EXTRAS: no link-time optimisation across the module (the generated library is built and
+    # optimised as it says), so a module links in seconds.
+    pybind11_add_module(${MB_TARGET}_python MODULE NO_EXTRAS ${python_source})
+    set_target_properties(${MB_TARGET}_python PROPERTIES OUTPUT_NAME ${MB_NAME})
+    target_link_libraries(${MB_TARGET}_python PRIVATE ${MB_TARGET})
+    # mbgen/python/generated_module.hpp: the runtime's include directory only, as above.
+    target_include_directories(${MB_TARGET}_python PRIVATE $<TARGET_PROPERTY:mbgen::runtime,INTERFACE_INCLUDE_DIRECTORIES>)
+  endif()
 endfunction()

@@ -5,7 +5,8 @@
 #     file of a stage includes headers of its own stage or of earlier ones, never of a later one.
 #   runtime/include/mbgen/ (runtime/README.md): layers spatial < core (the headers directly in
 #     mbgen/: index, model, data, joint limits, contact model) < algorithm < collision < sim <
-#     control; mbgen.hpp, the umbrella header, is exempt.
+#     control < python (what the Python modules share: pybind11 on top of the rest); mbgen.hpp,
+#     the umbrella header, is exempt.
 # Usage: check_layout.sh [GENERATOR_DIR [RUNTIME_INCLUDE_DIR]] (the test plants violations in copies
 # to show the check can fail).
 set -euo pipefail
@@ -34,7 +35,7 @@ for folder in */; do
   [[ $(rank "${folder%/}" "${stages[@]}") -ge 0 ]] || { echo "check_layout: generator/$folder is not a stage (${stages[*]})"; bad=1; }
 done
 
-layers=(spatial core algorithm collision sim control)
+layers=(spatial core algorithm collision sim control python)
 layer_of() { local d; d=$(dirname "$1"); [[ $d == . ]] && echo core || echo "$d"; }
 cd "$runtime"
 while IFS= read -r header; do

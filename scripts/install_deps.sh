@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev libmujoco-dev coinor-libipopt-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
   gnuplot-nox python3 valgrind
+  python3-dev pybind11-dev python3-numpy python3-matplotlib
 )
 case "${1:-}" in
   "") ;;

@@ -33,11 +33,18 @@ struct GenerateOptions {
   long max_operations = codegen::kDefaultGraphLimit;
   int batch = 0;  ///< --batch W: states per call of the batch functions, 0 none
   int max_statements = codegen::kMaxStatementsPerPart;
+  bool python = false;  ///< --python: also <name>_python.cpp, the robot's Python module
 };
 
 int run_generate(const GenerateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   return run_command(o.input.description, std::cerr, [&] {
+    // The Python module calls the cpp flavour's API (namespace, overloads), which the c flavour and
+    // a user's templates name and shape otherwise.
+    if (o.python && (o.flavour != "cpp" || !o.templates.empty()))
+      throw std::invalid_argument(fmt::format("--python binds the cpp flavour's functions, and this run uses {}: generate "
+                                              "the Python module from the cpp flavour (no --flavour, no --templates)",
+                                              o.templates.empty() ? "--flavour " + o.flavour : "--templates " + o.templates));
     // The templates first: a broken one stops the run before anything is loaded or written.
     const codegen::TemplateSet templates =
         codegen::TemplateSet::load(o.templates.empty() ? codegen::installed_templates_directory(o.flavour) : o.templates);
@@ -55,6 +62,7 @@ int run_generate(const GenerateOptions& o) {
     options.batch = o.batch;
     options.max_statements_per_part = o.max_statements;
     options.outputs = o.outputs;
+    options.python = o.python;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
                               codegen::sha256_of_file(d.description_file)});
@@ -140,6 +148,9 @@ void add_generate_command(CLI::App& app, int& status) {
                   "g++'s time on one function grows faster than its size, and a split costs a few loads and stores "
                   "(self_distances is split by its own rule: its pairs in parts of at most 48 SSV calls)")
       ->check(CLI::Range(1, 1000000000));
+  cmd->add_flag("--python", options->python,
+                               "also write <name>_python.cpp: the robot's Python module (pybind11, NumPy) with every "
+                               "generated function for double; build it with mbgen_add_robot(... PYTHON) (docs/python.md)");
   cmd->add_flag("--quiet", options->quiet, "print nothing on success");
   cmd->callback([options, &status] { status = run_generate(*options); });
 }

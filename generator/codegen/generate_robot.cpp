@@ -9,6 +9,7 @@
 
 #include "codegen/emit_batch.hpp"
 #include "codegen/emit_closure_positions.hpp"
+#include "codegen/emit_python.hpp"
 #include "codegen/emit_self_distances.hpp"
 #include "codegen/function_catalog.hpp"
 #include "codegen/scene_functions.hpp"
@@ -400,6 +401,16 @@ std::vector<GeneratedFile> source_files(const Generation& g) {
   return files;
 }
 
+/// The Python module of what the header declares.
+std::string python_module(const Generation& g) {
+  int pairs = 0;
+  for (const auto& [name, value] : g.distances.header_fields)
+    if (name == "num_distance_pairs") pairs = std::stoi(value);
+  const PythonModuleContents contents{g.traced, g.selection.emits("self_distances"), !g.contacts.empty(),
+                                      !g.frames.names.empty(), g.model.nq(), g.model.nv(), pairs};
+  return emit_python_module(contents, g.ctx);
+}
+
 }  // namespace
 
 std::vector<std::string> default_frames(const Model& model) {
@@ -418,6 +429,7 @@ std::vector<GeneratedFile> generate_robot(const gen::Description& description, c
   emit_distances(g);
   std::vector<GeneratedFile> files = {{g.ctx.header, header_file(g)}};
   for (GeneratedFile& f : source_files(g)) files.push_back(std::move(f));
+  if (options.python) files.push_back({python_module_file(g.ctx), python_module(g)});
   return files;
 }
 

@@ -34,6 +34,9 @@ struct CodegenOptions {
   int batch = 0;
   /// Statements per part above which a function is split into noinline parts (split_statements).
   int max_statements_per_part = kMaxStatementsPerPart;
+  /// Also write <name>_python.cpp, the robot's Python module (emit_python.hpp); the cpp flavour's
+  /// API and the double scalar.
+  bool python = false;
 };
 
 struct GeneratedFile {

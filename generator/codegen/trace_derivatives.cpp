@@ -12,7 +12,7 @@ using namespace tracing;
 
 namespace {
 ArraySpec square_spec(const Model& m, const char* name, const char* what) {
-  return {name, m.nv() * m.nv(), fmt::format("[{0} x {0}, row-major] {1}", m.nv(), what)};
+  return {name, m.nv() * m.nv(), fmt::format("[{0} x {0}, row-major] {1}", m.nv(), what), {m.nv(), m.nv()}};
 }
 }  // namespace
 
@@ -75,9 +75,9 @@ TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model) {
   f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
               v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through T^T)")};
   f.outputs = {y_spec(model, "qdd", "independent accelerations"),
-               {"dqdd_dq", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dy along the closed set", ny)},
-               {"dqdd_dv", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dyd", ny)},
-               {"dqdd_dtau", ny * nv, fmt::format("[{} x {}, row-major] dydd/dtau = M_y^-1 T^T", ny, nv)}};
+               {"dqdd_dq", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dy along the closed set", ny), {ny, ny}},
+               {"dqdd_dv", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dyd", ny), {ny, ny}},
+               {"dqdd_dtau", ny * nv, fmt::format("[{} x {}, row-major] dydd/dtau = M_y^-1 T^T", ny, nv), {ny, nv}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   LoopDynamicsDerivatives<Sym> ld(model);

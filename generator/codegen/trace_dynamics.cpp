@@ -133,7 +133,7 @@ TracedFunction trace_mass_matrix(const Model& model) {
   f.name = "mass_matrix";
   f.doc = "Joint-space mass matrix M(q) (composite-rigid-body algorithm).";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"M", model.nv() * model.nv(), fmt::format("[{0} x {0}, row-major] mass matrix", model.nv())}};
+  f.outputs = {{"M", model.nv() * model.nv(), fmt::format("[{0} x {0}, row-major] mass matrix", model.nv()), {model.nv(), model.nv()}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   const SymVec q = inputs(0, model.nq());
@@ -148,11 +148,12 @@ TracedFunction trace_mass_matrix_factor(const Model& model) {
   f.doc = "The mass matrix's sparse factor M = L^T D L (Featherstone's LTDL: L unit lower triangular, nonzero only where "
           "the column's coordinate is an ancestor of the row's, so no fill-in). Takes mass_matrix's output, so that a "
           "controller needing M and M^-1 computes M once; only the entries of ancestor pairs are read.";
-  f.inputs = {{"M", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix's output", n)}};
+  f.inputs = {{"M", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix's output", n), {n, n}}};
   f.outputs = {{"LD", n * n,
                 fmt::format("[{0} x {0}, row-major] D on the diagonal, L strictly below it, zeros above (mass_matrix_solve "
                             "takes it)",
-                            n)}};
+                            n),
+                {n, n}}};
   Recording rec(f.graph);
   MatX<Sym> LD = square_input(0, n);
   factor_mass_matrix_in_place<Sym>(model, LD);
@@ -166,7 +167,7 @@ TracedFunction trace_mass_matrix_solve(const Model& model) {
   f.name = "mass_matrix_solve";
   f.doc = "x = M^-1 b from mass_matrix_factor's L^T D L (two sparse triangular sweeps and the diagonal): the joint "
           "accelerations of joint forces b, or an operational-space controller's M^-1 J^T column by column.";
-  f.inputs = {{"LD", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix_factor's output", n)},
+  f.inputs = {{"LD", n * n, fmt::format("[{0} x {0}, row-major] mass_matrix_factor's output", n), {n, n}},
               v_spec(model, "b", "right-hand side (joint forces)")};
   f.outputs = {v_spec(model, "x", "M^-1 b")};
   Recording rec(f.graph);
@@ -183,7 +184,7 @@ TracedFunction trace_forward_kinematics(const Model& model) {
   f.name = "forward_kinematics";
   f.doc = "Pose of every body in the world, in body_names order.";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"X_WB", 12 * nb, fmt::format("[{} x 12] per body the 3x4 matrix [R_WB | p_WB], row-major", nb)}};
+  f.outputs = {{"X_WB", 12 * nb, fmt::format("[{} x 12] per body the 3x4 matrix [R_WB | p_WB], row-major", nb), {nb, 3, 4}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
@@ -199,7 +200,7 @@ TracedFunction trace_frame_poses(const Model& model, const std::vector<FrameInde
   f.name = "frame_poses";
   f.doc = "Pose of each frame in frame_names, in the world.";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n)}};
+  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n), {n, 3, 4}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   forward_kinematics<Sym>(model, data, inputs(0, model.nq()));
@@ -217,7 +218,7 @@ TracedFunction trace_frame_jacobians(const Model& model, const std::vector<Frame
   f.doc = "Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular "
           "velocity], both in world axes (LOCAL_WORLD_ALIGNED).";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix", n, model.nv())}};
+  f.outputs = {{"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix", n, model.nv()), {n, 6, model.nv()}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   compute_joint_jacobians<Sym>(model, data, inputs(0, model.nq()));
@@ -233,8 +234,8 @@ TracedFunction trace_contact_points(const Model& model, const std::vector<Contac
           "links) in the world, and the Jacobian of its body at the centre: rows [linear velocity of the centre; "
           "angular velocity], world axes. The simulator's ground contact (mbgen/sim/contact.hpp) reads both.";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"p", 3 * n, fmt::format("[{} x 3] centres, world", n)},
-               {"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per sphere a row-major 6 x nv matrix", n, model.nv())}};
+  f.outputs = {{"p", 3 * n, fmt::format("[{} x 3] centres, world", n), {n, 3}},
+               {"J", 6 * model.nv() * n, fmt::format("[{} x 6 x {}] per sphere a row-major 6 x nv matrix", n, model.nv()), {n, 6, model.nv()}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   std::vector<Sym> p(static_cast<std::size_t>(3 * n)), J(static_cast<std::size_t>(6 * model.nv() * n));
@@ -264,7 +265,8 @@ TracedFunction trace_contact_accelerations(const Model& model, const std::vector
                {"contacts", kContactOutputs * n,
                 fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
                             "there (3, N, world), slip velocity (3, m/s)",
-                            n)}};
+                            n),
+                {n, kContactOutputs}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   const SymVec q = inputs(0, model.nq()), v = inputs(1, model.nv()), tau = inputs(2, model.nv()),
@@ -296,7 +298,7 @@ TracedFunction trace_centroidal_momentum_matrix(const Model& model) {
   f.doc = "Centroidal momentum matrix A_G(q): h_G = A_G v is [linear momentum; angular momentum about "
           "the centre of mass], world axes.";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"Ag", 6 * model.nv(), fmt::format("[6 x {}, row-major] centroidal momentum matrix", model.nv())}};
+  f.outputs = {{"Ag", 6 * model.nv(), fmt::format("[6 x {}, row-major] centroidal momentum matrix", model.nv()), {6, model.nv()}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   f.output_ids = {ids_of(centroidal_momentum_matrix<Sym>(model, data, inputs(0, model.nq())))};
@@ -311,10 +313,10 @@ TracedFunction trace_task_kinematics(const Model& model, const std::vector<Frame
           "(a controller step's reads: Backend::task_kinematics), each term computed once; the centre of mass is the "
           "momentum matrix's (from the composite bodies), equal to center_of_mass's to round-off.";
   f.inputs = {q_spec(model)};
-  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n)},
-               {"J", 6 * nv * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix, LOCAL_WORLD_ALIGNED", n, nv)},
+  f.outputs = {{"X_WF", 12 * n, fmt::format("[{} x 12] per frame the 3x4 matrix [R_WF | p_WF], row-major", n), {n, 3, 4}},
+               {"J", 6 * nv * n, fmt::format("[{} x 6 x {}] per frame a row-major 6 x nv matrix, LOCAL_WORLD_ALIGNED", n, nv), {n, 6, nv}},
                {"com", 3, "[3] centre of mass, world"},
-               {"Ag", 6 * nv, fmt::format("[6 x {}, row-major] centroidal momentum matrix", nv)}};
+               {"Ag", 6 * nv, fmt::format("[6 x {}, row-major] centroidal momentum matrix", nv), {6, nv}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   // GenericBackend::task_kinematics' calls: the joint Jacobians (poses and frames with them), then

@@ -105,7 +105,7 @@ TracedFunction trace_closure_constraints(const Model& model) {
           "multipliers reads (the simulator's soft span through a dead point). No rows without loops.";
   f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities (every entry is read)")};
   f.outputs = {{"Phi", r, fmt::format("[{}] kept closure rows, sub-system by sub-system", r)},
-               {"J", r * nv, fmt::format("[{} x {}, row-major] their Jacobian, joint_names_full columns", r, nv)},
+               {"J", r * nv, fmt::format("[{} x {}, row-major] their Jacobian, joint_names_full columns", r, nv), {r, nv}},
                {"gamma", r, fmt::format("[{}] bias: J qdd = gamma keeps the rows' velocities constant", r)}};
   Recording rec(f.graph);
   Data<Sym> data(model);
@@ -129,7 +129,8 @@ TracedFunction trace_velocity_map(const Model& model) {
           "ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).";
   f.inputs = {closed_q_spec(model)};
   f.outputs = {{"T", model.nv() * ny, fmt::format("[{} x {}, row-major] velocity map, joint_names_full rows, "
-                                                  "independent_joint_names columns", model.nv(), ny)}};
+                                                  "independent_joint_names columns", model.nv(), ny),
+                     {model.nv(), ny}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   MatX<Sym> T(model.nv(), ny);

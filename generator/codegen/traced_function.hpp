@@ -11,6 +11,9 @@ struct ArraySpec {
   std::string name;
   int size = 0;
   std::string doc;  ///< size and layout, for the header comment
+  /// Its shape as an array of the bindings (a generated Python module's NumPy shape: rows, cols
+  /// of a row-major matrix; per frame a 3 x 4 pose): empty for a vector of `size`.
+  std::vector<int> shape = {};
 };
 
 struct TracedFunction {

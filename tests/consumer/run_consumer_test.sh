@@ -36,3 +36,18 @@ fi
 cmake --build "$work_dir/build" -j2 >"$work_dir/build.log" || { cat "$work_dir/build.log"; exit 1; }
 "$work_dir/build/consumer"
 "$work_dir/build/consumer_c"
+
+# The Python package, when the build made it: importable from the prefix alone, running the
+# installed mbgen command.
+if [[ -d $prefix/lib/python3/dist-packages/mbgen ]]; then
+  PYTHONPATH=$prefix/lib/python3/dist-packages MBGEN_EXECUTABLE= /usr/bin/python3 - "$prefix" "$source_dir/../data/tiny_arm.urdf" <<'PY'
+import os, sys
+import mbgen
+prefix, urdf = sys.argv[1], sys.argv[2]
+assert mbgen.__file__.startswith(prefix), mbgen.__file__
+assert os.path.samefile(mbgen.executable(), os.path.join(prefix, "bin", "mbgen")), mbgen.executable()
+robot = mbgen.load(urdf, base="fixed")
+assert mbgen.inspect(urdf, base="fixed")["nv"] == robot.nv
+print(f"python: mbgen from {os.path.dirname(mbgen.__file__)}, {robot.name} nv {robot.nv}")
+PY
+fi

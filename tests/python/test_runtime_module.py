@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""The mbgen package (python/mbgen: load() and the generic runtime, inspect(), generate()) against a
+generated module of the same robot, built by the test build (MBGEN_MODULE, from MBGEN_DESCRIPTION,
+MBGEN_EXTRAS, MBGEN_BASE into MBGEN_GENERATED_DIR; tests/CMakeLists.txt).
+
+The generated code is traced from the generic code, so the two agree to round-off: 1e-12 relative,
+the C++ suite's tolerance (tests/test_generated.cpp). The floating base's derivative columns, which
+no finite difference of q's raw entries reaches, are checked through integrate()."""
+import filecmp
+import importlib
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import mbgen
+from test_generated_module import central_difference, full_velocities, joint_coordinates, random_state, relative_error
+
+generated = importlib.import_module(os.environ["MBGEN_MODULE"])
+DESCRIPTION = os.environ["MBGEN_DESCRIPTION"]
+EXTRAS = os.environ.get("MBGEN_EXTRAS") or None
+BASE = os.environ["MBGEN_BASE"]
+ROUND_OFF = 1e-12
+
+# How tests/CMakeLists.txt generates each module (mbgen_add_robot's arguments as generate()'s).
+GENERATION = {
+    "lola": dict(name="lola", scalar="both", outputs=["all"], python=True),
+    "solo12": dict(name="solo12", scalar="double", outputs=["all", "fd_derivatives", "id_derivatives"], python=True),
+}
+
+robot = mbgen.load(DESCRIPTION, extras=EXTRAS, base=BASE)
+
+
+class Tables(unittest.TestCase):
+    def test_the_loaded_robot_is_the_generated_one(self):
+        for name in ("nq", "nv", "ny", "na", "num_bodies", "floating_base", "has_loops"):
+            self.assertEqual(getattr(robot, name), getattr(generated, name), name)
+        for name in ("joint_names", "body_names", "independent_joint_names", "actuated_joint_names"):
+            self.assertEqual(list(getattr(robot, name)), list(getattr(generated, name)), name)
+        np.testing.assert_array_equal(robot.independent_v_index, generated.independent_v_index)
+        np.testing.assert_array_equal(robot.actuated_v_index, generated.actuated_v_index)
+
+    def test_the_assembled_pose_is_closed(self):
+        q, result = robot.closure_positions(robot.assembled_q)
+        self.assertEqual(result["status"], "converged")
+        self.assertLessEqual(result["residual"], 1e-12)
+
+
+class GenericEqualsGenerated(unittest.TestCase):
+    def test_every_common_function(self):
+        functions = {
+            "forward_dynamics": lambda m, q, vy, tau, v: m.forward_dynamics(q, vy, tau),
+            "full_accelerations": lambda m, q, vy, tau, v: m.full_accelerations(q, vy, tau),
+            "inverse_dynamics": lambda m, q, vy, tau, v: m.inverse_dynamics(q, v, tau / 10),
+            "mass_matrix": lambda m, q, vy, tau, v: m.mass_matrix(q),
+            "forward_kinematics": lambda m, q, vy, tau, v: m.forward_kinematics(q),
+            "center_of_mass": lambda m, q, vy, tau, v: m.center_of_mass(q),
+            "centroidal_momentum_matrix": lambda m, q, vy, tau, v: m.centroidal_momentum_matrix(q),
+            "velocity_map": lambda m, q, vy, tau, v: m.velocity_map(q),
+            "full_velocities": lambda m, q, vy, tau, v: m.full_velocities(q, vy),
+        }
+        for seed in range(5):
+            q, vy, tau = random_state(100 + seed)
+            v = generated.full_velocities(q, vy)
+            for name, call in functions.items():
+                with self.subTest(function=name, state=seed):
+                    expected = call(robot, q, vy, tau, v)
+                    self.assertEqual(np.shape(expected), np.shape(call(generated, q, vy, tau, v)))
+                    self.assertLess(relative_error(call(generated, q, vy, tau, v), expected), ROUND_OFF)
+
+    def test_closure_positions(self):
+        if not robot.has_loops:
+            self.skipTest("no loops")
+        q, _, _ = random_state(200)
+        opened = q.copy()
+        for qi, vi in joint_coordinates():
+            if vi not in robot.independent_v_index:
+                opened[qi] += 0.005
+        closed_generic, result = robot.closure_positions(opened)
+        closed_generated, generated_result = generated.closure_positions(opened)
+        self.assertEqual(result["status"], "converged")
+        self.assertEqual(generated_result.status, generated.ClosureStatus.converged)
+        self.assertLess(relative_error(closed_generated, closed_generic), ROUND_OFF)
+
+
+class TangentConvention(unittest.TestCase):
+    def test_difference_inverts_integrate(self):
+        q, _, _ = random_state(300)
+        v = np.random.default_rng(301).uniform(-0.5, 0.5, robot.nv)
+        self.assertLess(relative_error(robot.difference(q, robot.integrate(q, v)), v), ROUND_OFF)
+
+    def test_derivatives_of_every_column_along_integrate(self):
+        if not hasattr(generated, "forward_dynamics_derivatives") or robot.has_loops:
+            self.skipTest("generated without the tree's fd_derivatives")
+        q, v, tau = random_state(302)
+        _, dq, _, _ = generated.forward_dynamics_derivatives(q, v, tau)
+        # d qdd / dq along q (+) delta, every column (the floating base's six included).
+        along = central_difference(lambda delta: generated.forward_dynamics(robot.integrate(q, delta), v, tau),
+                                   np.zeros(robot.nv), range(robot.nv))
+        self.assertLess(relative_error(dq, along), 1e-6)
+
+
+class Simulation(unittest.TestCase):
+    def test_a_free_fall_follows_the_closed_form(self):
+        # Off the ground and with no forces but gravity, the centre of mass falls as z0 - g t^2 / 2
+        # whatever the joints do (RK4 integrates the quadratic exactly; the rest is round-off and
+        # the loops' projection).
+        if not robot.floating_base:
+            self.skipTest("a fixed base does not fall")
+        q, _, _ = random_state(400)
+        v = full_velocities(q, np.random.default_rng(401).uniform(-0.5, 0.5, robot.ny))
+        v[:6] = 0.0
+        simulator = mbgen.Simulator(robot, contact=False, joint_stops=False, step=1e-3)
+        self.assertEqual(simulator.set_state(q, v), "converged")
+        start = robot.center_of_mass(simulator.q)
+        momentum = robot.centroidal_momentum_matrix(simulator.q) @ simulator.v
+        mass = np.linalg.norm(robot.centroidal_momentum_matrix(simulator.q)[:3, 0])
+        self.assertEqual(simulator.run_until(0.05), "ok")
+        t = simulator.time
+        expected = start + momentum[:3] / mass * t + np.array([0.0, 0.0, -9.81 * t * t / 2])
+        self.assertLess(np.max(np.abs(robot.center_of_mass(simulator.q) - expected)), 1e-9)
+        self.assertGreater(simulator.accepted_steps, 0)
+
+    def test_the_controller_is_called_and_its_size_checked(self):
+        q, _, _ = random_state(402)
+        calls = []
+        simulator = mbgen.Simulator(robot, contact=False)
+        simulator.set_controller(lambda t, q, v: calls.append(t) or np.zeros(robot.nv))
+        simulator.set_state(q, np.zeros(robot.nv))
+        simulator.run_until(0.01)
+        self.assertGreaterEqual(len(calls), 10)  # every millisecond
+        simulator.set_controller(lambda t, q, v: np.zeros(robot.nv + 1))
+        with self.assertRaisesRegex(ValueError, f"it must return {robot.nv} joint forces, not {robot.nv + 1}"):
+            simulator.run_until(0.02)
+
+    def test_bad_options_are_named(self):
+        with self.assertRaisesRegex(ValueError, "unknown integrator 'rk5'"):
+            mbgen.Simulator(robot, integrator="rk5")
+        with self.assertRaisesRegex(ValueError, "step must be positive"):
+            mbgen.Simulator(robot, step=0.0)
+
+
+class Command(unittest.TestCase):
+    def test_inspect_reports_the_robot(self):
+        report = mbgen.inspect(DESCRIPTION, extras=EXTRAS, base=BASE)
+        self.assertTrue(report["ok"])
+        self.assertEqual((report["nq"], report["nv"]), (generated.nq, generated.nv))
+        self.assertEqual(report["base"], BASE)
+
+    def test_generate_writes_what_the_build_generated(self):
+        with tempfile.TemporaryDirectory() as out:
+            files = mbgen.generate(DESCRIPTION, out, extras=EXTRAS, base=BASE, **GENERATION[os.environ["MBGEN_MODULE"]])
+            self.assertTrue(files[0].endswith(generated.__name__ + ".hpp"))
+            built = os.environ["MBGEN_GENERATED_DIR"]
+            self.assertEqual(sorted(os.listdir(out)), sorted(os.listdir(built)))
+            for name in os.listdir(out):
+                self.assertTrue(filecmp.cmp(os.path.join(out, name), os.path.join(built, name), shallow=False), name)
+
+    def test_a_command_error_carries_the_message(self):
+        with tempfile.TemporaryDirectory() as out:
+            with self.assertRaisesRegex(mbgen.CommandError, "unknown output 'speed'"):
+                mbgen.generate(DESCRIPTION, out, extras=EXTRAS, base=BASE, outputs=["speed"])
+
+
+class BadInput(unittest.TestCase):
+    def test_a_missing_file_is_a_load_error(self):
+        with self.assertRaisesRegex(mbgen.LoadError, "no_such_robot.urdf"):
+            mbgen.load("/nonexistent/no_such_robot.urdf")
+
+    def test_a_negative_mass_is_a_load_error_naming_the_link(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".urdf") as urdf:
+            urdf.write('<robot name="r"><link name="base"/><link name="arm"><inertial><mass value="-1"/>'
+                       '<inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+                       '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                       '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+            urdf.flush()
+            with self.assertRaisesRegex(ValueError, "arm"):
+                mbgen.load(urdf.name)
+
+    def test_wrong_sizes_are_named(self):
+        with self.assertRaisesRegex(ValueError, f"mass_matrix: q must have {robot.nq} entries, not 3"):
+            robot.mass_matrix(np.zeros(3))
+        with self.assertRaisesRegex(ValueError, "base must be 'floating' or 'fixed', not 'flying'"):
+            mbgen.load(DESCRIPTION, base="flying")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
