@@ -208,8 +208,7 @@ function(mbgen_add_robot)
     # optimised as it says), so a module links in seconds.
     pybind11_add_module(${MB_TARGET}_python MODULE NO_EXTRAS ${python_source})
     set_target_properties(${MB_TARGET}_python PROPERTIES OUTPUT_NAME ${MB_NAME})
-    target_link_libraries(${MB_TARGET}_python PRIVATE ${MB_TARGET})
-    # mbgen/python/generated_module.hpp: the runtime's include directory only, as above.
-    target_include_directories(${MB_TARGET}_python PRIVATE $<TARGET_PROPERTY:mbgen::runtime,INTERFACE_INCLUDE_DIRECTORIES>)
+    # mbgen/python/: the module's helpers and, with a Backend, the runtime's simulator (Eigen).
+    target_link_libraries(${MB_TARGET}_python PRIVATE ${MB_TARGET} mbgen::runtime)
   endif()
 endfunction()

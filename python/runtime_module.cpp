@@ -8,7 +8,6 @@
 // One state per call; a Robot holds the runtime's work memory (Data), so its calls are not
 // reentrant: the GIL stays held.
 #include <pybind11/eigen.h>
-#include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -22,7 +21,7 @@
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/mbgen.hpp"
-#include "mbgen/sim/simulator.hpp"
+#include "mbgen/python/simulator_binding.hpp"
 #include "model/actuated_coordinates.hpp"
 #include "model/load_description.hpp"
 #include "model/topology.hpp"
@@ -206,48 +205,17 @@ using GenericSimulator = sim::Simulator<sim::GenericBackend<double>>;
 /// (docs/simulation.md), as mbgen_sim sets it up.
 std::unique_ptr<GenericSimulator> make_simulator(const Robot& robot, const std::string& integrator, double step,
                                                  bool contact, bool joint_stops) {
-  sim::SimulatorOptions o;
-  if (!sim::parse_integrator(integrator.c_str(), o.integrator))
-    throw py::value_error("Simulator: unknown integrator '" + integrator +
-                          "' (explicit_euler, symplectic_euler, rk4, dormand_prince45, linearly_implicit_euler)");
-  if (!(step > 0)) throw py::value_error("Simulator: step must be positive (s), not " + std::to_string(step));
-  o.step = step;
+  sim::SimulatorOptions scene_options;
   const auto& scene = robot.description().scene;
   if (scene && scene->contact) {
-    o.contact_parameters = scene->contact->parameters;
-    o.ground = scene->contact->ground;
+    scene_options.contact_parameters = scene->contact->parameters;
+    scene_options.ground = scene->contact->ground;
   }
-  if (scene) o.joint_stops = scene->joint_limits;
-  if (!joint_stops) o.joint_stops.enabled = false;
-  o.contact = contact;
+  if (scene) scene_options.joint_stops = scene->joint_limits;
+  const sim::SimulatorOptions o = simulator_options(scene_options, integrator, step, contact, joint_stops);
   std::vector<ContactSphere> spheres;
   if (contact) spheres = gen::contact_spheres(robot.description());
   return std::make_unique<GenericSimulator>(sim::GenericBackend<double>(robot.model(), std::move(spheres)), o);
-}
-
-/// The simulator's contact reports as arrays (one row per contact sphere).
-py::dict contact_reports(GenericSimulator& s) {
-  const auto& reports = s.contacts();
-  const py::ssize_t n = static_cast<py::ssize_t>(reports.size());
-  py::array_t<double> penetration(n), point({n, py::ssize_t(3)}), force({n, py::ssize_t(3)}), slip({n, py::ssize_t(3)});
-  py::array_t<bool> active(n);
-  for (py::ssize_t k = 0; k < n; ++k) {
-    const auto& r = reports[static_cast<std::size_t>(k)];
-    penetration.mutable_at(k) = r.penetration;
-    active.mutable_at(k) = r.active;
-    for (py::ssize_t i = 0; i < 3; ++i) {
-      point.mutable_at(k, i) = r.point[i];
-      force.mutable_at(k, i) = r.force[i];
-      slip.mutable_at(k, i) = r.slip_velocity[i];
-    }
-  }
-  py::dict out;
-  out["penetration"] = penetration;
-  out["point"] = point;
-  out["force"] = force;
-  out["slip_velocity"] = slip;
-  out["active"] = active;
-  return out;
 }
 
 std::vector<std::string> names_of(const Model& model, const std::vector<int>& coordinates) {
@@ -318,56 +286,12 @@ PYBIND11_MODULE(_runtime, m) {
       .def("integrate", &Robot::integrate, py::arg("q"), py::arg("v"),
            "q (+) v: the derivatives' tangent convention (a floating base moves by the exponential of its twist).")
       .def("difference", &Robot::difference, py::arg("q0"), py::arg("q1"), "The v with integrate(q0, v) = q1.");
-  using mbgen::python::GenericSimulator;
-  py::class_<GenericSimulator>(m, "Simulator",
-                               "The simulator (docs/simulation.md) on the generic backend of a loaded Robot: the "
-                               "scene's ground, contact law and end stops; the loops kept closed.")
+  mbgen::python::bind_simulator<mbgen::sim::GenericBackend<double>>(
+      m, "The simulator (docs/simulation.md) on the generic backend of a loaded Robot: the scene's ground, contact "
+         "law and end stops; the loops kept closed.")
       .def(py::init(&mbgen::python::make_simulator), py::arg("robot"), py::arg("integrator") = "rk4",
            py::arg("step") = 1e-4, py::arg("contact") = true, py::arg("joint_stops") = true, py::keep_alive<1, 2>(),
-           "integrator: explicit_euler, symplectic_euler, rk4, dormand_prince45 or linearly_implicit_euler; step: s "
-           "(the adaptive one's first); contact: the ground acts on the scene's contact spheres; joint_stops: the "
-           "scene's end stops at the joint ranges.")
-      .def(
-          "set_state",
-          [](GenericSimulator& s, const mbgen::python::Vector& q, const mbgen::python::Vector& v, double t) {
-            if (q.size() != s.backend().nq() || v.size() != s.backend().nv())
-              throw py::value_error("Simulator.set_state: q must have " + std::to_string(s.backend().nq()) + " entries and v " +
-                                    std::to_string(s.backend().nv()) + ", not " + std::to_string(q.size()) + " and " +
-                                    std::to_string(v.size()));
-            return s.set_state(q.data(), v.data(), t) == 0 ? "converged" : "not_converged";
-          },
-          py::arg("q"), py::arg("v"), py::arg("t") = 0.0,
-          "Sets the state (q: nq, v: every tree joint's nv) and the time; closes the loops and projects v first "
-          "(the closure's status).")
-      .def("step", [](GenericSimulator& s) { return std::string(mbgen::sim::to_string(s.step())); },
-           "One step; its status (ok, closure_lost, diverged, penetration, ...).")
-      .def("run_until", [](GenericSimulator& s, double t) { return std::string(mbgen::sim::to_string(s.run_until(t))); },
-           py::arg("t"), "Steps until the time t (s); the status of the last step.")
-      .def_property_readonly("q", [](const GenericSimulator& s) { return mbgen::VecX<double>(s.q()); })
-      .def_property_readonly("v", [](const GenericSimulator& s) { return mbgen::VecX<double>(s.v()); })
-      .def_property_readonly("time", &GenericSimulator::time)
-      .def("energy", [](GenericSimulator& s) { return s.energy(); },
-           "Kinetic + gravity + the contact springs' energy, J.")
-      .def("contacts", &mbgen::python::contact_reports,
-           "Per contact sphere at the current state: penetration (m, > 0 in contact), point, force (N, on the robot, "
-           "world), slip_velocity, active.")
-      .def_property_readonly("accepted_steps", [](const GenericSimulator& s) { return s.statistics().accepted_steps; })
-      .def(
-          "set_controller",
-          [](GenericSimulator& s, std::function<mbgen::VecX<double>(double, mbgen::VecX<double>, mbgen::VecX<double>)> f) {
-            const int nq = s.backend().nq(), nv = s.backend().nv();
-            s.set_controller([f, nq, nv](double t, const double* q, const double* v, double* tau) {
-              const mbgen::VecX<double> out =
-                  f(t, Eigen::Map<const mbgen::VecX<double>>(q, nq), Eigen::Map<const mbgen::VecX<double>>(v, nv));
-              if (out.size() != nv)
-                throw py::value_error("Simulator controller: it must return " + std::to_string(nv) + " joint forces, not " +
-                                      std::to_string(out.size()));
-              for (int i = 0; i < nv; ++i) tau[i] = out[i];
-            });
-          },
-          py::arg("controller"),
-          "controller(t, q, v) -> tau (nv joint forces), called at the options' control period (1 ms) and held "
-          "between calls.");
+           mbgen::python::kSimulatorArguments);
   m.def("load", &mbgen::python::load, py::arg("description"), py::arg("extras") = py::none(),
         py::arg("base") = py::none(), py::arg("mimic") = py::none(),
         "Loads a URDF or MJCF description (and YAML extras; a robot.yaml beside a URDF is picked up) as "

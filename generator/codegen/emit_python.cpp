@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace mbgen::codegen {
@@ -243,6 +242,32 @@ Returns a tuple:
       fmt::arg("self_distances_near", ctx.public_name("self_distances_near", "double")));
 }
 
+/// Simulator on the generated Backend (mbgen/python/simulator_binding.hpp), with the header's
+/// contact law and ground; the end stops are the runtime's default law (the header has the ranges,
+/// not a scene's `joint_limits:` parameters).
+std::string bind_simulator(const PythonModuleContents& c, const EmitContext& ctx) {
+  const std::string scene =
+      c.contact ? fmt::format("        scene.contact_parameters = {{{0}::contact_stiffness, {0}::contact_damping, {0}::contact_exponent,\n"
+                              "                                     {0}::contact_friction, {0}::contact_stiction_velocity}};\n"
+                              "        scene.ground.normal = mbgen::Vec3<double>({0}::ground_normal[0], {0}::ground_normal[1], {0}::ground_normal[2]);\n"
+                              "        scene.ground.offset = {0}::ground_offset;\n",
+                              ctx.robot)
+                : std::string();
+  return fmt::format(
+      "  mbgen::python::bind_simulator<{r}::Backend>(\n"
+      "      m, \"The simulator (docs/simulation.md) on {r}'s generated Backend: the header's contact law and ground, \"\n"
+      "         \"the runtime's end stops at the joint ranges; the loops kept closed.\")\n"
+      "      .def(py::init([](const std::string& integrator, double step, bool contact, bool joint_stops) {{\n"
+      "        mbgen::sim::SimulatorOptions scene;\n"
+      "{scene}"
+      "        return std::make_unique<mbgen::sim::Simulator<{r}::Backend>>(\n"
+      "            {r}::Backend{{}}, mbgen::python::simulator_options(scene, integrator, step, contact, joint_stops));\n"
+      "      }}),\n"
+      "           py::arg(\"integrator\") = \"rk4\", py::arg(\"step\") = 1e-4, py::arg(\"contact\") = true,\n"
+      "           py::arg(\"joint_stops\") = true, mbgen::python::kSimulatorArguments);\n",
+      fmt::arg("r", ctx.robot), fmt::arg("scene", scene));
+}
+
 }  // namespace
 
 std::string python_module_file(const EmitContext& ctx) { return ctx.robot + "_python.cpp"; }
@@ -255,6 +280,7 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
   for (const TracedFunction& f : c.traced) functions += bind_traced(f, ctx);
   functions += bind_closures(c, ctx);
   if (c.self_distances) functions += bind_distances(c, ctx);
+  if (c.backend) functions += bind_simulator(c, ctx);
   return fmt::format(
       "{banner}"
       "// The Python module of {r} (mbgen generate --python; docs/python.md): every function of {header}\n"
@@ -269,6 +295,7 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
       "\n"
       "#include \"{header}\"\n"
       "#include \"mbgen/python/generated_module.hpp\"\n"
+      "{simulator_include}"
       "\n"
       "namespace py = pybind11;\n"
       "using mbgen::python::Call;\n"
@@ -280,7 +307,8 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
       "{functions}"
       "}}\n",
       fmt::arg("banner", ctx.banner), fmt::arg("r", ctx.robot), fmt::arg("header", ctx.header),
-      fmt::arg("tables", bind_tables(c, ctx)), fmt::arg("functions", functions));
+      fmt::arg("tables", bind_tables(c, ctx)), fmt::arg("functions", functions),
+      fmt::arg("simulator_include", c.backend ? "#include \"mbgen/python/simulator_binding.hpp\"\n" : ""));
 }
 
 }  // namespace mbgen::codegen

@@ -18,6 +18,7 @@ struct PythonModuleContents {
   bool self_distances = false;                ///< self_distances and self_distances_near are declared
   bool contact = false;                       ///< the scene has contact spheres (their tables and law)
   bool frames = false;                        ///< frame_names is declared
+  bool backend = false;                       ///< NAME::Backend is declared: the module binds a Simulator on it
   int nq = 0, nv = 0, num_distance_pairs = 0;
 };
 

@@ -406,8 +406,8 @@ std::string python_module(const Generation& g) {
   int pairs = 0;
   for (const auto& [name, value] : g.distances.header_fields)
     if (name == "num_distance_pairs") pairs = std::stoi(value);
-  const PythonModuleContents contents{g.traced, g.selection.emits("self_distances"), !g.contacts.empty(),
-                                      !g.frames.names.empty(), g.model.nq(), g.model.nv(), pairs};
+  const PythonModuleContents contents{g.traced,      g.selection.emits("self_distances"), !g.contacts.empty(),
+                                      !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs};
   return emit_python_module(contents, g.ctx);
 }
 

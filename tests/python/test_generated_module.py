@@ -314,6 +314,52 @@ class Contact(unittest.TestCase):
         np.testing.assert_array_equal(contacts[~touching, 4:7], 0.0)
 
 
+def free_fall_error(make_simulator, functions):
+    """Off the ground and with no force but gravity, the centre of mass moves as c0 + u t - g t^2 / 2
+    whatever the joints do: the largest distance from that after 0.05 s of RK4 (1 ms steps), the
+    centre of mass and its velocity u taken with `functions` (a module with center_of_mass and
+    centroidal_momentum_matrix)."""
+    q, vy, _ = random_state(400)
+    v = full_velocities(q, 0.1 * vy)  # slow enough that Lola's knee nut stays inside its few mm of travel
+    v[:6] = 0.0
+    simulator = make_simulator()
+    assert simulator.set_state(q, v) == "converged"
+    start = functions.center_of_mass(simulator.q)
+    Ag = functions.centroidal_momentum_matrix(simulator.q)
+    mass = np.linalg.norm(Ag[:3, 0])  # the base's linear velocity moves the whole mass: m R
+    velocity = (Ag @ simulator.v)[:3] / mass
+    assert simulator.run_until(0.05) == "ok"
+    t = simulator.time
+    expected = start + velocity * t + np.array([0.0, 0.0, -9.81 * t * t / 2])
+    return np.max(np.abs(functions.center_of_mass(simulator.q) - expected))
+
+
+class Simulation(unittest.TestCase):
+    def setUp(self):
+        if not hasattr(robot, "Simulator"):
+            self.skipTest("generated without the simulator's Backend")
+
+    def test_a_free_fall_follows_the_closed_form(self):
+        if not robot.floating_base:
+            self.skipTest("a fixed base does not fall")
+        make = lambda: robot.Simulator(contact=False, joint_stops=False, step=1e-3)
+        self.assertLess(free_fall_error(make, robot), 1e-9)
+
+    def test_on_the_ground_the_law_pushes_up(self):
+        if robot.num_contact_spheres == 0:
+            self.skipTest("no contact spheres")
+        q, _, _ = random_state(403)
+        centres, _ = robot.contact_points(q)
+        q[2] += robot.ground_offset - np.min(centres[:, 2] - robot.contact_sphere_radius) - 0.001
+        simulator = robot.Simulator()
+        simulator.set_state(q, np.zeros(robot.nv))
+        contacts = simulator.contacts()
+        self.assertEqual(contacts["force"].shape, (robot.num_contact_spheres, 3))
+        self.assertTrue(np.any(contacts["active"]))
+        self.assertTrue(np.all(contacts["force"][contacts["active"], 2] > 0))
+        np.testing.assert_array_equal(contacts["active"], contacts["penetration"] > 0)
+
+
 class Calls(unittest.TestCase):
     def setUp(self):
         self.states = [random_state(20 + k) for k in range(3)]
