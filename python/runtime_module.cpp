@@ -38,7 +38,7 @@ using Vector = Eigen::Ref<const VecX<double>>;
 class Robot {
  public:
   explicit Robot(gen::Description d)
-      : description_(std::move(d)), tree_(tree_of(description_.model)), closed_data_(model()), tree_data_(tree_) {
+      : description_(std::move(d)), tree_(gen::spanning_tree(description_.model)), closed_data_(model()), tree_data_(tree_) {
     for (int v : model().structure().independent_v) independent_.push_back(v);
     for (int v : gen::description_actuation(description_).actuated_v) actuated_.push_back(v);
   }
@@ -156,14 +156,6 @@ class Robot {
   }
 
  private:
-  static Model tree_of(const Model& closed) {
-    Model tree = closed;
-    tree.closures.clear();
-    tree.subsystems.clear();
-    tree.update_structure();
-    return tree;
-  }
-
   static void check(const char* function, const char* name, const Vector& x, int size) {
     if (x.size() != size)
       throw py::value_error(std::string(function) + ": " + name + " must have " + std::to_string(size) + " entries, not " +

@@ -128,13 +128,10 @@ struct Generation {
         ctx{t, o.name, t.render("header_file", {{"robot", o.name}}), banner(o, t), o.scalars, o.max_statements_per_part,
             /*inline_sincos=*/o.batch > 0},
         frames(choose_frames(d, o)),
-        tree(d.model),
+        tree(gen::spanning_tree(d.model)),
         actuation(gen::description_actuation(d, o.notes)),
         contacts(gen::contact_spheres(d)),
         independent(d.model.structure().independent_v) {
-    tree.closures.clear();
-    tree.subsystems.clear();
-    tree.update_structure();
     if (!contacts.empty()) contact_exponent = description.scene->contact->parameters.exponent;
     selection = select_functions(description, options.outputs, &left_out_reason);
   }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "codegen/trace_support.hpp"
+#include "model/topology.hpp"
 
 namespace mbgen::codegen {
 
@@ -54,10 +55,7 @@ void trace_loop_recursion(const Model& model, Data<Sym>& data) {
 
 TracedFunction trace_generated_forward_dynamics(const Model& model) {
   if (!model.subsystems.empty()) return trace_forward_dynamics_loops(model);
-  Model tree = model;
-  tree.closures.clear();
-  tree.update_structure();
-  return trace_forward_dynamics(tree);
+  return trace_forward_dynamics(gen::spanning_tree(model));
 }
 
 TracedFunction trace_forward_dynamics_loops(const Model& model) {

@@ -82,6 +82,14 @@ std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure
   return path;
 }
 
+Model spanning_tree(const Model& closed) {
+  Model tree = closed;
+  tree.closures.clear();
+  tree.subsystems.clear();
+  tree.update_structure();
+  return tree;
+}
+
 std::string coordinate_name(const Model& model, int v_index) {
   for (int j = 1; j < model.num_joints(); ++j) {
     const Joint& joint = model.joint(JointIndex(j));

@@ -70,6 +70,10 @@ SubSystemChoice choose_subsystems(const Description& d, const VecX<double>& q, c
 /// the ancestor (the cycle's root), then down to body_b.
 std::vector<BodyIndex> cycle_path(const Model& model, const LoopClosure& closure);
 
+/// The spanning tree of a closed model: the same bodies and joints without closures or
+/// sub-systems (the tree functions of a generation, and the Python runtime's, run on it).
+Model spanning_tree(const Model& closed);
+
 /// Name of the joint a velocity index belongs to (with the axis suffix `[k]` inside a floating joint).
 std::string coordinate_name(const Model& model, int v_index);
 
