@@ -130,6 +130,70 @@ class Simulation(unittest.TestCase):
         self.assertLess(relative_error(runs[0].q, runs[1].q), 1e-9, (runs[0].q - runs[1].q))
         self.assertLess(relative_error(runs[0].v, runs[1].v), 1e-7, (runs[0].v - runs[1].v))
 
+    def simulators(self, **options):
+        """The generic simulator and, when the module has one, the generated: both take the same options."""
+        made = [("generic", lambda: mbgen.Simulator(robot, **options))]
+        if hasattr(generated, "Simulator"):
+            made.append(("generated", lambda: generated.Simulator(**options)))
+        return made
+
+    def test_a_step_advances_by_the_step_and_the_energy_is_kept(self):
+        # Off the ground, no end stops, no controller: kinetic plus gravity energy is conserved
+        # (RK4's error, ~1e-12 J here, and the loops' projection).
+        q, vy, _ = random_state(405)
+        v = full_velocities(q, 0.1 * vy)
+        for name, make in self.simulators(contact=False, joint_stops=False, step=1e-4):
+            with self.subTest(simulator=name):
+                simulator = make()
+                simulator.set_state(q, v)
+                start = simulator.energy()
+                self.assertEqual(simulator.step(), "ok")
+                self.assertAlmostEqual(simulator.time, 1e-4, delta=1e-15)
+                self.assertEqual(simulator.run_until(0.02), "ok")
+                self.assertLess(abs(simulator.energy() - start), 1e-8 * max(1.0, abs(start)))
+
+    def test_contact_false_lets_the_robot_fall_through_the_ground(self):
+        if not generated.num_contact_spheres:
+            self.skipTest("no contact spheres")
+        q, _, _ = random_state(406)
+        centres, _ = generated.contact_points(q)
+        q[2] += generated.ground_offset - np.min(centres[:, 2] - generated.contact_sphere_radius) - 0.001
+        fall = 9.81 * 0.01 ** 2 / 2
+        for contact in (True, False):
+            for name, make in self.simulators(contact=contact, step=1e-4):
+                with self.subTest(simulator=name, contact=contact):
+                    simulator = make()
+                    simulator.set_state(q, np.zeros(robot.nv))
+                    start = robot.center_of_mass(simulator.q)[2]
+                    self.assertEqual(simulator.run_until(0.01), "ok")
+                    drop = start - robot.center_of_mass(simulator.q)[2]
+                    if contact:
+                        self.assertLess(drop, fall - 1e-4)  # held up
+                    else:
+                        self.assertFalse(np.any(simulator.contacts()["active"]))
+                        self.assertAlmostEqual(drop, fall, delta=1e-9)  # a free fall
+
+    def test_joint_stops_push_a_joint_back_into_its_range(self):
+        # An independent joint with a range, started past its upper end at rest: with the end
+        # stops it is pushed back, without them it is not.
+        shift = 1 if robot.floating_base else 0
+        independent = set(int(v) for v in robot.independent_v_index)
+        k = next(k for k in reversed(range(len(generated.limited_v_index)))
+                 if int(generated.limited_v_index[k]) in independent)
+        qi, vi = int(generated.limited_q_index[k]), int(generated.limited_v_index[k])
+        self.assertEqual(qi, vi + shift)
+        q, _, _ = random_state(407)
+        q[qi] = generated.limited_upper[k] + 0.05 * (generated.limited_upper[k] - generated.limited_lower[k])
+        for name, _ in self.simulators():
+            with self.subTest(simulator=name):
+                ends = []
+                for stops in (True, False):
+                    simulator = dict(self.simulators(contact=False, joint_stops=stops))[name]()
+                    simulator.set_state(q, np.zeros(robot.nv))
+                    self.assertEqual(simulator.run_until(0.01), "ok")
+                    ends.append(simulator.v[vi])
+                self.assertLess(ends[0], ends[1] - 1e-3)  # moving back down only with the stops
+
     def test_the_controller_is_called_and_its_size_checked(self):
         q, _, _ = random_state(402)
         calls = []
