@@ -18,13 +18,16 @@
 #include <utility>
 #include <vector>
 
+#include "collision/collision_scene.hpp"
 #include "collision/contact_spheres.hpp"
 #include "load/load_error.hpp"
 #include "mbgen/mbgen.hpp"
+#include "mbgen/python/differential_ik_binding.hpp"
 #include "mbgen/python/simulator_binding.hpp"
 #include "model/actuated_coordinates.hpp"
 #include "model/load_description.hpp"
 #include "model/topology.hpp"
+#include "walking_pattern_binding.hpp"
 
 namespace py = pybind11;
 
@@ -136,6 +139,14 @@ class Robot {
     return py::make_tuple(closed, result);
   }
 
+  /// The scene's collision model (compounds and kept pairs) as `mbgen generate` builds it: the
+  /// same deterministic sampling, so the same pairs as the generated self_distances. Built on
+  /// first use (it samples the configuration space: seconds for a biped), then kept.
+  const collision::CollisionModel& collision_model() {
+    if (!collision_) collision_ = gen::build_collision_scene(description_, gen::collision_scene_options(description_)).model;
+    return *collision_;
+  }
+
   /// q (+) v: the configuration reached from q moving with v for unit time (the tangent
   /// convention of the derivatives: a floating base moves by the exponential of its body twist).
   VecX<double> integrate(const Vector& q, const Vector& v) const {
@@ -172,6 +183,7 @@ class Robot {
   Model tree_;
   Data<double> closed_data_, tree_data_;
   std::vector<int> independent_, actuated_;
+  std::optional<collision::CollisionModel> collision_;
 };
 
 std::unique_ptr<Robot> load(const std::string& description, const std::optional<std::string>& extras,
@@ -208,6 +220,17 @@ std::unique_ptr<GenericSimulator> make_simulator(const Robot& robot, const std::
   std::vector<ContactSphere> spheres;
   if (contact) spheres = gen::contact_spheres(robot.description());
   return std::make_unique<GenericSimulator>(sim::GenericBackend<double>(robot.model(), std::move(spheres)), o);
+}
+
+using GenericIk = control::DifferentialIk<double>;
+
+/// The differential IK on the generic backend of `robot`: its frames the tasks', its pairs the
+/// scene's collision model (built when collision_avoidance is on), its ranges the model's.
+std::unique_ptr<GenericIk> make_differential_ik(Robot& robot, const py::iterable& tasks, const py::kwargs& kwargs) {
+  const std::vector<control::TaskSpec> specs = detail::task_specs(tasks);
+  const control::DifferentialIkOptions options = differential_ik_options(kwargs, joint_position_limits(robot.model()));
+  const collision::CollisionModel* collision = options.collision_avoidance ? &robot.collision_model() : nullptr;
+  return configuration([&] { return std::make_unique<GenericIk>(robot.model(), specs, options, collision); });
 }
 
 std::vector<std::string> names_of(const Model& model, const std::vector<int>& coordinates) {
@@ -284,6 +307,13 @@ PYBIND11_MODULE(_runtime, m) {
       .def(py::init(&mbgen::python::make_simulator), py::arg("robot"), py::arg("integrator") = "rk4",
            py::arg("step") = 1e-4, py::arg("contact") = true, py::arg("joint_stops") = true, py::keep_alive<1, 2>(),
            mbgen::python::kSimulatorArguments);
+  mbgen::python::bind_differential_ik<mbgen::python::GenericIk>(
+      m, "The differential IK (docs/control.md) on the generic backend of a loaded Robot: primary tasks by a damped "
+         "pseudo-inverse, joint limits, self-collision avoidance and angular-momentum tracking in their null space, "
+         "or all as a QP.")
+      .def(py::init(&mbgen::python::make_differential_ik), py::arg("robot"), py::arg("tasks"), py::keep_alive<1, 2>(),
+           mbgen::python::kDifferentialIkArguments);
+  mbgen::python::bind_walking_pattern(m);
   m.def("load", &mbgen::python::load, py::arg("description"), py::arg("extras") = py::none(),
         py::arg("base") = py::none(), py::arg("mimic") = py::none(),
         "Loads a URDF or MJCF description (and YAML extras; a robot.yaml beside a URDF is picked up) as "

@@ -1,4 +1,4 @@
-// The walking pattern of mbgen_walk (examples/walking/walking_pattern.hpp): the CoM obeys the
+// The walking pattern of mbgen_walk (mbgen/control/walking_pattern.hpp): the CoM obeys the
 // linear inverted pendulum for the ZMP it was made from (central second differences against
 // w^2 (c - p)), the swing feet move continuously with the velocities the pattern states (against
 // finite differences), land on their footsteps with zero velocity, and the footsteps alternate;
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "examples/walking/walking_pattern.hpp"
+#include "mbgen/control/walking_pattern.hpp"
 
 namespace mbgen::test {
 namespace {

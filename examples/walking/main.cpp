@@ -1,6 +1,6 @@
 // mbgen_walk: the thesis' controller experiment on the generated code (docs/control.md, "Walking").
 //
-// A walking pattern (walking_pattern.hpp: LIPM centre of mass from footsteps, swing-foot
+// A walking pattern (mbgen/control/walking_pattern.hpp: LIPM centre of mass from footsteps, swing-foot
 // trajectories, the heading the torso follows) tracked at 1 kHz by the differential IK running on
 // the generated functions (BasicDifferentialIk<robot::Backend>: feet, CoM, torso orientation; the
 // loops re-closed by the generated Newton after each step), in five configurations: plain,
@@ -49,7 +49,7 @@
 #include <vector>
 
 #include MBGEN_WALK_HEADER
-#include "examples/walking/walking_pattern.hpp"
+#include "mbgen/control/walking_pattern.hpp"
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/control/differential_ik.hpp"
 #include "mbgen/sim/simulator.hpp"

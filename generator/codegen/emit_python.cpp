@@ -268,6 +268,24 @@ std::string bind_simulator(const PythonModuleContents& c, const EmitContext& ctx
       fmt::arg("r", ctx.robot), fmt::arg("scene", scene));
 }
 
+/// DifferentialIk on the generated Backend (mbgen/python/differential_ik_binding.hpp): its frames
+/// the header's frame_names, its pairs the header's, joint_limits=True its limited joints.
+std::string bind_differential_ik(const EmitContext& ctx) {
+  return fmt::format(
+      "  mbgen::python::bind_differential_ik<mbgen::control::BasicDifferentialIk<{r}::Backend>>(\n"
+      "      m, \"The differential IK (docs/control.md) on {r}'s generated Backend: the tasks' frames among frame_names, \"\n"
+      "         \"the pairs distance_pair_names, the ranges limited_joint_names.\")\n"
+      "      .def(py::init([](const py::iterable& tasks, const py::kwargs& kwargs) {{\n"
+      "             const auto options = mbgen::python::differential_ik_options(kwargs, mbgen::python::backend_limits({r}::Backend{{}}));\n"
+      "             const auto specs = mbgen::python::detail::task_specs(tasks);\n"
+      "             return mbgen::python::configuration([&] {{\n"
+      "               return std::make_unique<mbgen::control::BasicDifferentialIk<{r}::Backend>>({r}::Backend{{}}, specs, options);\n"
+      "             }});\n"
+      "           }}),\n"
+      "           py::arg(\"tasks\"), mbgen::python::kDifferentialIkArguments);\n",
+      fmt::arg("r", ctx.robot));
+}
+
 }  // namespace
 
 std::string python_module_file(const EmitContext& ctx) { return ctx.robot + "_python.cpp"; }
@@ -280,7 +298,7 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
   for (const TracedFunction& f : c.traced) functions += bind_traced(f, ctx);
   functions += bind_closures(c, ctx);
   if (c.self_distances) functions += bind_distances(c, ctx);
-  if (c.backend) functions += bind_simulator(c, ctx);
+  if (c.backend) functions += bind_simulator(c, ctx) + bind_differential_ik(ctx);
   return fmt::format(
       "{banner}"
       "// The Python module of {r} (mbgen generate --python; docs/python.md): every function of {header}\n"
@@ -295,7 +313,7 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
       "\n"
       "#include \"{header}\"\n"
       "#include \"mbgen/python/generated_module.hpp\"\n"
-      "{simulator_include}"
+      "{backend_includes}"
       "\n"
       "namespace py = pybind11;\n"
       "using mbgen::python::Call;\n"
@@ -308,7 +326,9 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
       "}}\n",
       fmt::arg("banner", ctx.banner), fmt::arg("r", ctx.robot), fmt::arg("header", ctx.header),
       fmt::arg("tables", bind_tables(c, ctx)), fmt::arg("functions", functions),
-      fmt::arg("simulator_include", c.backend ? "#include \"mbgen/python/simulator_binding.hpp\"\n" : ""));
+      fmt::arg("backend_includes", c.backend ? "#include \"mbgen/python/differential_ik_binding.hpp\"\n"
+                                              "#include \"mbgen/python/simulator_binding.hpp\"\n"
+                                            : ""));
 }
 
 }  // namespace mbgen::codegen

@@ -17,9 +17,9 @@ import os
 import shutil
 import subprocess
 
-from ._runtime import LoadError, Robot, Simulator, load
+from ._runtime import DifferentialIk, LoadError, Robot, Simulator, WalkingPattern, load
 
-__all__ = ["LoadError", "Robot", "Simulator", "load", "inspect", "generate", "executable", "CommandError"]
+__all__ = ["DifferentialIk", "LoadError", "Robot", "Simulator", "WalkingPattern", "load", "inspect", "generate", "executable", "CommandError"]
 
 
 class CommandError(RuntimeError):

@@ -360,6 +360,128 @@ class Simulation(unittest.TestCase):
         np.testing.assert_array_equal(contacts["active"], contacts["penetration"] > 0)
 
 
+def integrate(q, dv):
+    """q moved by the small tangent step dv, to first order in dv (the base's linear and angular
+    velocity in its own axes, as the header states; quaternion x, y, z, w)."""
+    out = np.array(q, dtype=float)
+    if not robot.floating_base:
+        return out + dv
+    x, y, z, w = q[3:7]
+    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    out[0:3] += R @ dv[0:3]
+    a, b, c = 0.5 * dv[3:6]
+    quaternion = np.array([w * a + x + y * c - z * b, w * b + y + z * a - x * c, w * c + z + x * b - y * a,
+                           w - x * a - y * b - z * c])  # (x, y, z, w) times (a, b, c, 1)
+    out[3:7] = quaternion / np.linalg.norm(quaternion)
+    out[7:] += dv[6:]
+    return out
+
+
+def ik_tasks(gain=10.0):
+    """Position tasks on the first two frames and the centre of mass: 9 rows, regular at the test
+    states (6-row pose tasks on Lola's straight legs are not)."""
+    return [dict(name=f"frame{k}", kind="position", frame=robot.frame_names[k], gain=gain) for k in range(2)] + \
+        [dict(name="com", kind="com", gain=gain)]
+
+
+def set_ik_targets(ik, q, offset):
+    """Each task's target `offset` (m) from where it is at q, with no feed-forward."""
+    X = robot.frame_poses(q)
+    for k in range(2):
+        ik.set_target(f"frame{k}", position=X[k][:, 3] + offset)
+    ik.set_target("com", position=robot.center_of_mass(q) + offset)
+
+
+class Control(unittest.TestCase):
+    """DifferentialIk on the generated Backend (mbgen/python/differential_ik_binding.hpp)."""
+    EXACT_PSEUDO_INVERSE = dict(singular_region=0.0, max_damping=0.0)
+
+    def setUp(self):
+        if not hasattr(robot, "DifferentialIk"):
+            self.skipTest("generated without the simulator's Backend")
+        if len(robot.frame_names) < 2:
+            self.skipTest("fewer than two frames")
+        self.q = random_state(501)[0]
+
+    def test_the_step_achieves_the_task_velocity_and_the_secondary_motion_keeps_it(self):
+        offset = np.array([0.002, -0.001, 0.001])
+        plain = robot.DifferentialIk(ik_tasks(), **self.EXACT_PSEUDO_INVERSE)
+        secondary = robot.DifferentialIk(ik_tasks(), joint_limits=True, limit_activation=1e3,
+                                         **self.EXACT_PSEUDO_INVERSE)  # every limited joint pushed
+        steps = []
+        for ik in (plain, secondary):
+            set_ik_targets(ik, self.q, offset)
+            v, report = ik.step(self.q)
+            self.assertTrue(report["ok"])
+            self.assertEqual(report["rank"], 9)
+            J, xd = ik.primary_jacobian, ik.primary_velocity
+            self.assertEqual(J.shape, (9, robot.nv))
+            np.testing.assert_allclose(xd, np.tile(10.0 * offset, 3), rtol=0, atol=1e-12)  # gain * error
+            self.assertLess(np.max(np.abs(J @ v - xd)), 1e-12 * np.max(np.abs(J)) * np.max(np.abs(v)))
+            # The task rows are the generated Jacobians': the frames' linear rows and the CoM's.
+            jacobians = robot.frame_jacobians(self.q)
+            np.testing.assert_allclose(J[0:3], jacobians[0][0:3], rtol=0, atol=1e-12)
+            np.testing.assert_allclose(J[3:6], jacobians[1][0:3], rtol=0, atol=1e-12)
+            steps.append((v, report))
+        self.assertEqual(steps[0][1]["active_limits"], 0)
+        self.assertEqual(steps[1][1]["active_limits"], 2 * robot.num_limited_joints)  # both ends of each range
+        self.assertGreater(np.max(np.abs(steps[1][0] - steps[0][0])), 1e-6)  # the potential moved something
+        if robot.has_loops:  # v = T c: the loops stay closed to first order
+            v = steps[1][0]
+            np.testing.assert_allclose(robot.full_velocities(self.q, v[robot.independent_v_index]), v, rtol=0, atol=1e-12)
+
+    def test_feed_forward_and_gain_make_the_task_velocity(self):
+        ik = robot.DifferentialIk(ik_tasks(gain=0.0))
+        set_ik_targets(ik, self.q, np.array([0.1, 0.1, 0.1]))  # no gain: the error does not count
+        ik.set_target("frame1", velocity=[0.1, 0.2, 0.3])
+        ik.set_target("com", velocity=[0.0, 0.0, -0.05])
+        ik.step(self.q)
+        np.testing.assert_array_equal(ik.primary_velocity, [0, 0, 0, 0.1, 0.2, 0.3, 0, 0, -0.05])
+        np.testing.assert_allclose(ik.center_of_mass, robot.center_of_mass(self.q), rtol=0, atol=1e-14)
+
+    def test_a_task_moves_along_a_walk_of_steps(self):
+        # Integrating the steps at 1 kHz moves the CoM to its target: the error decays as exp(-gain t).
+        ik = robot.DifferentialIk(ik_tasks(gain=20.0))
+        q = self.q.copy()
+        com_target = robot.center_of_mass(q) + [0.0, 0.0, -0.005]
+        set_ik_targets(ik, q, np.zeros(3))
+        ik.set_target("com", position=com_target)
+        for _ in range(100):
+            v, report = ik.step(q)
+            self.assertTrue(report["ok"])
+            q = integrate(q, v * 1e-3)
+            if robot.has_loops:
+                q, result = robot.closure_positions(q)
+                self.assertEqual(result.status, robot.ClosureStatus.converged)
+        error = np.linalg.norm(robot.center_of_mass(q) - com_target)
+        self.assertLess(error, 0.005 * 1.2 * np.exp(-20.0 * 0.1))
+        self.assertGreater(error, 0.005 * 0.8 * np.exp(-20.0 * 0.1))
+
+    def test_bad_tasks_and_options_are_named(self):
+        with self.assertRaisesRegex(ValueError, r"task 'x': frame 'no_such_frame' is not among the backend's frames"):
+            robot.DifferentialIk([dict(name="x", kind="pose", frame="no_such_frame")])
+        with self.assertRaisesRegex(ValueError, r"task 'x' has kind 'twist': pose, position, orientation or com"):
+            robot.DifferentialIk([dict(name="x", kind="twist", frame=robot.frame_names[0])])
+        with self.assertRaisesRegex(TypeError, r"unknown option 'colision_avoidance' \(the options: activation_distance"):
+            robot.DifferentialIk(ik_tasks(), colision_avoidance=True)
+        with self.assertRaisesRegex(ValueError, r"weights\[0\] = -1.000000 must be finite and > 0"):
+            robot.DifferentialIk(ik_tasks(), weights=[-1.0] + [1.0] * (robot.ny - 1))
+        ik = robot.DifferentialIk(ik_tasks())
+        with self.assertRaisesRegex(ValueError, rf"DifferentialIk: q must have shape \({robot.nq},\)"):
+            ik.step(self.q[:-1])
+        with self.assertRaisesRegex(ValueError, r"DifferentialIk: rotation must have shape \(3, 3\)"):
+            ik.set_target("frame0", rotation=np.eye(4))
+        with self.assertRaisesRegex(KeyError, r"no task named 'nope'"):
+            ik.set_target("nope", position=[0, 0, 0])
+        q = self.q.copy()
+        q[-1] = np.nan
+        v, report = ik.step(q)  # the step reports, it does not raise
+        self.assertFalse(report["ok"])
+        np.testing.assert_array_equal(v, np.zeros(robot.nv))
+
+
 class Calls(unittest.TestCase):
     def setUp(self):
         self.states = [random_state(20 + k) for k in range(3)]

@@ -15,8 +15,8 @@ import unittest
 import numpy as np
 
 import mbgen
-from test_generated_module import (central_difference, free_fall_error, full_velocities, joint_coordinates, random_state,
-                                   relative_error)
+from test_generated_module import (central_difference, free_fall_error, full_velocities, ik_tasks, joint_coordinates,
+                                   random_state, relative_error, set_ik_targets)
 
 generated = importlib.import_module(os.environ["MBGEN_MODULE"])
 DESCRIPTION = os.environ["MBGEN_DESCRIPTION"]
@@ -211,6 +211,86 @@ class Simulation(unittest.TestCase):
             mbgen.Simulator(robot, integrator="rk5")
         with self.assertRaisesRegex(ValueError, "step must be positive"):
             mbgen.Simulator(robot, step=0.0)
+
+
+class Control(unittest.TestCase):
+    def test_the_generic_ik_takes_the_generated_ones_step(self):
+        # Every secondary objective on: the joint ranges, the self-collision potential (the generic
+        # Robot builds the scene's collision model as generate does: the same pairs), momentum.
+        if not hasattr(generated, "DifferentialIk") or len(generated.frame_names) < 2:
+            self.skipTest("generated without the Backend or its frames")
+        options = dict(joint_limits=True, angular_momentum=True, momentum_axis_weights=(0.0, 0.0, 1.0))
+        if generated.num_distance_pairs:
+            options.update(collision_avoidance=True, activation_distance=0.2)
+        q = random_state(502)[0]
+        steps = []
+        for ik in (mbgen.DifferentialIk(robot, ik_tasks(), **options), generated.DifferentialIk(ik_tasks(), **options)):
+            set_ik_targets(ik, q, np.array([0.002, -0.001, 0.001]))
+            ik.angular_momentum_target = [0.0, 0.0, 0.3]
+            steps.append(ik.step(q))
+            self.assertTrue(steps[-1][1]["ok"])
+        self.assertEqual(steps[0][1], steps[1][1] | dict(smallest_singular_value=steps[0][1]["smallest_singular_value"]))
+        if generated.num_distance_pairs:
+            self.assertGreater(steps[0][1]["active_pairs"], 0)
+        self.assertLess(relative_error(steps[0][0], steps[1][0]), ROUND_OFF)
+
+    def test_a_task_names_a_frame_of_the_model(self):
+        with self.assertRaisesRegex(ValueError, r"task 'x': no frame named 'no_such_frame' in model"):
+            mbgen.DifferentialIk(robot, [dict(name="x", kind="pose", frame="no_such_frame")])
+        with self.assertRaisesRegex(ValueError, r"DifferentialIk: a task needs a name"):
+            mbgen.DifferentialIk(robot, [dict(kind="com")])
+        with self.assertRaisesRegex(TypeError, r"a task has no key 'frmae'"):
+            mbgen.DifferentialIk(robot, [dict(name="x", frmae="base")])
+
+
+class Walking(unittest.TestCase):
+    LEFT, RIGHT, COM = np.array([0.0, 0.1, 0.0]), np.array([0.0, -0.1, 0.0]), np.array([0.02, 0.0, 0.8])
+
+    def test_the_pattern_starts_standing_and_ends_its_footsteps(self):
+        pattern = mbgen.WalkingPattern(self.LEFT, self.RIGHT, self.COM, 0.001, steps=4, step_length=0.2, step_time=0.5,
+                                       start_time=0.6, end_time=0.4)
+        self.assertAlmostEqual(pattern.duration, 0.6 + 5 * 0.5 + 0.4, places=12)
+        s = pattern.samples()
+        n = pattern.num_samples
+        self.assertEqual(s["foot"].shape, (n, 2, 3))
+        self.assertEqual(s["com"].shape, (n, 3))
+        np.testing.assert_allclose(s["t"], 0.001 * np.arange(n), rtol=0, atol=1e-12)
+        np.testing.assert_array_equal(s["foot"][0], [self.LEFT, self.RIGHT])
+        np.testing.assert_allclose(s["com"][0, :2], self.COM[:2], rtol=0, atol=1e-3)
+        footsteps = pattern.footsteps
+        self.assertEqual(len(footsteps), 2 + 4 + 1)  # standing, four steps, the feet closed
+        np.testing.assert_allclose(s["foot"][-1], [footsteps[-2]["position"], footsteps[-1]["position"]]
+                                   if footsteps[-1]["foot"] == 1 else [footsteps[-1]["position"], footsteps[-2]["position"]])
+        self.assertAlmostEqual(np.mean(s["foot"][-1][:, 0]), 3.5 * 0.2, places=12)  # 3 steps, then half a step
+        self.assertEqual(set(np.unique(s["stance"])), {-1, 0, 1})
+        # The swing foot lifts by step_height (default 5 cm) at mid-swing.
+        self.assertAlmostEqual(np.max(s["foot"][:, :, 2]), 0.05, places=6)
+
+    def test_correct_com_moves_the_com_by_the_pendulums_answer(self):
+        pattern = mbgen.WalkingPattern(self.LEFT, self.RIGHT, self.COM, 0.001, steps=2)
+        before = pattern.samples()["com"]
+        pattern.correct_com(np.zeros((pattern.num_samples, 2)))
+        np.testing.assert_array_equal(pattern.samples()["com"], before)
+        error = np.zeros((pattern.num_samples, 2))
+        error[:, 1] = 0.01  # the whole body's ZMP 1 cm left of the reference: the CoM moves right
+        pattern.correct_com(error)
+        # The pendulum's bounded answer to a constant -1 cm over [0, T] is -1 cm (1 - (e^-wt + e^-w(T-t)) / 2):
+        # at the middle, -1 cm (1 - e^(-w T / 2)).
+        middle = pattern.num_samples // 2
+        expected = -0.01 * (1 - np.exp(-pattern.omega * pattern.samples()["t"][middle]))
+        self.assertLess(abs(pattern.samples()["com"][middle, 1] - before[middle, 1] - expected), 2e-5)
+        np.testing.assert_array_equal(pattern.samples()["com"][:, 0], before[:, 0])  # no error along x
+
+    def test_bad_options_are_named(self):
+        with self.assertRaisesRegex(TypeError, r"WalkingPattern: unknown option 'step_lenght' \(the options: steps, step_length"):
+            mbgen.WalkingPattern(self.LEFT, self.RIGHT, self.COM, 0.001, step_lenght=0.3)
+        with self.assertRaisesRegex(ValueError, r"needs dt > 0, step_time > double_support"):
+            mbgen.WalkingPattern(self.LEFT, self.RIGHT, self.COM, 0.001, step_time=0.05, double_support=0.08)
+        pattern = mbgen.WalkingPattern(self.LEFT, self.RIGHT, self.COM, 0.001, steps=1)
+        with self.assertRaisesRegex(ValueError, r"zmp_error must have shape \(\d+, 2\)"):
+            pattern.correct_com(np.zeros((3, 2)))
+        with self.assertRaisesRegex(ValueError, r"the mass must be positive"):
+            pattern.yaw_free_momentum(-1.0)
 
 
 class Command(unittest.TestCase):

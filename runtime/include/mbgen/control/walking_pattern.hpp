@@ -1,7 +1,8 @@
 #pragma once
-// A simple walking pattern for the controller experiment (docs/control.md, "Walking"): footsteps,
-// the ZMP reference they imply, a centre-of-mass trajectory consistent with the linear inverted
-// pendulum (LIPM), and swing-foot trajectories.
+// A simple walking pattern for a biped's controller (docs/control.md, "Walking"; used by
+// mbgen_walk, and from Python as mbgen.WalkingPattern): footsteps, the ZMP reference they imply,
+// a centre-of-mass trajectory consistent with the linear inverted pendulum (LIPM), and swing-foot
+// trajectories.
 //
 // The CoM. The LIPM at height z_c is  c'' = w^2 (c - p),  w = sqrt(g / z_c), p the ZMP. For a
 // ZMP reference p(t) known over the whole walk, its one bounded solution is the two-sided
