@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
+
+#include "codegen/emit_batch.hpp"
 
 namespace mbgen::codegen {
 
@@ -19,46 +22,86 @@ std::string shape_list(const ArraySpec& a) {
 /// A docstring as a raw string literal (the header's texts hold quotes and backslashes).
 std::string doc_literal(const std::string& text) { return "R\"mbgen(" + text + ")mbgen\""; }
 
+/// The NumPy shape of one state of `a` as Python prints it: (47,) or (46, 46).
+std::string shape_tuple(const ArraySpec& a) {
+  if (a.shape.empty()) return fmt::format("({},)", a.size);
+  std::string s;
+  for (int d : a.shape) s += fmt::format("{}{}", s.empty() ? "" : ", ", d);
+  return "(" + s + ")";
+}
+
+/// An argument's header text without its leading C++ size ("[4 x 12] per frame ..." -> "per frame
+/// ..."): the docstring gives the NumPy shape instead.
+std::string without_size(const std::string& doc) {
+  if (doc.empty() || doc[0] != '[') return doc;
+  const std::size_t end = doc.find("] ");
+  return end == std::string::npos ? doc : doc.substr(end + 2);
+}
+
+constexpr const char* kUnitsNote =
+    "Units (SI, the header's conventions): q in rad for a revolute joint and m for a prismatic one, a floating\n"
+    "base's position in m and orientation as a unit quaternion (x, y, z, w); v in rad/s and m/s (a floating\n"
+    "base's linear and angular velocity in its own axes); accelerations in rad/s^2 and m/s^2; forces in N m\n"
+    "and N; lengths in m, masses in kg, inertias in kg m^2.";
+
 constexpr const char* kBatchNote =
     "Every array argument may also carry a leading batch dimension N (the same N for all that do);\n"
     "the results then do too.";
 
-std::string traced_doc(const TracedFunction& f) {
+std::string traced_doc(const TracedFunction& f, int lanes) {
   std::string d = f.doc + "\n\nArguments:\n";
-  for (const ArraySpec& a : f.inputs) d += fmt::format("  {}: {}\n", a.name, a.doc);
+  for (const ArraySpec& a : f.inputs) d += fmt::format("  {} {}: {}\n", a.name, shape_tuple(a), without_size(a.doc));
   const std::size_t results = f.outputs.size() - static_cast<std::size_t>(f.work_outputs);
   d += results == 1 ? "Returns:\n" : "Returns a tuple:\n";
-  for (std::size_t k = 0; k < results; ++k) d += fmt::format("  {}: {}\n", f.outputs[k].name, f.outputs[k].doc);
-  return d + kBatchNote;
+  for (std::size_t k = 0; k < results; ++k) {
+    const ArraySpec& a = f.outputs[k];
+    d += fmt::format("  {} {}: {}\n", a.name, shape_tuple(a), without_size(a.doc));
+  }
+  d += fmt::format("{}\n{}", kUnitsNote, kBatchNote);
+  if (lanes > 0) d += fmt::format("\nA batch runs {} states at a time through {} (--batch).", lanes, batch_name(f.name));
+  return d;
 }
 
-/// m.def of a traced function: its inputs read, its outputs made, the C++ function per state.
-std::string bind_traced(const TracedFunction& f, const EmitContext& ctx) {
-  std::string parameters, reads, makes, arguments, names;
+/// m.def of a traced function: its inputs read, its outputs made, the C++ function per state (W
+/// states at a time through its batch form when it has one: Call::run_lanes).
+std::string bind_traced(const TracedFunction& f, const PythonModuleContents& c, const EmitContext& ctx) {
+  std::string parameters, reads, makes, arguments, lane_arguments, names;
   for (const ArraySpec& a : f.inputs) {
     parameters += fmt::format("{}py::object {}", parameters.empty() ? "" : ", ", a.name);
     reads += fmt::format("        const int {0}_ = call.input(\"{0}\", {0}, {1});\n", a.name, shape_list(a));
     arguments += fmt::format("{}s.in({}_)", arguments.empty() ? "" : ", ", a.name);
+    lane_arguments += fmt::format("{}l.in({}_)", lane_arguments.empty() ? "" : ", ", a.name);
     names += fmt::format("py::arg(\"{}\"), ", a.name);
   }
   for (std::size_t k = 0; k + static_cast<std::size_t>(f.work_outputs) < f.outputs.size(); ++k) {
     const ArraySpec& a = f.outputs[k];
     makes += fmt::format("        const int {}_ = call.output({});\n", a.name, shape_list(a));
     arguments += fmt::format(", s.out({}_)", a.name);
+    lane_arguments += fmt::format(", l.out({}_)", a.name);
   }
+  const bool lanes = std::find(c.batched.begin(), c.batched.end(), f.name) != c.batched.end();
+  const std::string one = fmt::format("[&](const Call::State& s) {{ {}::{}({}); }}", ctx.robot,
+                                      ctx.public_name(f.name, "double"), arguments);
+  const std::string run =
+      lanes ? fmt::format("call.run_lanes<{w}>(\n"
+                          "            {one},\n"
+                          "            [&](const Call::Lanes<{w}>& l) {{ {r}::{batch}({lane_arguments}); }});\n",
+                          fmt::arg("w", c.batch_width), fmt::arg("one", one), fmt::arg("r", ctx.robot),
+                          fmt::arg("batch", ctx.public_name(batch_name(f.name), "double")),
+                          fmt::arg("lane_arguments", lane_arguments))
+            : fmt::format("call.run({});\n", one);
   return fmt::format(
       "  m.def(\n"
       "      \"{name}\",\n"
       "      []({parameters}) {{\n"
       "        Call call(\"{name}\");\n"
       "{reads}{makes}"
-      "        call.run([&](const Call::State& s) {{ {robot}::{public_name}({arguments}); }});\n"
+      "        {run}"
       "        return call.result();\n"
       "      }},\n"
       "      {names}{doc});\n",
       fmt::arg("name", f.name), fmt::arg("parameters", parameters), fmt::arg("reads", reads), fmt::arg("makes", makes),
-      fmt::arg("robot", ctx.robot), fmt::arg("public_name", ctx.public_name(f.name, "double")),
-      fmt::arg("arguments", arguments), fmt::arg("names", names), fmt::arg("doc", doc_literal(traced_doc(f))));
+      fmt::arg("run", run), fmt::arg("names", names), fmt::arg("doc", doc_literal(traced_doc(f, lanes ? c.batch_width : 0))));
 }
 
 /// The header's sizes and tables as module attributes.
@@ -71,6 +114,7 @@ std::string bind_tables(const PythonModuleContents& c, const EmitContext& ctx) {
   for (const char* name : {"nq", "nv", "ny", "na", "num_bodies", "num_frames", "floating_base", "has_loops",
                            "num_limited_joints", "num_distance_pairs", "num_contact_spheres"})
     attribute(name, fmt::format("{}::{}", r, name));
+  attribute("batch_width", std::to_string(c.batch_width));  // 0: generated without --batch
   attribute("joint_names", fmt::format("mbgen::python::names({}::joint_names)", r));
   attribute("body_names", fmt::format("mbgen::python::names({}::body_names)", r));
   attribute("independent_joint_names", fmt::format("mbgen::python::names({0}::independent_joint_names, {0}::ny)", r));
@@ -139,9 +183,9 @@ std::string bind_closures(const PythonModuleContents& c, const EmitContext& ctx)
 warm start), the independent ones held, with the header's default options.
 
 Arguments:
-  q: [{nq}] joint positions (one state)
+  q ({nq},): joint positions (one state)
 Returns a tuple:
-  q: [{nq}] the closed positions (a new array; q is left as it was)
+  q ({nq},): the closed positions (a new array; q is left as it was)
   result: ClosureResult (status, iterations, residual, pivot ratios, sub-system))mbgen");
   m.def(
       "close_loops",
@@ -166,9 +210,9 @@ Returns a tuple:
 the closed q (v = T vy).
 
 Arguments:
-  q: [{nq}] joint positions, v: [{nv}] joint velocities (one state)
+  q ({nq},): joint positions, v ({nv},): joint velocities (one state)
 Returns a tuple:
-  q: [{nq}] closed positions, v: [{nv}] consistent velocities (new arrays), result: ClosureResult)mbgen");
+  q ({nq},): closed positions, v ({nv},): consistent velocities (new arrays), result: ClosureResult)mbgen");
 )py",
       fmt::arg("r", ctx.robot), fmt::arg("nq", c.nq), fmt::arg("nv", c.nv),
       fmt::arg("closure_positions", ctx.public_name("closure_positions", "double")),
@@ -198,12 +242,12 @@ std::string bind_distances(const PythonModuleContents& c, const EmitContext& ctx
 volumes, and their Jacobians ({r}.hpp: self_distances).
 
 Arguments:
-  q: [{nq}] joint positions
+  q ({nq},): joint positions
 Returns a tuple:
-  distance: [{pairs}] core distance - r1 - r2 (negative when overlapping)
-  normal: [{pairs} x 3] unit normal from the pair's first body to its second, world
-  witness: [{pairs} x 6] point on the first body's surface, then on the second's, world
-  jacobian: [{pairs} x {nv}] row k = d distance[k] / d v
+  distance ({pairs},): core distance - r1 - r2 (m, negative when overlapping)
+  normal ({pairs}, 3): unit normal from the pair's first body to its second, world
+  witness ({pairs}, 6): point (m) on the first body's surface, then on the second's, world
+  jacobian ({pairs}, {nv}): row k = d distance[k] / d v
 {batch})mbgen");
   m.def(
       "self_distances_near",
@@ -231,11 +275,11 @@ Returns a tuple:
 self_distances_near); pass the avoidance's activation distance.
 
 Arguments:
-  q: [{nq}] joint positions (one state); threshold: m
+  q ({nq},): joint positions (one state); threshold: m
 Returns a tuple:
-  distance: [{pairs}] every pair: exact when near, else a lower bound >= threshold
-  near: [num_near] the near pairs, ascending
-  normal: [num_near x 3], witness: [num_near x 6], jacobian: [num_near x {nv}]: rows of the near pairs)mbgen");
+  distance ({pairs},): every pair (m): exact when near, else a lower bound >= threshold
+  near (num_near,): the near pairs, ascending
+  normal (num_near, 3), witness (num_near, 6), jacobian (num_near, {nv}): rows of the near pairs)mbgen");
 )py",
       fmt::arg("r", ctx.robot), fmt::arg("nq", c.nq), fmt::arg("nv", c.nv), fmt::arg("pairs", c.num_distance_pairs),
       fmt::arg("batch", kBatchNote), fmt::arg("self_distances", ctx.public_name("self_distances", "double")),
@@ -295,7 +339,7 @@ std::string emit_python_module(const PythonModuleContents& c, const EmitContext&
     throw std::invalid_argument("--python binds the double functions, and the scalar chosen is float alone: "
                                 "generate both (--scalar both) or double");
   std::string functions;
-  for (const TracedFunction& f : c.traced) functions += bind_traced(f, ctx);
+  for (const TracedFunction& f : c.traced) functions += bind_traced(f, c, ctx);
   functions += bind_closures(c, ctx);
   if (c.self_distances) functions += bind_distances(c, ctx);
   if (c.backend) functions += bind_simulator(c, ctx) + bind_differential_ik(ctx);

@@ -20,6 +20,10 @@ struct PythonModuleContents {
   bool frames = false;                        ///< frame_names is declared
   bool backend = false;                       ///< NAME::Backend is declared: the module binds a Simulator on it
   int nq = 0, nv = 0, num_distance_pairs = 0;
+  /// --batch W: W, and the traced functions that have <name>_batch (a batched call runs W states
+  /// at a time through it). 0: none.
+  int batch_width = 0;
+  std::vector<std::string> batched;
 };
 
 /// The file name of the module's source: <robot>_python.cpp.

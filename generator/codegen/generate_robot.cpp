@@ -403,8 +403,10 @@ std::string python_module(const Generation& g) {
   int pairs = 0;
   for (const auto& [name, value] : g.distances.header_fields)
     if (name == "num_distance_pairs") pairs = std::stoi(value);
-  const PythonModuleContents contents{g.traced,      g.selection.emits("self_distances"), !g.contacts.empty(),
-                                      !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs};
+  PythonModuleContents contents{g.traced,      g.selection.emits("self_distances"), !g.contacts.empty(),
+                                !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs};
+  contents.batch_width = g.options.batch;
+  for (const TracedFunction* f : batched_traces(g)) contents.batched.push_back(f->name);
   return emit_python_module(contents, g.ctx);
 }
 

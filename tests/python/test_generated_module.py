@@ -487,17 +487,24 @@ class Calls(unittest.TestCase):
         self.states = [random_state(20 + k) for k in range(3)]
 
     def test_a_batch_equals_one_call_per_state(self):
-        Q = np.stack([s[0] for s in self.states])
-        V = np.stack([s[1] for s in self.states])
-        tau = self.states[0][2]  # not batched: the same for every state
+        # 2 W + 1 states (W = batch_width, 4 without --batch): with --batch, two groups through the
+        # batch functions and one state through the one-state function; bit for bit either way.
+        count = 2 * max(robot.batch_width, 4) + 1
+        states = self.states + [random_state(30 + k) for k in range(count - 3)]
+        Q = np.stack([s[0] for s in states])
+        V = np.stack([s[1] for s in states])
+        tau = states[0][2]  # not batched: the same for every state
         QDD = robot.forward_dynamics(Q, V, tau)
-        self.assertEqual(QDD.shape, (3, robot.ny))
-        for k in range(3):
+        self.assertEqual(QDD.shape, (count, robot.ny))
+        for k in range(count):
             np.testing.assert_array_equal(QDD[k], robot.forward_dynamics(Q[k], V[k], tau))
         M = robot.mass_matrix(Q)
-        self.assertEqual(M.shape, (3, robot.nv, robot.nv))
-        for k in range(3):
+        self.assertEqual(M.shape, (count, robot.nv, robot.nv))
+        for k in range(count):
             np.testing.assert_array_equal(M[k], robot.mass_matrix(Q[k]))
+        if robot.batch_width:  # the docstring says which functions run through their batch form
+            self.assertIn(f"through forward_dynamics_batch", robot.forward_dynamics.__doc__)
+            self.assertNotIn("_batch", robot.closure_positions.__doc__)
         empty = robot.mass_matrix(np.zeros((0, robot.nq)))
         self.assertEqual(empty.shape, (0, robot.nv, robot.nv))
 
@@ -527,6 +534,24 @@ class Calls(unittest.TestCase):
             t.join()
         for r in results:
             np.testing.assert_array_equal(r, expected)
+
+    def test_every_function_documents_its_shapes_and_units(self):
+        functions = [name for name in dir(robot) if not name.startswith("_") and type(getattr(robot, name)).__name__ ==
+                     "builtin_function_or_method"]
+        self.assertGreater(len(functions), 10)
+        for name in functions:
+            doc = getattr(robot, name).__doc__
+            self.assertIn("Arguments:", doc, name)
+            if name not in ("closure_positions", "close_loops", "self_distances", "self_distances_near"):
+                self.assertIn("Units (SI", doc, name)
+            self.assertRegex(doc, r"\n  \w+ \(\d+(, \d+)*,?\): ", name)  # an argument with its NumPy shape
+            self.assertNotRegex(doc, r"\[\d+ x \d+", name)  # the C++ sizes are replaced by NumPy shapes
+        self.assertIn(f"M ({robot.nv}, {robot.nv}): mass matrix", robot.mass_matrix.__doc__)
+        if robot.num_frames:
+            self.assertIn(f"X_WF ({robot.num_frames}, 3, 4)", robot.frame_poses.__doc__)
+        for cls in [c for c in ("Simulator", "DifferentialIk") if hasattr(robot, c)]:
+            for method in ("step", "__init__"):
+                self.assertTrue(getattr(getattr(robot, cls), method).__doc__, f"{cls}.{method}")
 
     def test_bad_arguments_are_named(self):
         q, vy, tau = self.states[0]

@@ -27,7 +27,8 @@ ROUND_OFF = 1e-12
 # How tests/CMakeLists.txt generates each module (mbgen_add_robot's arguments as generate()'s).
 GENERATION = {
     "lola": dict(name="lola", scalar="both", outputs=["all"], python=True),
-    "solo12": dict(name="solo12", scalar="double", outputs=["all", "fd_derivatives", "id_derivatives"], python=True),
+    "solo12": dict(name="solo12", scalar="double", outputs=["all", "fd_derivatives", "id_derivatives"], batch=4,
+                   python=True),
 }
 
 robot = mbgen.load(DESCRIPTION, extras=EXTRAS, base=BASE)

@@ -14,6 +14,13 @@
 //
 // Copies. An input that is already a C-contiguous float64 array is read in place; anything else
 // that NumPy can convert (a list, float32, a strided view) is converted once per call.
+//
+// Batch functions. A robot generated with --batch W has <function>_batch over W states in
+// structure-of-arrays layout (x[i][w]: entry i of state w); a batched call then runs W states at
+// a time through it (run_lanes: each group's inputs gathered into that layout, its outputs
+// scattered back) and the last N mod W states through the one-state function. Both compute the
+// same operations in the same order (docs/generator.md, "Many states per call"), so a batch equals
+// one call per state bit for bit either way.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -108,6 +115,64 @@ class Call {
     for (py::ssize_t s = 0; s < n; ++s) f(State(*this, s));
   }
 
+  /// One group of W states in the batch functions' layout: in(k)[i][w] is entry i of input k for
+  /// the group's state w, out(k) alike.
+  template <int W> class Lanes {
+   public:
+    using In = const double (*)[W];
+    using Out = double (*)[W];
+    In in(int k) const { return reinterpret_cast<In>(call_.lane_in_[static_cast<std::size_t>(k)].data()); }
+    Out out(int k) const { return reinterpret_cast<Out>(call_.lane_out_[static_cast<std::size_t>(k)].data()); }
+
+   private:
+    friend class Call;
+    explicit Lanes(Call& call) : call_(call) {}
+    Call& call_;
+  };
+
+  /// run(one), but W states at a time through batch(Lanes<W>) where a batch has W states or
+  /// more: the groups' inputs are gathered (an unbatched input repeated in every lane) and their
+  /// outputs scattered; the remaining states go through one(State).
+  template <int W, typename One, typename Batch> void run_lanes(One&& one, Batch&& batch) {
+    const py::ssize_t n = states_ >= 0 ? states_ : 1;
+    if (n < W) return run(std::forward<One>(one));
+    in_.clear();
+    out_.clear();
+    lane_in_.clear();
+    lane_out_.clear();
+    for (const Argument& a : inputs_) {
+      in_.push_back({a.array.data(), a.batched ? a.size : 0});
+      lane_in_.emplace_back(static_cast<std::size_t>(a.size * W));
+    }
+    for (Argument& a : outputs_) {
+      out_.push_back({a.array.mutable_data(), a.size});
+      lane_out_.emplace_back(static_cast<std::size_t>(a.size * W));
+    }
+    py::gil_scoped_release release;
+    const py::ssize_t groups = n / W;
+    const Lanes<W> lanes(*this);
+    for (py::ssize_t g = 0; g < groups; ++g) {
+      for (std::size_t k = 0; k < in_.size(); ++k) {
+        const py::ssize_t size = inputs_[k].size;
+        double* to = lane_in_[k].data();
+        for (int w = 0; w < W; ++w) {
+          const double* from = in_[k].base + (g * W + w) * in_[k].stride;
+          for (py::ssize_t i = 0; i < size; ++i) to[i * W + w] = from[i];
+        }
+      }
+      batch(lanes);
+      for (std::size_t k = 0; k < out_.size(); ++k) {
+        const py::ssize_t size = outputs_[k].size;
+        const double* from = lane_out_[k].data();
+        for (int w = 0; w < W; ++w) {
+          double* to = out_[k].base + (g * W + w) * out_[k].stride;
+          for (py::ssize_t i = 0; i < size; ++i) to[i] = from[i * W + w];
+        }
+      }
+    }
+    for (py::ssize_t s = groups * W; s < n; ++s) one(State(*this, s));
+  }
+
   /// The outputs: the array itself for one, else a tuple in the declared order.
   py::object result() {
     if (outputs_.size() == 1) return std::move(outputs_[0].array);
@@ -164,6 +229,7 @@ class Call {
   std::vector<Argument> inputs_, outputs_;
   std::vector<Pointer<const double>> in_;
   std::vector<Pointer<double>> out_;
+  std::vector<std::vector<double>> lane_in_, lane_out_;  ///< run_lanes: one group's arrays, W lanes each
   py::ssize_t states_ = -1;
   std::string batch_source_;
 };
