@@ -247,6 +247,14 @@ class Closures(unittest.TestCase):
         np.testing.assert_array_equal(consistent[robot.independent_v_index], v[robot.independent_v_index])
 
 
+    def test_a_nan_position_is_reported_not_converged(self):
+        q, _, _ = random_state(6)
+        q[-1] = np.nan
+        closed, result = robot.closure_positions(q)
+        self.assertEqual(result.status, robot.ClosureStatus.not_converged)
+        self.assertTrue(np.isnan(closed[-1]))  # the input as it was: nothing made up
+
+
 class Distances(unittest.TestCase):
     def setUp(self):
         if not hasattr(robot, "self_distances") or robot.num_distance_pairs == 0:
@@ -344,6 +352,17 @@ class Simulation(unittest.TestCase):
             self.skipTest("a fixed base does not fall")
         make = lambda: robot.Simulator(contact=False, joint_stops=False, step=1e-3)
         self.assertLess(free_fall_error(make, robot), 1e-9)
+
+    def test_a_nan_state_is_reported_by_status(self):
+        q, _, _ = random_state(405)
+        simulator = robot.Simulator(contact=False)
+        bad = q.copy()
+        bad[-1] = np.nan
+        self.assertEqual(simulator.set_state(bad, np.zeros(robot.nv)), "not_converged" if robot.has_loops else "converged")
+        v = np.zeros(robot.nv)
+        v[-1] = np.nan
+        simulator.set_state(q, v)
+        self.assertEqual(simulator.step(), "diverged")
 
     def test_on_the_ground_the_law_pushes_up(self):
         if robot.num_contact_spheres == 0:
