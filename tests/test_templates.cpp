@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "codegen/emit_python.hpp"
 #include "codegen/templates.hpp"
 #include "load/load_error.hpp"
 
@@ -54,6 +55,7 @@ TEST(Templates, EveryFlavourHasEveryTemplateAndNoOther) {
     EXPECT_NO_THROW(TemplateSet::load((kTemplates / flavour).string())) << flavour;
     int files = 0;
     for (const auto& entry : fs::directory_iterator(kTemplates / flavour)) {
+      if (entry.is_directory() && entry.path().filename() == "python" && std::string(flavour) == "cpp") continue;  // below
       const std::string name = entry.path().stem().string();
       EXPECT_EQ(entry.path().extension(), ".fmt") << entry.path();
       EXPECT_TRUE(std::any_of(template_catalog().begin(), template_catalog().end(),
@@ -65,8 +67,45 @@ TEST(Templates, EveryFlavourHasEveryTemplateAndNoOther) {
   }
 }
 
+// The Python module's templates (emit_python.hpp): the cpp flavour's python/ folder, its own catalog.
+TEST(Templates, ThePythonModuleHasEveryTemplateAndNoOther) {
+  const fs::path dir = fs::path(python_templates_directory((kTemplates / "cpp").string()));
+  EXPECT_NO_THROW(TemplateSet::load(dir.string(), python_template_catalog()));
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().stem().string();
+    EXPECT_EQ(entry.path().extension(), ".fmt") << entry.path();
+    EXPECT_TRUE(std::any_of(python_template_catalog().begin(), python_template_catalog().end(),
+                            [&](const auto& spec) { return name == spec.name; }))
+        << entry.path() << " is not a template mbgen renders";
+    ++files;
+  }
+  EXPECT_EQ(files, static_cast<int>(python_template_catalog().size()));
+  // A missing one is named, as for the flavours' templates.
+  const fs::path copy = fs::temp_directory_path() / "mbgen_python_templates_missing";
+  fs::remove_all(copy);
+  fs::copy(dir, copy);
+  fs::remove(copy / "run_lanes.fmt");
+  try {
+    TemplateSet::load(copy.string(), python_template_catalog());
+    ADD_FAILURE() << "loaded without run_lanes.fmt";
+  } catch (const mbgen::gen::LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("template 'run_lanes'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is missing"), std::string::npos) << e.what();
+  }
+  fs::remove_all(copy);
+}
+
 TEST(Templates, EveryTemplateAndPlaceholderIsDocumented) {
   const std::string doc = read(fs::path(MBGEN_SOURCE_DIR) / "docs" / "templates.md");
+  for (const auto& spec : python_template_catalog()) {
+    const std::string row = "| `python/" + std::string(spec.name) + ".fmt` |";
+    const std::size_t at = doc.find(row);
+    ASSERT_NE(at, std::string::npos) << spec.name << " has no row in docs/templates.md";
+    const std::string line = doc.substr(at, doc.find('\n', at) - at);
+    for (const auto& p : spec.placeholders)
+      EXPECT_NE(line.find("`{" + std::string(p.name) + "}`"), std::string::npos) << spec.name << ": {" << p.name << "}";
+  }
   for (const auto& spec : template_catalog()) {
     const std::string row = "| `" + std::string(spec.name) + ".fmt` |";
     const std::size_t at = doc.find(row);

@@ -3,7 +3,7 @@
 // module named after the robot that binds, for double, every function its header declares, with
 // the same names and arguments, NumPy arrays in and out (mbgen/python/generated_module.hpp: shapes,
 // batches, copies, the GIL), and the header's sizes and name tables as attributes. It calls the
-// cpp flavour's API (namespace <robot>); docs/python.md.
+// cpp flavour's API (namespace <robot>); docs/python.md. Its text is templates/cpp/python's.
 #include <string>
 #include <vector>
 
@@ -26,10 +26,19 @@ struct PythonModuleContents {
   std::vector<std::string> batched;
 };
 
+/// The module's templates (templates/cpp/python/*.fmt; docs/templates.md): the file's skeleton
+/// and each binding's; codegen fills in the arrays, shapes, names and docstrings.
+const std::vector<TemplateSpec>& python_template_catalog();
+
+/// Where they are: the python/ folder of the cpp flavour's templates (the module binds that
+/// flavour's API).
+std::string python_templates_directory(const std::string& cpp_templates);
+
 /// The file name of the module's source: <robot>_python.cpp.
 std::string python_module_file(const EmitContext& ctx);
 
-/// The module's source. The context's scalars must include double (Python's float).
-std::string emit_python_module(const PythonModuleContents& contents, const EmitContext& ctx);
+/// The module's source, from `templates` (a set of python_template_catalog()). The context's
+/// scalars must include double (Python's float).
+std::string emit_python_module(const PythonModuleContents& contents, const EmitContext& ctx, const TemplateSet& templates);
 
 }  // namespace mbgen::codegen

@@ -407,7 +407,9 @@ std::string python_module(const Generation& g) {
                                 !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs};
   contents.batch_width = g.options.batch;
   for (const TracedFunction* f : batched_traces(g)) contents.batched.push_back(f->name);
-  return emit_python_module(contents, g.ctx);
+  const TemplateSet templates =
+      TemplateSet::load(python_templates_directory(g.templates.directory()), python_template_catalog());
+  return emit_python_module(contents, g.ctx, templates);
 }
 
 }  // namespace

@@ -270,20 +270,23 @@ const std::vector<TemplateSpec>& template_catalog() {
   return catalog;
 }
 
-TemplateSet TemplateSet::load(const std::string& directory) {
+TemplateSet TemplateSet::load(const std::string& directory) { return load(directory, template_catalog()); }
+
+TemplateSet TemplateSet::load(const std::string& directory, const std::vector<TemplateSpec>& catalog) {
   if (!fs::is_directory(directory))
     throw gen::LoadError(directory, 0, "templates folder", "does not exist or is not a folder",
                          "pass a copy of one of mbgen's template folders (share/mbgen/templates/<flavour>)");
   TemplateSet set;
   set.directory_ = directory;
-  for (const TemplateSpec& spec : template_catalog()) {
+  set.catalog_ = &catalog;
+  for (const TemplateSpec& spec : catalog) {
     const fs::path path = fs::path(directory) / (std::string(spec.name) + ".fmt");
     const std::string file = path.string();
     if (!fs::is_regular_file(path))
       throw gen::LoadError(file, 0, fmt::format("template '{}'", spec.name), "is missing",
                            fmt::format("every template folder has all {} templates: copy {}.fmt from mbgen's own "
-                                       "(share/mbgen/templates/cpp)",
-                                       template_catalog().size(), spec.name));
+                                       "(share/mbgen/templates/cpp; the Python module's: its python/)",
+                                       catalog.size(), spec.name));
     std::string text = read_file(path);
     if (!text.empty() && text.back() == '\n') text.pop_back();
     check_placeholders(file, spec, text);
@@ -303,9 +306,8 @@ TemplateSet TemplateSet::load(const std::string& directory) {
 
 std::string TemplateSet::render(const std::string& name, const TemplateFields& fields) const {
   const auto text = text_.find(name);
-  const auto spec = std::find_if(template_catalog().begin(), template_catalog().end(),
-                                 [&](const TemplateSpec& s) { return name == s.name; });
-  if (text == text_.end() || spec == template_catalog().end())
+  const auto spec = std::find_if(catalog_->begin(), catalog_->end(), [&](const TemplateSpec& s) { return name == s.name; });
+  if (text == text_.end() || spec == catalog_->end())
     throw std::logic_error("TemplateSet::render: no template " + name);
   // codegen gives exactly the catalog's placeholders: a template may then use any of them.
   for (const PlaceholderSpec& p : spec->placeholders)
@@ -326,7 +328,7 @@ std::string TemplateSet::render(const std::string& name, const TemplateFields& f
 
 std::string TemplateSet::digest() const {
   std::string all;
-  for (const TemplateSpec& spec : template_catalog()) {
+  for (const TemplateSpec& spec : *catalog_) {
     const std::string& text = text_.at(spec.name);
     all += fmt::format("{}\n{}\n{}", spec.name, text.size(), text);
   }

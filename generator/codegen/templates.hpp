@@ -43,6 +43,9 @@ class TemplateSet {
   /// brace, a banner that does not begin with kBannerFirstLine (mbgen recognises its own files
   /// by it), an empty name template.
   static TemplateSet load(const std::string& directory);
+  /// The same for another catalog's templates (the Python module's: emit_python.hpp). The catalog
+  /// must outlive the set.
+  static TemplateSet load(const std::string& directory, const std::vector<TemplateSpec>& catalog);
 
   /// The template `name` with its placeholders replaced by `fields`, which give exactly the
   /// placeholders the catalog lists for it (std::logic_error otherwise: a codegen bug); a
@@ -58,6 +61,7 @@ class TemplateSet {
 
  private:
   std::string directory_;
+  const std::vector<TemplateSpec>* catalog_ = nullptr;
   std::map<std::string, std::string> text_;  ///< by template name
 };
 
