@@ -13,7 +13,10 @@
 #include "load/load_error.hpp"
 
 namespace fs = std::filesystem;
+using mbgen::codegen::python_template_catalog;
+using mbgen::codegen::python_templates_directory;
 using mbgen::codegen::template_catalog;
+using mbgen::codegen::TemplateSpec;
 using mbgen::codegen::TemplateSet;
 
 namespace {
@@ -48,39 +51,38 @@ mbgen::gen::LoadError load_error(const fs::path& dir) {
   return mbgen::gen::LoadError("", 0, "", "", "");
 }
 
+/// The .fmt files of `dir` (not its folders), each checked to be one of `catalog`'s.
+int templates_in(const fs::path& dir, const std::vector<TemplateSpec>& catalog) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_directory()) continue;
+    const std::string name = entry.path().stem().string();
+    EXPECT_EQ(entry.path().extension(), ".fmt") << entry.path();
+    EXPECT_TRUE(std::any_of(catalog.begin(), catalog.end(), [&](const auto& spec) { return name == spec.name; }))
+        << entry.path() << " is not a template mbgen renders";
+    ++files;
+  }
+  return files;
+}
+
 }  // namespace
 
 TEST(Templates, EveryFlavourHasEveryTemplateAndNoOther) {
   for (const char* flavour : {"cpp", "c"}) {
     EXPECT_NO_THROW(TemplateSet::load((kTemplates / flavour).string())) << flavour;
-    int files = 0;
-    for (const auto& entry : fs::directory_iterator(kTemplates / flavour)) {
-      if (entry.is_directory() && entry.path().filename() == "python" && std::string(flavour) == "cpp") continue;  // below
-      const std::string name = entry.path().stem().string();
-      EXPECT_EQ(entry.path().extension(), ".fmt") << entry.path();
-      EXPECT_TRUE(std::any_of(template_catalog().begin(), template_catalog().end(),
-                              [&](const auto& spec) { return name == spec.name; }))
-          << entry.path() << " is not a template mbgen renders";
-      ++files;
-    }
-    EXPECT_EQ(files, static_cast<int>(template_catalog().size())) << flavour;
+    EXPECT_EQ(templates_in(kTemplates / flavour, template_catalog()), static_cast<int>(template_catalog().size())) << flavour;
   }
+  // The only folder in a flavour's: the cpp flavour's python/ (below).
+  for (const char* flavour : {"cpp", "c"})
+    for (const auto& entry : fs::directory_iterator(kTemplates / flavour))
+      if (entry.is_directory()) EXPECT_TRUE(std::string(flavour) == "cpp" && entry.path().filename() == "python") << entry.path();
 }
 
 // The Python module's templates (emit_python.hpp): the cpp flavour's python/ folder, its own catalog.
 TEST(Templates, ThePythonModuleHasEveryTemplateAndNoOther) {
   const fs::path dir = fs::path(python_templates_directory((kTemplates / "cpp").string()));
   EXPECT_NO_THROW(TemplateSet::load(dir.string(), python_template_catalog()));
-  int files = 0;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().stem().string();
-    EXPECT_EQ(entry.path().extension(), ".fmt") << entry.path();
-    EXPECT_TRUE(std::any_of(python_template_catalog().begin(), python_template_catalog().end(),
-                            [&](const auto& spec) { return name == spec.name; }))
-        << entry.path() << " is not a template mbgen renders";
-    ++files;
-  }
-  EXPECT_EQ(files, static_cast<int>(python_template_catalog().size()));
+  EXPECT_EQ(templates_in(dir, python_template_catalog()), static_cast<int>(python_template_catalog().size()));
   // A missing one is named, as for the flavours' templates.
   const fs::path copy = fs::temp_directory_path() / "mbgen_python_templates_missing";
   fs::remove_all(copy);
@@ -98,22 +100,19 @@ TEST(Templates, ThePythonModuleHasEveryTemplateAndNoOther) {
 
 TEST(Templates, EveryTemplateAndPlaceholderIsDocumented) {
   const std::string doc = read(fs::path(MBGEN_SOURCE_DIR) / "docs" / "templates.md");
-  for (const auto& spec : python_template_catalog()) {
-    const std::string row = "| `python/" + std::string(spec.name) + ".fmt` |";
-    const std::size_t at = doc.find(row);
-    ASSERT_NE(at, std::string::npos) << spec.name << " has no row in docs/templates.md";
-    const std::string line = doc.substr(at, doc.find('\n', at) - at);
-    for (const auto& p : spec.placeholders)
-      EXPECT_NE(line.find("`{" + std::string(p.name) + "}`"), std::string::npos) << spec.name << ": {" << p.name << "}";
-  }
-  for (const auto& spec : template_catalog()) {
-    const std::string row = "| `" + std::string(spec.name) + ".fmt` |";
-    const std::size_t at = doc.find(row);
-    ASSERT_NE(at, std::string::npos) << spec.name << " has no row in docs/templates.md";
-    const std::string line = doc.substr(at, doc.find('\n', at) - at);
-    for (const auto& p : spec.placeholders)
-      EXPECT_NE(line.find("`{" + std::string(p.name) + "}`"), std::string::npos) << spec.name << ": {" << p.name << "}";
-  }
+  // Each template's row names it (with the folder below the flavour's: "python/") and every placeholder it has.
+  const auto documented = [&](const std::vector<TemplateSpec>& catalog, const std::string& folder) {
+    for (const auto& spec : catalog) {
+      const std::string row = "| `" + folder + spec.name + ".fmt` |";
+      const std::size_t at = doc.find(row);
+      ASSERT_NE(at, std::string::npos) << folder << spec.name << " has no row in docs/templates.md";
+      const std::string line = doc.substr(at, doc.find('\n', at) - at);
+      for (const auto& p : spec.placeholders)
+        EXPECT_NE(line.find("`{" + std::string(p.name) + "}`"), std::string::npos) << spec.name << ": {" << p.name << "}";
+    }
+  };
+  documented(template_catalog(), "");
+  documented(python_template_catalog(), "python/");
 }
 
 TEST(Templates, RenderFillsNamedPlaceholdersAndKeepsDoubledBraces) {
