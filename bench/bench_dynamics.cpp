@@ -27,6 +27,9 @@
 #include "bench_derivatives.hpp"
 #include "bench_generated.hpp"
 #include "bench_loops.hpp"
+#ifdef MBGEN_BENCH_PEERS
+#include "peers/bench_peers.hpp"
+#endif
 #include "bench_sim.hpp"
 #include "bench_rotor.hpp"
 #include "bench_self_distance.hpp"
@@ -208,6 +211,9 @@ int main(int argc, char** argv) {
     add_kdl(robots[0], "base", "iiwa_link_ee");
     add_kdl_floating_rnea(robots[1]);
     add_kdl_floating_rnea(robots[2]);
+#ifdef MBGEN_BENCH_PEERS
+    add_peer_benchmarks();
+#endif
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbgen_bench: %s\n", e.what());
     return 1;
