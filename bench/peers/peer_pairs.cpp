@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <iterator>
-#include <random>
 #include <stdexcept>
 
 #include "bench_support.hpp"
