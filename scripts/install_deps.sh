@@ -10,7 +10,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev liburdfdom-dev libyaml-cpp-dev libfmt-dev libcli11-dev nlohmann-json3-dev
-  libtinyxml2-dev libconsole-bridge-dev libssl-dev libassimp-dev libqhull-dev
+  libtinyxml2-dev libconsole-bridge-dev libssl-dev libassimp-dev libqhull-dev libsdformat-dev
   libgtest-dev libbenchmark-dev liborocos-kdl-dev libfcl-dev libmujoco-dev coinor-libipopt-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib
   gnuplot-nox python3 valgrind

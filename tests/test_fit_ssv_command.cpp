@@ -63,6 +63,28 @@ TEST(FitSsvCommand, TalosCompoundsLoadAsExtrasAndInspectPrunesTheirPairs) {
   EXPECT_NE(read(scratch("bare.txt")).find("collision meshes or boxes without an SSV on 48 link(s)"), std::string::npos);
 }
 
+// An SDFormat link's mesh, named by a model:// URI, found through --package-path and fitted; the
+// compound loads back as the SDF's extras.
+TEST(FitSsvCommand, SdfMeshByModelUri) {
+  const fs::path sdf = scratch("one_link.sdf"), yaml = scratch("one_link.yaml");
+  fs::remove(yaml);
+  std::ofstream(sdf) << R"(<?xml version="1.0"?>
+<sdf version="1.6"><model name="m"><link name="a">
+  <inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
+  <collision name="c"><pose>0.1 0 0 0 0 0</pose><geometry><mesh><uri>model://example-robot-data/robots/talos_data/meshes/torso/torso_1.STL</uri></mesh></geometry></collision>
+</link></model></sdf>
+)";
+  ASSERT_EQ(run("fit-ssv " + sdf.string() + " " + kPackage + " --out " + yaml.string(), scratch("sdf_fit.txt")), 0);
+  EXPECT_NE(read(scratch("sdf_fit.txt")).find("1 link fitted"), std::string::npos) << read(scratch("sdf_fit.txt"));
+  ASSERT_EQ(run("inspect " + sdf.string() + " --extras " + yaml.string(), scratch("sdf_inspect.txt")), 0);
+  EXPECT_NE(read(scratch("sdf_inspect.txt")).find("ssv compounds (1):"), std::string::npos) << read(scratch("sdf_inspect.txt"));
+  // Without the package path, the reference is named with its fix.
+  EXPECT_EQ(run("fit-ssv " + sdf.string() + " --out " + scratch("none.yaml").string(), scratch("sdf_none.txt"), scratch("sdf_none_err.txt")),
+            0);
+  EXPECT_NE(read(scratch("sdf_none_err.txt")).find("--package-path example-robot-data=DIR"), std::string::npos)
+      << read(scratch("sdf_none_err.txt"));
+}
+
 TEST(FitSsvCommand, NeverOverwritesAFileItDidNotWriteAndRefusesBadOptions) {
   const fs::path mine = scratch("mine.yaml");
   std::ofstream(mine) << "robot: talos\n";

@@ -237,6 +237,17 @@ TEST(Inspect, MjcfRobotsAreReadByTheirExtension) {
       << toddlerbot.err;
 }
 
+// SDFormat writes Cassie's loops as a graph: inspect says which joints the spanning tree left out
+// and what closure each became, and lists the sub-systems they form.
+TEST(Inspect, SdfShowsTheJointsThatBecameClosures) {
+  const Outcome run = run_mbgen("inspect " + quote(test::shared_robot("cassie_sdf/cassie_v2.sdf")));
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* joint : {"left-pitch-rod-joint", "right-pitch-rod-joint", "left-plantar-foot-joint", "right-plantar-foot-joint"})
+    EXPECT_NE(run.out.find(std::string("spanning tree: joint '") + joint + "' (ball) closes a loop"), std::string::npos) << joint;
+  EXPECT_NE(run.out.find("sub-systems (4)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("closed-system DoF: 18"), std::string::npos) << run.out;
+}
+
 TEST(Inspect, MimicShowsTheCouplingWhenCoupledAndSaysHowOtherwise) {
   const std::string urdf = quote(kData + "/mimic/two_link.urdf");
   const Outcome coupled = run_mbgen("inspect " + urdf + " --mimic couple");

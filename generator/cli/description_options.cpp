@@ -18,7 +18,7 @@ gen::LoadOptions DescriptionOptions::load_options() const {
 }
 
 void add_description_options(CLI::App* command, DescriptionOptions& options, const DescriptionHelp& help) {
-  command->add_option("DESCRIPTION", options.description, "URDF, or MJCF (.xml) file")->required()->check(CLI::ExistingFile);
+  command->add_option("DESCRIPTION", options.description, "URDF, MJCF (.xml) or SDFormat (.sdf) file")->required()->check(CLI::ExistingFile);
   command->add_option("--extras", options.extras, help.extras)->check(CLI::ExistingFile);
   CLI::Option* floating = command->add_flag("--floating", options.floating, "floating base (overrides the extras)");
   command->add_flag("--fixed", options.fixed, "fixed base (overrides the extras)")->excludes(floating);
@@ -31,7 +31,7 @@ void add_description_options(CLI::App* command, DescriptionOptions& options, con
       ->check(CLI::IsMember({"couple", "independent"}));
   command
       ->add_option("--package-path", options.package_paths,
-                   "NAME=DIR: package://NAME/x is DIR/x (repeatable; ROS_PACKAGE_PATH is searched after these), " +
+                   "NAME=DIR: package://NAME/x and model://NAME/x are DIR/x (repeatable; ROS_PACKAGE_PATH is searched after these), " +
                        help.package_path)
       ->check([](const std::string& value) -> std::string {
         try {

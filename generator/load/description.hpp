@@ -210,7 +210,7 @@ struct LoadOptions {
   std::optional<bool> couple_mimics;
 };
 
-/// Reads a URDF or, for a .xml file, an MJCF (and extras) as written: parsed, each value checked
+/// Reads a URDF or, for a .xml file, an MJCF, for a .sdf file an SDFormat model (and extras) as written: parsed, each value checked
 /// (check_values.hpp), the extras applied, parallel_legs joint types turned into chains. Throws
 /// LoadError with file, line, element and fix on bad input. Not yet validated as a whole nor
 /// assembled: model/load_description.hpp does both.
@@ -225,6 +225,18 @@ void load_mjcf(const std::string& path, std::optional<BaseType> base, Descriptio
 
 /// True for a path that load_description reads as MJCF (extension .xml, any case).
 bool is_mjcf_path(const std::string& path);
+
+/// Reads an SDFormat file (.sdf, .world) into `d` through libsdformat (load_sdf.cpp,
+/// docs/sdf.md): links, joints, limits, damping, collision geometry, the model's <frame>s, and,
+/// when the joints form a graph rather than a tree, a spanning tree whose left-out joints become
+/// closures (`closure_joints` names joints to leave out; sdf_spanning_tree.hpp gives the rule).
+/// The root link floats unless the model is <static>, hangs from "world" by a fixed joint, or
+/// `base` says fixed.
+void load_sdf(const std::string& path, std::optional<BaseType> base, const std::vector<std::string>& closure_joints,
+              Description& d, bool repair_inertia = false);
+
+/// True for a path that load_description reads as SDFormat (extension .sdf or .world, any case).
+bool is_sdf_path(const std::string& path);
 
 /// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
 void add_collision_ssvs(const std::string& path, Description& d);

@@ -21,6 +21,10 @@ struct ExtrasFile {
 
 /// Parses the YAML and picks the schema from the keys; malformed YAML is a LoadError with its line.
 ExtrasFile read_extras(const std::string& path);
+/// `closure_joints:` of an mbgen-schema file: the SDFormat joints to leave out of the spanning
+/// tree (each becomes a closure); empty when absent; a LoadError when the description it extends
+/// is not SDFormat (URDF and MJCF write their loops as closures and equalities).
+std::vector<std::string> extras_closure_joints(const ExtrasFile& extras, const std::string& description);
 /// `base:` of an mbgen-schema file, if it says one.
 std::optional<BaseType> extras_base(const ExtrasFile& extras);
 /// `snap_quarter_turns:` of an mbgen-schema file (a tolerance in [0, 1e-6]), else 0; a LoadError

@@ -17,7 +17,7 @@ namespace {
 
 using namespace yaml;
 
-const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closures", "drives", "independent", "mimic", "robot", "scene", "snap_quarter_turns", "ssv"};
+const std::vector<std::string> kMbgenKeys = {"assembly", "base", "closure_joints", "closures", "drives", "independent", "mimic", "robot", "scene", "snap_quarter_turns", "ssv"};
 const std::vector<std::string> kParallelLegsKeys = {"closed_loop", "joint_name", "joint_type", "name_mot", "type"};
 const std::vector<std::string> kClosureTypes = {"coupling", "prismatic", "revolute", "spherical", "universal", "weld"};
 bool has_any(const YAML::Node& root, const std::vector<std::string>& keys) {
@@ -487,6 +487,9 @@ ExtrasFile read_extras(const std::string& path) {
 double extras_quarter_turns(const ExtrasFile& x, const std::string& description) {
   if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["snap_quarter_turns"]) return 0;
   const YAML::Node n = x.root["snap_quarter_turns"];
+  if (is_sdf_path(description))
+    fail(x.path, n, "snap_quarter_turns", "applies to a URDF's origins, and " + description + " is an SDFormat file",
+         "remove it: libsdformat resolves the file's poses");
   if (is_mjcf_path(description))
     fail(x.path, n, "snap_quarter_turns", "applies to a URDF's origins, and " + description + " is an MJCF",
          "remove it: MJCF orientations snap entries within 1e-14 of 0 or +-1 (euler=\"0 0 90\" is exact)");
@@ -501,10 +504,25 @@ double extras_quarter_turns(const ExtrasFile& x, const std::string& description)
 bool extras_couples_mimics(const ExtrasFile& x, const std::string& description) {
   if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["mimic"]) return false;
   const YAML::Node n = x.root["mimic"];
+  if (is_sdf_path(description))
+    fail(x.path, n, "mimic", "applies to a URDF's <mimic> elements, and " + description + " is an SDFormat file",
+         "remove it: write a coupling as a `closures:` entry of type coupling");
   if (is_mjcf_path(description))
     fail(x.path, n, "mimic", "applies to a URDF's <mimic> elements, and " + description + " is an MJCF",
          "remove it: an MJCF couples joints with <equality><joint> or a fixed <tendon>, which are always read");
   return one_of(x.path, n, "mimic", {"couple", "independent"}) == "couple";
+}
+
+std::vector<std::string> extras_closure_joints(const ExtrasFile& x, const std::string& description) {
+  if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["closure_joints"]) return {};
+  const YAML::Node n = x.root["closure_joints"];
+  if (!is_sdf_path(description))
+    fail(x.path, n, "closure_joints", "chooses the spanning tree of an SDFormat file, and " + description + " is not one",
+         "remove it: give a URDF's loops as `closures:`, an MJCF's as <equality> elements");
+  require_sequence(x.path, n, "closure_joints", "[left-pitch-rod-joint, right-pitch-rod-joint]");
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < n.size(); ++i) names.push_back(to_string(x.path, n[i], fmt::format("closure_joints[{}]", i)));
+  return names;
 }
 
 std::optional<BaseType> extras_base(const ExtrasFile& x) {

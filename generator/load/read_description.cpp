@@ -43,7 +43,13 @@ Description read_description(const std::string& path, const LoadOptions& options
   // Read (and, for an MJCF, refused with its line) before either loader runs.
   const double quarter_turns = extras ? extras_quarter_turns(*extras, path) : 0.0;
   const bool extras_couple = extras && extras_couples_mimics(*extras, path);
-  if (is_mjcf_path(path)) {
+  const std::vector<std::string> closure_joints = extras ? extras_closure_joints(*extras, path) : std::vector<std::string>{};
+  if (is_sdf_path(path)) {
+    // A non-static model floats, as in Gazebo; --fixed / --floating or the extras' `base` override it.
+    std::optional<BaseType> base = options.base;
+    if (!base && extras) base = extras_base(*extras);
+    load_sdf(path, base, closure_joints, d, options.repair_inertia);
+  } else if (is_mjcf_path(path)) {
     // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
     if (!base && extras) base = extras_base(*extras);

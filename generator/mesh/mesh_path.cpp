@@ -21,8 +21,12 @@ std::pair<std::string, std::string> parse_package_path(const std::string& value)
 }
 
 std::string resolve_mesh_path(const std::string& reference, const std::string& description_dir, const PackagePaths& packages) {
-  const std::string package_scheme = "package://", file_scheme = "file://";
-  if (reference.rfind(package_scheme, 0) == 0) {
+  const std::string file_scheme = "file://";
+  // package:// (ROS) and model:// (SDFormat, Gazebo) both name a folder and a path inside it.
+  std::string package_scheme;
+  for (const char* scheme : {"package://", "model://"})
+    if (reference.rfind(scheme, 0) == 0) package_scheme = scheme;
+  if (!package_scheme.empty()) {
     const std::string rest = reference.substr(package_scheme.size());
     const auto slash = rest.find('/');
     const std::string name = rest.substr(0, slash);
@@ -39,9 +43,9 @@ std::string resolve_mesh_path(const std::string& reference, const std::string& d
         tried += fmt::format(" {}", candidate.string());
       }
     }
-    throw MeshError(fmt::format("{}: package '{}' is unknown{}; give --package-path {}=DIR (DIR holds what follows "
+    throw MeshError(fmt::format("{}: {} '{}' is unknown{}; give --package-path {}=DIR (DIR holds what follows "
                                 "the package name) or add its parent folder to ROS_PACKAGE_PATH",
-                                reference, name, tried.empty() ? "" : fmt::format(" (tried{})", tried), name));
+                                reference, package_scheme == "model://" ? "model" : "package", name, tried.empty() ? "" : fmt::format(" (tried{})", tried), name));
   }
   const std::string path = reference.rfind(file_scheme, 0) == 0 ? reference.substr(file_scheme.size()) : reference;
   if (fs::path(path).is_absolute()) return path;

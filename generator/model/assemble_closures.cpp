@@ -222,12 +222,21 @@ bool better(const Attempt& x, const Attempt& y, double conditioning) {
   closure_residual<double>(model, data, best.q);
   std::vector<std::string> open, names;
   int line = 0;
+  std::string file = d.extras_file;  // where the closure is written: the extras, or an MJCF / SDFormat file
+  // The closures open by more than 1e-9; when all are closer (the assembly asks for 1e-12), the
+  // worst one, so that the message always names one.
+  double worst = 0;
+  for (const LoopClosure& c : model.closures) worst = std::max(worst, data.Phi.segment(c.row_offset, c.rows()).cwiseAbs().maxCoeff());
+  const double shown = std::min(1e-9, worst);
   for (const LoopClosure& c : model.closures) {
     const auto rows = data.Phi.segment(c.row_offset, c.rows());
-    if (rows.cwiseAbs().maxCoeff() < 1e-9) continue;
+    if (rows.cwiseAbs().maxCoeff() < shown) continue;
     names.push_back(fmt::format("'{}'", c.name));
     for (const ClosureSpec& spec : d.closures)
-      if (spec.name == c.name && line == 0) line = spec.source_line;
+      if (spec.name == c.name && line == 0) {
+        line = spec.source_line;
+        if (spec.source.rfind(d.description_file, 0) == 0) file = d.description_file;
+      }
     if (c.type == ClosureType::Coupling) {
       open.push_back(fmt::format("'{}' by {:.3g}", c.name, rows[0]));
       continue;
@@ -238,7 +247,7 @@ bool better(const Attempt& x, const Attempt& y, double conditioning) {
                        ? fmt::format("'{}' by {:.3g} m", c.name, position)
                        : fmt::format("'{}' by {:.3g} m and {:.3g} rad", c.name, position, rotation));
   }
-  throw LoadError(d.extras_file, line, fmt::format("closure{} {}", names.size() > 1 ? "s" : "", fmt::join(names, ", ")),
+  throw LoadError(file, line, fmt::format("closure{} {}", names.size() > 1 ? "s" : "", fmt::join(names, ", ")),
                   fmt::format("cannot be assembled: no pose of the tree closes {0}; the best of {1} starting poses leaves {0} "
                               "open: {2}",
                               names.size() > 1 ? "them" : "it", seeds, fmt::join(open, ", ")),
