@@ -456,6 +456,21 @@ TEST_F(CassieFixture, ClosureJointsChooseAnotherTree) {
   EXPECT_LT(cut.assembly.residual, 1e-12);
 }
 
+const char* kTwoLinks = R"(<?xml version="1.0"?>
+<sdf version="1.6">
+  <model name="m">
+    <link name="a"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial></link>
+    <link name="b"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial></link>
+    JOINTS
+  </model>
+</sdf>
+)";
+
+std::string two_links(const std::string& joints) {
+  std::string text = kTwoLinks;
+  return text.replace(text.find("JOINTS"), 6, joints);
+}
+
 TEST(LoadSdf, ALoopThatCannotCloseNamesItsJointInTheSdfFile) {
   // Cassie's right foot linkage: its axes are parallel to the file's rounding only (the crank-rod
   // joint's frame is pitched 1.364 rad where the others' are 1.3439), so the point closure's third
@@ -474,24 +489,22 @@ TEST(LoadSdf, ALoopThatCannotCloseNamesItsJointInTheSdfFile) {
 
 TEST(LoadSdf, MalformedFileGivesLibsdformatsErrorWithItsLine) {
   const std::string path = write("bad.sdf", "<?xml version=\"1.0\"?>\n<sdf version=\"1.6\">\n  <model name=\"m\">\n    <link name=\"a\">\n  </model>\n</sdf>\n");
-  const gen::LoadError e = load_error(path);
-  EXPECT_TRUE(contains(e.what(), "SDFormat")) << e.what();
-  EXPECT_TRUE(contains(e.what(), "bad.sdf")) << e.what();
+  const gen::LoadError e = load_error(path);  // libsdformat says only "Unable to read file": tinyxml2 gives the line
+  EXPECT_TRUE(contains(e.what(), "malformed XML: mismatched element")) << e.what();
+  EXPECT_EQ(e.file(), path);
+  EXPECT_EQ(e.line(), 4);
+  // A file libsdformat parses but refuses: its message, prefixed.
+  const gen::LoadError joint = load_error(write("bad_joint.sdf", two_links(R"(<joint name="j" type="revolute"><parent>a</parent><child>a</child><axis><xyz>0 0 1</xyz></axis></joint>)")));
+  EXPECT_TRUE(contains(joint.what(), "SDFormat: ")) << joint.what();
 }
 
-const char* kTwoLinks = R"(<?xml version="1.0"?>
-<sdf version="1.6">
-  <model name="m">
-    <link name="a"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial></link>
-    <link name="b"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial></link>
-    JOINTS
-  </model>
-</sdf>
-)";
-
-std::string two_links(const std::string& joints) {
+TEST(LoadSdf, InertiasGoThroughMbgensChecksWithTheirLine) {
   std::string text = kTwoLinks;
-  return text.replace(text.find("JOINTS"), 6, joints);
+  text.replace(text.find("<mass>1</mass>"), 14, "<mass>-1</mass>");
+  text.replace(text.find("JOINTS"), 6, R"(<joint name="j" type="fixed"><parent>a</parent><child>b</child></joint>)");
+  const gen::LoadError e = load_error(write("negative.sdf", text));
+  EXPECT_TRUE(contains(e.what(), "link 'a': negative mass -1 kg")) << e.what();
+  EXPECT_EQ(e.line(), 4);
 }
 
 TEST(LoadSdf, MissingChildLinkIsNamed) {

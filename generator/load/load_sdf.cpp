@@ -21,6 +21,7 @@
 // joint's child) floats unless the model is <static> or --fixed / `base: fixed` is given.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tinyxml2.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -31,6 +32,7 @@
 #include "load/load_error.hpp"
 #include "load/sdf_spanning_tree.hpp"
 #include "load/sdf_support.hpp"
+#include "load/xml_error.hpp"
 
 namespace mbgen::gen {
 
@@ -90,21 +92,25 @@ struct Builder {
 
   int link_line(const std::string& link) const { return d.urdf_lines.line_of_link(link); }
 
-  /// The link's inertia in mbgen body `body` (whose frame is at X_MB[body]).
+  /// The link's inertia in mbgen body `body` (whose frame is at X_MB[body]). Read from the
+  /// <inertial> element as written, so that mbgen's checks (and --repair-inertia) see the values
+  /// libsdformat would have replaced; an element left out has SDFormat's default.
   Inertia<double> inertia_of(const sdf::Link& link, BodyIndex body) {
-    const ignition::math::Inertiald& in = link.Inertial();
+    const int line = link_line(link.Name());
     if (!link.Element()->HasElement("inertial"))
       d.warnings.push_back(fmt::format("{}:{}: link '{}' has no <inertial>, so it has SDFormat's default, 1 kg and 1 kg m^2 about "
-                                       "each axis: give its <inertial>", path, link_line(link.Name()), link.Name()));
-    const SE3<double> X_LI = to_se3(in.Pose());
-    const auto& moi = in.MassMatrix().Moi();
+                                       "each axis: give its <inertial>", path, line, link.Name()));
+    const sdf::ElementPtr in = link.Element()->GetElement("inertial");
+    const sdf::ElementPtr moments = in->GetElement("inertia");
+    const SE3<double> X_LI = to_se3(in->Get<ignition::math::Pose3d>("pose"));
+    auto moment = [&](const char* name) { return moments->Get<double>(name); };
     Mat3<double> I;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) I(r, c) = moi(r, c);
+    I << moment("ixx"), moment("ixy"), moment("ixz"), moment("ixy"), moment("iyy"), moment("iyz"), moment("ixz"), moment("iyz"),
+        moment("izz");
     Inertia<double> inertia;
-    inertia.mass = in.MassMatrix().Mass();
+    inertia.mass = in->Get<double>("mass");
     ValueReport report{d.warnings, d.notes, repair_inertia};
-    I = check_link_inertia(path, link_line(link.Name()), link.Name(), inertia.mass, I, report);
+    I = check_link_inertia(path, line_of(in) ? line_of(in) : line, link.Name(), inertia.mass, I, report);
     inertia.com = X_LI.translation;
     inertia.inertia_com = X_LI.rotation * I * X_LI.rotation.transpose();
     const SE3<double> X_BL = X_MB.at(body).inverse() * X_ML.at(link.Name());
@@ -334,8 +340,17 @@ void load_sdf(const std::string& path, std::optional<BaseType> base, const std::
     throw LoadError(path, 0, "", "cannot open the file", "check the path and the file's permissions");
   sdf::Console::Instance()->SetQuiet(true);  // its errors come back as sdf::Errors and are reported below
   sdf::Root root;
-  const sdf::Errors errors = root.Load(path);
-  if (!errors.empty()) throw_sdf_error(path, errors);
+  sdf::Errors errors = root.Load(path);
+  // Inertias are checked by mbgen's own rules below, with their line and --repair-inertia.
+  errors.erase(std::remove_if(errors.begin(), errors.end(),
+                              [](const sdf::Error& e) { return e.Code() == sdf::ErrorCode::LINK_INERTIA_INVALID; }),
+               errors.end());
+  if (!errors.empty()) {
+    // An XML syntax error comes back without a line: tinyxml2 gives one.
+    tinyxml2::XMLDocument doc;
+    if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) throw xml_parse_error(path, doc);
+    throw_sdf_error(path, errors);
+  }
   const sdf::Model& m = pick_model(path, root, d);
   check_model_elements(path, m, d);
 

@@ -1,5 +1,5 @@
 #pragma once
-// The LoadError for an XML file tinyxml2 could not parse (URDF and MJCF alike): the line, the
+// The LoadError for an XML file tinyxml2 could not parse (URDF, MJCF and SDFormat alike): the line, the
 // problem in words, and a fix that fits it.
 #include <string>
 
