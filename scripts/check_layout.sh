@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Includes run downward only, in the generator and in the runtime. Prints each violation as
 # file:line and exits 1 if there is any.
-#   generator/ (generator/README.md): stages mesh < load < model < collision < codegen < cli; a
+#   generator/ (generator/README.md): stages mesh < load < model < collision < codegen < view < cli; a
 #     file of a stage includes headers of its own stage or of earlier ones, never of a later one.
 #   runtime/include/mbgen/ (runtime/README.md): layers spatial < core (the headers directly in
 #     mbgen/: index, model, data, joint limits, contact model) < algorithm < collision < sim <
@@ -18,7 +18,7 @@ bad=0
 # rank NAME LIST...: NAME's position in LIST, or -1.
 rank() { local name=$1 i=0; shift; for s in "$@"; do [[ $s == "$name" ]] && echo $i && return; i=$((i + 1)); done; echo -1; }
 
-stages=(mesh load model collision codegen cli)
+stages=(mesh load model collision codegen view cli)
 cd "$generator"
 for stage in "${stages[@]}"; do
   [[ -d $stage ]] || { echo "check_layout: generator/$stage is missing"; exit 1; }

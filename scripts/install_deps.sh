@@ -6,6 +6,11 @@
 #   install_deps.sh --fuzz   and clang with its sanitizer runtimes, for the fuzz targets
 #                            (fuzz/run_fuzzers.sh asks for them; the suite's default run does not
 #                            build them, so CI does not download a second compiler)
+#   install_deps.sh --browser  and Debian's Chromium, which the tests of `mbgen view`'s pages load
+#                            headless (scripts/test.sh asks for it; the Quick start's build does not)
+# npm (the build installs three.js with it, for `mbgen view`) comes with Node.js: Debian's nodejs
+# and npm are installed only when no npm is on the PATH (a Node.js from elsewhere brings its own,
+# and Debian's npm package would conflict with it).
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -16,11 +21,14 @@ packages=(
   gnuplot-nox python3 valgrind
   python3-dev pybind11-dev python3-numpy python3-matplotlib
 )
-case "${1:-}" in
-  "") ;;
-  --fuzz) packages+=(clang libclang-rt-14-dev) ;;
-  *) echo "usage: $0 [--fuzz]" >&2; exit 2 ;;
-esac
+for option in "$@"; do
+  case "$option" in
+    --fuzz) packages+=(clang libclang-rt-14-dev) ;;
+    --browser) packages+=(chromium) ;;
+    *) echo "usage: $0 [--fuzz] [--browser]" >&2; exit 2 ;;
+  esac
+done
+command -v npm >/dev/null || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -17,7 +17,7 @@ if [[ ${1:-} == --subset ]]; then
   shift
 fi
 # The whole suite includes fuzz.smoke, which needs clang; the subset does not.
-if $subset; then bash scripts/install_deps.sh; else bash scripts/install_deps.sh --fuzz; fi
+if $subset; then bash scripts/install_deps.sh; else bash scripts/install_deps.sh --fuzz --browser; fi
 # -O1 -g1: what ASan's authors recommend (fast enough, line numbers in reports); -O2 -g on the
 # larger robots' generated functions takes far longer to compile and finds nothing more.
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \

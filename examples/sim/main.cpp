@@ -174,6 +174,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(out_dir);
   const std::string name = fmt::format("{}_{}", scenario, stem(urdf));
   o.csv = (std::filesystem::path(out_dir) / (name + ".csv")).string();
+  o.poses_csv = (std::filesystem::path(out_dir) / (name + "_poses.csv")).string();
   o.backend = backend;
 
   ScenarioResult r;
@@ -217,7 +218,7 @@ int main(int argc, char** argv) {
   if (d.model.floating_base())
     fmt::print("  base height at the end {:.4f} m, normal force {:.1f} N (m g = {:.1f} N)\n", r.final_base_height,
                r.final_normal_force, d.model.total_mass() * d.model.gravity.norm());
-  fmt::print("  trajectory: {}\n", o.csv);
+  fmt::print("  trajectory: {}; poses and contact forces: {} (mbgen view --trajectory)\n", o.csv, o.poses_csv);
   if (plot) {
     const std::string png = (std::filesystem::path(out_dir) / (name + ".png")).string();
     const std::string title = fmt::format("{} {}{}{}: {} backend, {}, h = {:g} s", scenario, d.model.name,

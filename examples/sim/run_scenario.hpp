@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "mbgen/algorithm/closure.hpp"
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/sim/pd_gravity.hpp"
+#include "mbgen/sim/trajectory_csv.hpp"
 
 namespace mbgen::simulate {
 
@@ -115,6 +117,11 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
   for (const std::string& l : links) out.print(",force_{}", l);
   out.print("\n");
   std::vector<double> link_force(links.size());
+  std::vector<std::string> sphere_names;
+  for (int k = 0; k < b.num_contacts(); ++k) sphere_names.push_back(b.contact_name(k));
+  std::unique_ptr<sim::TrajectoryCsvWriter> poses;
+  if (!o.poses_csv.empty()) poses = std::make_unique<sim::TrajectoryCsvWriter>(o.poses_csv, d.model, contact ? sphere_names : std::vector<std::string>{});
+  std::vector<double> q_row(static_cast<std::size_t>(d.model.nq())), sphere_force(sphere_names.size());
   Data<double> check(d.model);
   const double weight = d.model.total_mass() * d.model.gravity.norm();
   const double total = o.scenario == Scenario::push ? o.settle + o.duration : o.duration;
@@ -144,6 +151,12 @@ ScenarioResult run_scenario(Backend backend, Backend controller_backend, const g
               stop_penetration);
     for (double f : link_force) out.print(",{:.6g}", f);
     out.print("\n");
+    if (poses) {
+      for (std::size_t i = 0; i < q_row.size(); ++i) q_row[i] = double(q[static_cast<int>(i)]);
+      if (contact)
+        for (std::size_t k = 0; k < sphere_force.size(); ++k) sphere_force[k] = double(sim.contacts()[k].normal_force);
+      poses->write(double(sim.time()), q_row.data(), sphere_force.data());
+    }
     result.final_energy_balance = double(sim.energy_balance());
     result.final_base_height = floating ? double(q[2]) : 0.0;
     result.final_normal_force = normal;

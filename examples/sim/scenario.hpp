@@ -33,6 +33,9 @@ struct ScenarioOptions {
   /// touch the ground the rest of the robot would sink through it); false: run to the end.
   bool stop_when_fallen = true;
   std::string csv;           ///< output file
+  /// The poses and each contact sphere's normal force, one row per sample, for `mbgen view`
+  /// (mbgen/sim/trajectory_csv.hpp); empty: not written.
+  std::string poses_csv;
 };
 
 /// What a run ended with, for the summary line.

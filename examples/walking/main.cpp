@@ -53,6 +53,7 @@
 #include "mbgen/algorithm/configuration.hpp"
 #include "mbgen/control/differential_ik.hpp"
 #include "mbgen/sim/simulator.hpp"
+#include "mbgen/sim/trajectory_csv.hpp"
 #include "model/load_description.hpp"
 
 namespace robot = MBGEN_WALK_NS;
@@ -585,6 +586,13 @@ SimulationResult simulate(const Model& model, const RunResult& plan, const walki
   return result;
 }
 
+/// The walk's poses, for `mbgen view --trajectory` (mbgen/sim/trajectory_csv.hpp).
+void write_poses_csv(const std::string& path, const Model& model, const RunResult& r) {
+  sim::TrajectoryCsvWriter out(path, model);
+  for (const Row& row : r.rows) out.write(row.t, row.q.data());
+  if (!out.ok()) throw std::runtime_error(path + ": cannot be written");
+}
+
 void write_csv(const std::string& path, const RunResult& r) {
   std::ofstream out(path);
   out << "t,d_legs,d_arms,k_z,yaw_torque,task_error,wrench_mismatch,primary_residual,zmp_x,zmp_y,zmp_error,limit_margin\n";
@@ -732,6 +740,7 @@ int main(int argc, char** argv) {
       const walking::WalkingPattern& used = config.qp ? qp_pattern : pattern;
       const RunResult r = &config == &kConfigs[kBoth] ? std::move(both) : config.qp ? std::move(qp_run) : run(d, q0, used, config);
       write_csv(fmt::format("{}/walk_{}_{}.csv", out, variant.name, config.name), r);
+      write_poses_csv(fmt::format("{}/walk_{}_{}_poses.csv", out, variant.name, config.name), d.model, r);
       table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.3f} ({}) | {:.3f} | {:.2f} | {:.1e} | {:.1f} | {} |\n", variant.name, config.name,
                            1e3 * r.peak_d[kLegs], 1e3 * r.peak_d[kArms], r.min_limit_margin,
                            r.min_limit_joint >= 0 ? robot::limited_joint_names[r.min_limit_joint] : "-", r.peak_k, r.peak_yaw, r.peak_task,

@@ -8,6 +8,7 @@
 #include "cli/fit_ssv_command.hpp"
 #include "cli/generate_command.hpp"
 #include "cli/inspect_command.hpp"
+#include "cli/view_command.hpp"
 
 #ifndef MBGEN_VERSION
 #define MBGEN_VERSION "unknown"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   mbgen::cli::add_inspect_command(app, status);
   mbgen::cli::add_generate_command(app, status);
   mbgen::cli::add_fit_ssv_command(app, status);
+  mbgen::cli::add_view_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
