@@ -62,7 +62,11 @@ TEST_P(ClosureTest, LinearRowsAreExactDerivativesAnywhere) {
   const VecX<double> analytic = Phi_q * dq;
   for (const LoopClosure& c : model.closures) {
     if (c.type == ClosureType::Prismatic) continue;
-    EXPECT_LT(relative_error(analytic.segment<3>(c.row_offset), fd.segment<3>(c.row_offset)), 1e-7) << c.name;
+    // The first three rows are the linear ones; a coupling has its one row, linear in q. (Three
+    // rows of a coupling read past the residual: the sanitized subset's heap-buffer-overflow.)
+    const int linear_rows = c.type == ClosureType::Coupling ? 1 : 3;
+    EXPECT_LT(relative_error(analytic.segment(c.row_offset, linear_rows), fd.segment(c.row_offset, linear_rows)), 1e-7)
+        << c.name;
   }
 }
 
