@@ -9,6 +9,9 @@
 #   bash scripts/test_sanitized.sh --subset [ctest arguments...]   the runtime's numerics and the
 #                                                                  examples' short runs (label
 #                                                                  sanitized_subset), and only their build
+#
+# The ordinary build already runs that subset instrumented (MBGEN_SANITIZE_SUBSET, so CI does on
+# every stop); --subset here differs in instrumenting the generated libraries too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 subset=false

@@ -1,0 +1,91 @@
+# AddressSanitizer + UndefinedBehaviorSanitizer (docs/reliability.md), two ways:
+#
+# MBGEN_SANITIZE: everything instrumented (generator, tests, generated code) in a build tree of its
+#   own: scripts/test_sanitized.sh, the whole suite, ~3x the normal one.
+# MBGEN_SANITIZE_SUBSET (on by default): in an ordinary build, the executables of the sanitized
+#   subset — the tests of the runtime's numerics (the generic algorithms are header-only templates,
+#   so instrumenting a test file instruments the runtime code it runs) and twins of the examples
+#   whose short runs the subset holds (mbgen_sim_sanitized, ...). This is what CI runs under the
+#   sanitizers on every stop: the normal build's tests of those files, instrumented instead of
+#   plain, rather than a second build of everything. The generator and generated code they link
+#   stay plain (the whole run checks those).
+option(MBGEN_SANITIZE "Build everything with -fsanitize=address,undefined" OFF)
+option(MBGEN_SANITIZE_SUBSET "Build the sanitized subset's executables with -fsanitize=address,undefined" ON)
+
+set(MBGEN_SANITIZER_COMPILE_OPTIONS -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+set(MBGEN_SANITIZER_LINK_OPTIONS -fsanitize=address,undefined)
+# Eigen turns its glibc-malloc-is-aligned assumption off under ASan and pairs its own aligned
+# malloc/free instead, while Debian's Eigen-based libraries (orocos-kdl, FCL) and, in the subset's
+# mixed build, mbgen's own plain libraries keep it: an object made by one and freed by the other is
+# a heap-buffer-overflow. Keep the assumption everywhere.
+set(MBGEN_SANITIZER_DEFINITIONS EIGEN_MALLOC_ALREADY_ALIGNED=1)
+if(MBGEN_SANITIZE)
+  add_compile_options(${MBGEN_SANITIZER_COMPILE_OPTIONS})
+  add_link_options(${MBGEN_SANITIZER_LINK_OPTIONS})
+  add_compile_definitions(${MBGEN_SANITIZER_DEFINITIONS})
+endif()
+
+# True when the sanitized subset's own executables must be instrumented here (the whole build is
+# when MBGEN_SANITIZE is on, and the fuzzers' build has its own instrumentation).
+if(MBGEN_SANITIZE_SUBSET AND NOT MBGEN_SANITIZE AND NOT MBGEN_FUZZ)
+  set(MBGEN_INSTRUMENT_SUBSET TRUE)
+else()
+  set(MBGEN_INSTRUMENT_SUBSET FALSE)
+endif()
+
+# What an instrumented executable runs with unless ASAN_OPTIONS etc. say otherwise: any report
+# ends it with a failure; urdfdom's leak on a failed parse is known (scripts/lsan_suppressions.txt).
+# Compiled into each instrumented executable (tests/sanitizer_options.cpp), so that ctest, a script
+# or a hand-run gets the same. scripts/test_sanitized.sh exports the same options for the whole run.
+if(MBGEN_INSTRUMENT_SUBSET)
+  add_library(mbgen_sanitizer_options OBJECT ${PROJECT_SOURCE_DIR}/tests/sanitizer_options.cpp)
+  target_compile_definitions(mbgen_sanitizer_options PRIVATE
+    MBGEN_LSAN_SUPPRESSIONS="${PROJECT_SOURCE_DIR}/scripts/lsan_suppressions.txt")
+endif()
+
+# Instrument one target (the subset's executables and the objects only they link).
+function(mbgen_instrument target)
+  target_compile_options(${target} PRIVATE ${MBGEN_SANITIZER_COMPILE_OPTIONS})
+  target_compile_definitions(${target} PRIVATE ${MBGEN_SANITIZER_DEFINITIONS})
+  get_target_property(type ${target} TYPE)
+  if(type STREQUAL "EXECUTABLE")
+    target_link_options(${target} PRIVATE ${MBGEN_SANITIZER_LINK_OPTIONS})
+    target_link_libraries(${target} PRIVATE mbgen_sanitizer_options)
+  endif()
+endfunction()
+
+# The subset's executables are listed, so that the target mbgen_sanitized_subset builds those and
+# nothing else (scripts/test_sanitized.sh --subset); their tests carry the ctest label
+# `sanitized_subset`.
+function(mbgen_in_sanitized_subset target)
+  set_property(GLOBAL APPEND PROPERTY MBGEN_SANITIZED_SUBSET_TARGETS ${target})
+endfunction()
+
+# The instrumented form of an example whose short runs the subset holds, for the subset's tests to
+# run: `target` itself when the whole build is sanitized, else an instrumented twin,
+# `target`_sanitized, built from the same sources, definitions and libraries at -O1 (the example
+# itself stays plain: its runs make the docs' charts and timings). Sets `out_var` to the one to
+# run, or to nothing when no sanitizer is on (the subset's tests are then not added).
+function(mbgen_sanitized_subset_executable target out_var)
+  if(MBGEN_SANITIZE)
+    mbgen_in_sanitized_subset(${target})
+    set(${out_var} ${target} PARENT_SCOPE)
+    return()
+  elseif(NOT MBGEN_INSTRUMENT_SUBSET)
+    set(${out_var} "" PARENT_SCOPE)
+    return()
+  endif()
+  set(twin ${target}_sanitized)
+  get_target_property(sources ${target} SOURCES)
+  add_executable(${twin} ${sources})
+  foreach(property LINK_LIBRARIES INCLUDE_DIRECTORIES COMPILE_DEFINITIONS COMPILE_OPTIONS)
+    get_target_property(value ${target} ${property})
+    if(value)
+      set_property(TARGET ${twin} PROPERTY ${property} ${value})
+    endif()
+  endforeach()
+  target_compile_options(${twin} PRIVATE -O1)
+  mbgen_instrument(${twin})
+  mbgen_in_sanitized_subset(${twin})
+  set(${out_var} ${twin} PARENT_SCOPE)
+endfunction()
