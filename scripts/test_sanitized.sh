@@ -5,7 +5,7 @@
 # fails its test (-fno-sanitize-recover, halt_on_error).
 #
 #   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (~3x the normal one)
-#   bash scripts/test_sanitized.sh -R Generated
+#   bash scripts/test_sanitized.sh -R test_generated          (one ctest test per executable: sanitized.<executable>)
 #   bash scripts/test_sanitized.sh --subset [ctest arguments...]   the runtime's numerics and the
 #                                                                  examples' short runs (label
 #                                                                  sanitized_subset), and only their build
