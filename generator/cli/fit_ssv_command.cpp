@@ -86,13 +86,7 @@ void write_fit_file(const std::string& path, const std::string& text) {
                                            "first line)\n  fix: choose another --out, or move the file away; mbgen never "
                                            "overwrites files it did not write", path, kFitBanner));
   }
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw codegen::OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary));
-  }
-  std::filesystem::rename(temporary, path);
+  codegen::write_via_temporary(path, text);
 }
 
 int run_fit_ssv(const FitSsvOptions& o) {

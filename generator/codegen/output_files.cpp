@@ -35,6 +35,23 @@ std::string sha256_hex(const std::string& bytes) {
 
 std::string sha256_of_file(const std::string& path) { return sha256_hex(read_all(path)); }
 
+void write_via_temporary(const std::string& path, const std::string& contents) {
+  const fs::path target(path);
+  const fs::path temporary =
+      target.parent_path() / fmt::format(".{}.tmp{}", target.filename().string(), static_cast<long>(::getpid()));
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << contents;
+    out.close();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      throw OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary.string()));
+    }
+  }
+  fs::rename(temporary, target);
+}
+
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files) {
   const fs::path dir(directory);
   // Check every target first, so a refusal leaves the directory as it was.
@@ -57,17 +74,7 @@ WriteReport write_generated_files(const std::string& directory, const std::vecto
       report.unchanged.push_back(target.string());
       continue;
     }
-    const fs::path temporary = dir / fmt::format(".{}.tmp{}", f.filename, static_cast<long>(::getpid()));
-    {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      out << f.contents;
-      out.close();
-      if (!out) {
-        fs::remove(temporary);
-        throw OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary.string()));
-      }
-    }
-    fs::rename(temporary, target);
+    write_via_temporary(target.string(), f.contents);
     report.written.push_back(target.string());
   }
   return report;

@@ -24,6 +24,12 @@ struct WriteReport {
 /// one exists that mbgen did not write (then nothing is written at all) or one cannot be written.
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files);
 
+/// Writes `contents` to `path` through a temporary file beside it and a rename, so that an
+/// interrupted run leaves the old file or the new one, never half of one, and two runs never share
+/// a temporary. The caller has checked that the file is mbgen's to replace. Throws OutputRefused,
+/// naming the temporary, if it cannot be written (the temporary is then removed).
+void write_via_temporary(const std::string& path, const std::string& contents);
+
 /// Hex SHA-256 of `bytes` (OpenSSL).
 std::string sha256_hex(const std::string& bytes);
 

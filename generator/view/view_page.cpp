@@ -81,13 +81,7 @@ void write_view_page(const std::string& path, const std::string& text) {
                                                "  fix: choose another --out, or move the file away; mbgen never overwrites files it "
                                                "did not write", path, kViewPageMark));
   }
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw codegen::OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary));
-  }
-  fs::rename(temporary, path);
+  codegen::write_via_temporary(path, text);
 }
 
 }  // namespace mbgen::view
