@@ -223,8 +223,10 @@ Description read_description(const std::string& path, const LoadOptions& options
 /// floating: a body welded to the world gets a free joint 'root_joint').
 void load_mjcf(const std::string& path, std::optional<BaseType> base, Description& d, bool repair_inertia = false);
 
-/// True for a path that load_description reads as MJCF (extension .xml, any case).
-bool is_mjcf_path(const std::string& path);
+/// The formats read_description reads, told apart by the file's extension (any case): .xml is
+/// MJCF, .sdf and .world are SDFormat, anything else is read as URDF.
+enum class DescriptionFormat { Urdf, Mjcf, Sdf };
+DescriptionFormat description_format(const std::string& path);
 
 /// Reads an SDFormat file (.sdf, .world) into `d` through libsdformat (load_sdf.cpp,
 /// docs/sdf.md): links, joints, limits, damping, collision geometry, the model's <frame>s, and,
@@ -234,9 +236,6 @@ bool is_mjcf_path(const std::string& path);
 /// `base` says fixed.
 void load_sdf(const std::string& path, std::optional<BaseType> base, const std::vector<std::string>& closure_joints,
               Description& d, bool repair_inertia = false);
-
-/// True for a path that load_description reads as SDFormat (extension .sdf or .world, any case).
-bool is_sdf_path(const std::string& path);
 
 /// Adds SSV compounds for the URDF's sphere and cylinder collision geometry (collision_ssv.cpp).
 void add_collision_ssvs(const std::string& path, Description& d);

@@ -326,12 +326,6 @@ void check_model_elements(const std::string& path, const sdf::Model& m, Descript
 }  // namespace
 }  // namespace sdformat
 
-bool is_sdf_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".sdf" || ext == ".world";
-}
-
 void load_sdf(const std::string& path, std::optional<BaseType> base, const std::vector<std::string>& closure_joints,
               Description& d, bool repair_inertia) {
   using namespace sdformat;

@@ -26,10 +26,12 @@ std::optional<std::string> find_extras(const std::string& path, const LoadOption
 }
 }  // namespace
 
-bool is_mjcf_path(const std::string& path) {
+DescriptionFormat description_format(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".xml";
+  if (ext == ".xml") return DescriptionFormat::Mjcf;
+  if (ext == ".sdf" || ext == ".world") return DescriptionFormat::Sdf;
+  return DescriptionFormat::Urdf;
 }
 
 Description read_description(const std::string& path, const LoadOptions& options) {
@@ -44,12 +46,13 @@ Description read_description(const std::string& path, const LoadOptions& options
   const double quarter_turns = extras ? extras_quarter_turns(*extras, path) : 0.0;
   const bool extras_couple = extras && extras_couples_mimics(*extras, path);
   const std::vector<std::string> closure_joints = extras ? extras_closure_joints(*extras, path) : std::vector<std::string>{};
-  if (is_sdf_path(path)) {
+  const DescriptionFormat format = description_format(path);
+  if (format == DescriptionFormat::Sdf) {
     // A non-static model floats, as in Gazebo; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
     if (!base && extras) base = extras_base(*extras);
     load_sdf(path, base, closure_joints, d, options.repair_inertia);
-  } else if (is_mjcf_path(path)) {
+  } else if (format == DescriptionFormat::Mjcf) {
     // The MJCF's free joint decides the base; --fixed / --floating or the extras' `base` override it.
     std::optional<BaseType> base = options.base;
     if (!base && extras) base = extras_base(*extras);
