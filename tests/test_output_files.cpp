@@ -70,6 +70,22 @@ TEST(OutputFiles, AWriteThatCannotHappenIsRefusedNamingTheTemporary) {
   EXPECT_TRUE(entries(dir).empty());
 }
 
+/// The rename is the step that can fail after the temporary exists (here the target is a
+/// directory): refused naming the target, and the temporary is not left behind.
+TEST(OutputFiles, AFailedRenameIsRefusedAndLeavesNoTemporary) {
+  const fs::path dir = scratch("rename_fails");
+  fs::create_directories(dir / "page.html");
+  write(dir / "page.html" / "inside", "x");
+  try {
+    mbgen::codegen::write_via_temporary((dir / "page.html").string(), "text");
+    FAIL() << "a rename over a non-empty directory was not refused";
+  } catch (const OutputRefused& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("page.html: error: cannot replace it"), std::string::npos) << what;
+  }
+  EXPECT_EQ(entries(dir), std::vector<std::string>{"page.html"});
+}
+
 TEST(OutputFiles, GeneratedFilesAreWrittenOnlyOverMbgensOwnAndAllOrNone) {
   const fs::path dir = scratch("foreign");
   write(dir / "b.hpp", "// a user's file\n");

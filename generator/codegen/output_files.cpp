@@ -49,7 +49,13 @@ void write_via_temporary(const std::string& path, const std::string& contents) {
       throw OutputRefused(fmt::format("{}: error: cannot write (disk full or no permission)", temporary.string()));
     }
   }
-  fs::rename(temporary, target);
+  std::error_code ec;
+  fs::rename(temporary, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw OutputRefused(fmt::format("{}: error: cannot replace it ({})", path, ec.message()));
+  }
 }
 
 WriteReport write_generated_files(const std::string& directory, const std::vector<GeneratedFile>& files) {

@@ -27,7 +27,8 @@ WriteReport write_generated_files(const std::string& directory, const std::vecto
 /// Writes `contents` to `path` through a temporary file beside it and a rename, so that an
 /// interrupted run leaves the old file or the new one, never half of one, and two runs never share
 /// a temporary. The caller has checked that the file is mbgen's to replace. Throws OutputRefused,
-/// naming the temporary, if it cannot be written (the temporary is then removed).
+/// naming the temporary, if it cannot be written, and naming `path` if the rename fails (e.g.
+/// `path` is a directory); the temporary is removed in both cases.
 void write_via_temporary(const std::string& path, const std::string& contents);
 
 /// Hex SHA-256 of `bytes` (OpenSSL).
