@@ -487,10 +487,11 @@ ExtrasFile read_extras(const std::string& path) {
 double extras_quarter_turns(const ExtrasFile& x, const std::string& description) {
   if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["snap_quarter_turns"]) return 0;
   const YAML::Node n = x.root["snap_quarter_turns"];
-  if (description_format(description) == DescriptionFormat::Sdf)
+  const DescriptionFormat format = description_format(description);
+  if (format == DescriptionFormat::Sdf)
     fail(x.path, n, "snap_quarter_turns", "applies to a URDF's origins, and " + description + " is an SDFormat file",
          "remove it: libsdformat resolves the file's poses");
-  if (description_format(description) == DescriptionFormat::Mjcf)
+  if (format == DescriptionFormat::Mjcf)
     fail(x.path, n, "snap_quarter_turns", "applies to a URDF's origins, and " + description + " is an MJCF",
          "remove it: MJCF orientations snap entries within 1e-14 of 0 or +-1 (euler=\"0 0 90\" is exact)");
   const double tolerance = to_number(x.path, n, "snap_quarter_turns");
@@ -504,10 +505,11 @@ double extras_quarter_turns(const ExtrasFile& x, const std::string& description)
 bool extras_couples_mimics(const ExtrasFile& x, const std::string& description) {
   if (x.schema != ExtrasFile::Schema::Mbgen || x.root.IsNull() || !x.root["mimic"]) return false;
   const YAML::Node n = x.root["mimic"];
-  if (description_format(description) == DescriptionFormat::Sdf)
+  const DescriptionFormat format = description_format(description);
+  if (format == DescriptionFormat::Sdf)
     fail(x.path, n, "mimic", "applies to a URDF's <mimic> elements, and " + description + " is an SDFormat file",
          "remove it: write a coupling as a `closures:` entry of type coupling");
-  if (description_format(description) == DescriptionFormat::Mjcf)
+  if (format == DescriptionFormat::Mjcf)
     fail(x.path, n, "mimic", "applies to a URDF's <mimic> elements, and " + description + " is an MJCF",
          "remove it: an MJCF couples joints with <equality><joint> or a fixed <tendon>, which are always read");
   return one_of(x.path, n, "mimic", {"couple", "independent"}) == "couple";
