@@ -2,6 +2,8 @@
 // robot.yaml convention on the seven shared closed-loop models.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "load/load_error.hpp"
 #include "load/name_match.hpp"
 #include "collision/contact_spheres.hpp"
@@ -235,6 +237,26 @@ TEST(LoadExtras, SnapQuarterTurnsIsRefusedForAnMjcf) {
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.element(), "snap_quarter_turns");
   EXPECT_NE(e.problem().find("is an MJCF"), std::string::npos) << e.what();
+}
+
+// snap_quarter_turns and mimic apply to a URDF only: each other format is refused, naming it.
+TEST(LoadExtras, UrdfOnlyKeysAreRefusedForTheOtherFormats) {
+  const std::string sdf = test::shared_robot("cassie_sdf/cassie_v2.sdf"), mjcf = test::shared_robot("cassie_mjcf/cassie.xml");
+  const std::string dir = ::testing::TempDir();
+  std::ofstream(dir + "snap.yaml") << "snap_quarter_turns: 1e-9\n";
+  std::ofstream(dir + "mimic.yaml") << "mimic: couple\n";
+  struct Case {
+    std::string description, extras, element, problem;
+  };
+  for (const Case& c : {Case{sdf, "snap.yaml", "snap_quarter_turns", "is an SDFormat file"},
+                        Case{mjcf, "snap.yaml", "snap_quarter_turns", "is an MJCF"},
+                        Case{sdf, "mimic.yaml", "mimic", "is an SDFormat file"},
+                        Case{mjcf, "mimic.yaml", "mimic", "is an MJCF"}}) {
+    const LoadError e = load_error(c.description, dir + c.extras);
+    EXPECT_EQ(e.element(), c.element) << c.description;
+    EXPECT_EQ(e.line(), 1) << e.what();
+    EXPECT_NE(e.problem().find(c.problem), std::string::npos) << e.what();
+  }
 }
 
 TEST(LoadExtras, MixingTheTwoSchemasIsAnError) {
