@@ -1,7 +1,5 @@
 #include "peer_pairs.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <iterator>
 #include <stdexcept>
@@ -36,28 +34,6 @@ const std::string kShared = MBGEN_SHARED_ROBOTS;
         {std::begin(NS::independent_v_index), std::end(NS::independent_v_index)}, &NS::forward_dynamics,            \
         &NS::full_accelerations, [](double* q) { return static_cast<int>(NS::closure_positions(q).status); }       \
   }
-
-
-// The closures (pairs of frames) and the revolute chains of a parallel_legs robot.yaml.
-struct LoopsYaml {
-  std::vector<std::pair<std::string, std::string>> closures;
-  std::vector<RevoluteChain> chains;
-};
-
-LoopsYaml read_loops_yaml(const std::string& file) {
-  const YAML::Node root = YAML::LoadFile(file);
-  LoopsYaml out;
-  for (const YAML::Node& pair : root["closed_loop"]) out.closures.emplace_back(pair[0].as<std::string>(), pair[1].as<std::string>());
-  if (root["joint_name"]) {
-    const YAML::Node names = root["joint_name"], types = root["joint_type"];
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      const std::string type = types[i].as<std::string>();
-      if (type != "SPHERICAL" && type != "UJOINT_XY") throw std::runtime_error(file + ": joint_type " + type + " is not timed");
-      out.chains.push_back({names[i].as<std::string>(), type == "SPHERICAL" ? 3 : 2});
-    }
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -97,14 +73,17 @@ std::vector<LoopPair> loop_pairs() {
   std::vector<LoopPair> pairs;
   for (GeneratedLoops& g : robots) {
     const std::string urdf = kShared + "/" + g.urdf;
-    const LoopsYaml yaml = read_loops_yaml(urdf.substr(0, urdf.rfind('/')) + "/robot.yaml");
-    LoopPair p;
-    p.pinocchio = std::make_unique<PinocchioRobot>(urdf, false, yaml.chains);
-    for (const auto& [a, b] : yaml.closures) p.pinocchio->add_closure(a, b);
-    p.map = std::make_unique<JointMap>(*p.pinocchio, g.joint_names, false, g.nq, g.nv);
-    // The bench's closed states of this robot (bench_loops.cpp's pool).
     const gen::Description d = gen::load_description(urdf, gen::LoadOptions{});
     if (d.model.nq() != g.nq || d.model.nv() != g.nv) throw std::runtime_error("peer: " + g.robot + ": model and generated code differ");
+    // Pinocchio's model from what mbgen read of the robot.yaml beside the URDF: the revolute
+    // joints standing for ball (SPHERICAL) and universal (UJOINT_XY) joints, and the frame pairs.
+    std::vector<RevoluteChain> chains;
+    for (const auto& [joint, type] : d.joint_type_overrides) chains.push_back({joint, type == "SPHERICAL" ? 3 : 2});
+    LoopPair p;
+    p.pinocchio = std::make_unique<PinocchioRobot>(urdf, false, chains);
+    for (const gen::ClosureSpec& c : d.closures) p.pinocchio->add_closure(c.frame_a, c.frame_b);
+    p.map = std::make_unique<JointMap>(*p.pinocchio, g.joint_names, false, g.nq, g.nv);
+    // The bench's closed states of this robot (bench_loops.cpp's pool).
     const auto pool = bench::consistent_pool(d.model, d.assembly.q);
     auto states = std::make_shared<std::vector<LoopState>>();
     for (const bench::Sample& s : *pool) {
