@@ -43,6 +43,32 @@ if(MBGEN_INSTRUMENT_SUBSET)
     MBGEN_LSAN_SUPPRESSIONS="${PROJECT_SOURCE_DIR}/scripts/lsan_suppressions.txt")
 endif()
 
+# Python tests of the whole sanitized build load instrumented extension modules (the generated
+# robots', the runtime's) into Debian's python3, which is not instrumented: ASan's runtime must be
+# loaded first, so it is preloaded, and what CPython still holds at exit is not a leak of ours.
+# mbgen_python_test_environment(test...) adds that to the tests' environment. With SCRIPT first, the
+# tests run a script that starts python3 among other programs (compilers, cmake): they get it as
+# MBGEN_SANITIZED_PYTHON instead, `env` arguments for the script's python3 line alone. Nothing in
+# any other build.
+set(MBGEN_SANITIZED_PYTHON_ENVIRONMENT)
+if(MBGEN_SANITIZE)
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so OUTPUT_VARIABLE asan_runtime
+                  OUTPUT_STRIP_TRAILING_WHITESPACE)
+  set(MBGEN_SANITIZED_PYTHON_ENVIRONMENT LD_PRELOAD=${asan_runtime} ASAN_OPTIONS=abort_on_error=1:detect_leaks=0)
+endif()
+function(mbgen_python_test_environment)
+  cmake_parse_arguments(PARSE_ARGV 0 arg "SCRIPT" "" "")
+  if(NOT MBGEN_SANITIZED_PYTHON_ENVIRONMENT)
+    return()
+  endif()
+  set(environment ${MBGEN_SANITIZED_PYTHON_ENVIRONMENT})
+  if(arg_SCRIPT)
+    list(JOIN MBGEN_SANITIZED_PYTHON_ENVIRONMENT " " as_arguments)
+    set(environment "MBGEN_SANITIZED_PYTHON=${as_arguments}")
+  endif()
+  set_property(TEST ${arg_UNPARSED_ARGUMENTS} APPEND PROPERTY ENVIRONMENT ${environment})
+endfunction()
+
 # Instrument one target (the subset's executables and the objects only they link).
 function(mbgen_instrument target)
   target_compile_options(${target} PRIVATE ${MBGEN_SANITIZER_COMPILE_OPTIONS})

@@ -31,6 +31,7 @@ add_test(NAME install.consumer
                  ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/consumer ${CMAKE_BUILD_TYPE})
 # One processor: its configure step and most of its build run on one core (1.4 cores on average).
 set_tests_properties(install.consumer PROPERTIES PROCESSORS 1 TIMEOUT 600 COST 100)
+mbgen_python_test_environment(SCRIPT install.consumer)  # its python3 line
 
 # Committed output: generated/ equals what this mbgen makes of robots/, byte for byte
 # (scripts/regenerate.sh updates it).

@@ -40,7 +40,10 @@ cmake --build "$work_dir/build" -j2 >"$work_dir/build.log" || { cat "$work_dir/b
 # The Python package, when the build made it: importable from the prefix alone, running the
 # installed mbgen command.
 if [[ -d $prefix/lib/python3/dist-packages/mbgen ]]; then
-  PYTHONPATH=$prefix/lib/python3/dist-packages MBGEN_EXECUTABLE= /usr/bin/python3 - "$prefix" "$source_dir/../data/tiny_arm.urdf" <<'PY'
+  # MBGEN_SANITIZED_PYTHON: in the whole sanitized build, ASan's runtime preloaded for python3
+  # alone (cmake/mbgen_sanitizers.cmake); unset elsewhere.
+  # shellcheck disable=SC2086
+  env PYTHONPATH=$prefix/lib/python3/dist-packages MBGEN_EXECUTABLE= ${MBGEN_SANITIZED_PYTHON:-} /usr/bin/python3 - "$prefix" "$source_dir/../data/tiny_arm.urdf" <<'PY'
 import os, sys
 import mbgen
 prefix, urdf = sys.argv[1], sys.argv[2]
