@@ -45,7 +45,9 @@ endif()
 
 # Python tests of the whole sanitized build load instrumented extension modules (the generated
 # robots', the runtime's) into Debian's python3, which is not instrumented: ASan's runtime must be
-# loaded first, so it is preloaded, and what CPython still holds at exit is not a leak of ours.
+# loaded first, so it is preloaded, with libstdc++ (loaded later, by the module, ASan's interceptor
+# of __cxa_throw finds no real one and aborts at the first C++ exception), and what CPython still
+# holds at exit is not a leak of ours.
 # mbgen_python_test_environment(test...) adds that to the tests' environment. With SCRIPT first, the
 # tests run a script that starts python3 among other programs (compilers, cmake): they get it as
 # MBGEN_SANITIZED_PYTHON instead, `env` arguments for the script's python3 line alone. Nothing in
@@ -54,7 +56,9 @@ set(MBGEN_SANITIZED_PYTHON_ENVIRONMENT)
 if(MBGEN_SANITIZE)
   execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so OUTPUT_VARIABLE asan_runtime
                   OUTPUT_STRIP_TRAILING_WHITESPACE)
-  set(MBGEN_SANITIZED_PYTHON_ENVIRONMENT LD_PRELOAD=${asan_runtime} ASAN_OPTIONS=abort_on_error=1:detect_leaks=0)
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libstdc++.so.6 OUTPUT_VARIABLE cxx_runtime
+                  OUTPUT_STRIP_TRAILING_WHITESPACE)
+  set(MBGEN_SANITIZED_PYTHON_ENVIRONMENT LD_PRELOAD=${asan_runtime}:${cxx_runtime} ASAN_OPTIONS=abort_on_error=1:detect_leaks=0)
 endif()
 function(mbgen_python_test_environment)
   cmake_parse_arguments(PARSE_ARGV 0 arg "SCRIPT" "" "")
