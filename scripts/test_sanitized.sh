@@ -4,7 +4,7 @@
 # code instrumented; the benchmarks left out: they time, they do not check). Any sanitizer report
 # fails its test (-fno-sanitize-recover, halt_on_error).
 #
-#   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (~3x the normal one)
+#   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (2 h 15 min on 2 cores)
 #   bash scripts/test_sanitized.sh -R test_generated          (one ctest test per executable: sanitized.<executable>)
 #   bash scripts/test_sanitized.sh --subset [ctest arguments...]   the runtime's numerics and the
 #                                                                  examples' short runs (label
