@@ -66,14 +66,8 @@ TEST(FitSsvCommand, TalosCompoundsLoadAsExtrasAndInspectPrunesTheirPairs) {
 // An SDFormat link's mesh, named by a model:// URI, found through --package-path and fitted; the
 // compound loads back as the SDF's extras.
 TEST(FitSsvCommand, SdfMeshByModelUri) {
-  const fs::path sdf = scratch("one_link.sdf"), yaml = scratch("one_link.yaml");
+  const fs::path sdf = std::string(MBGEN_TEST_DATA) + "/sdf/one_mesh_link.sdf", yaml = scratch("one_link.yaml");
   fs::remove(yaml);
-  std::ofstream(sdf) << R"(<?xml version="1.0"?>
-<sdf version="1.6"><model name="m"><link name="a">
-  <inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
-  <collision name="c"><pose>0.1 0 0 0 0 0</pose><geometry><mesh><uri>model://example-robot-data/robots/talos_data/meshes/torso/torso_1.STL</uri></mesh></geometry></collision>
-</link></model></sdf>
-)";
   ASSERT_EQ(run("fit-ssv " + sdf.string() + " " + kPackage + " --out " + yaml.string(), scratch("sdf_fit.txt")), 0);
   EXPECT_NE(read(scratch("sdf_fit.txt")).find("1 link fitted"), std::string::npos) << read(scratch("sdf_fit.txt"));
   ASSERT_EQ(run("inspect " + sdf.string() + " --extras " + yaml.string(), scratch("sdf_inspect.txt")), 0);

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """`mbgen view`'s options that change what the page holds (generator/cli/view_command.cpp).
 
-On a one-link SDFormat model whose only collision geometry is a TALOS mesh:
+On a one-link SDFormat model whose only collision geometry is a TALOS mesh
+(tests/data/sdf/one_mesh_link.sdf, also fit-ssv's test):
 - by default the page holds the mesh and no SSV (the link has none);
 - --fit adds the link's SSV, and it is exactly the compound `mbgen fit-ssv` writes for it;
 - --no-meshes leaves the mesh out, with or without --fit;
 - --quiet prints nothing on success.
 
-Usage: test_view_command.py MBGEN_BINARY SHARED_ROBOTS WORK_DIR
+Usage: test_view_command.py MBGEN_BINARY SOURCE_DIR SHARED_ROBOTS WORK_DIR
 """
 import json
 import os
@@ -15,7 +16,7 @@ import re
 import subprocess
 import sys
 
-MBGEN, ROBOTS, WORK = sys.argv[1:4]
+MBGEN, SOURCE, ROBOTS, WORK = sys.argv[1:5]
 PACKAGE = ["--package-path", "example-robot-data=" + os.path.join(ROBOTS, "talos/meshes/example-robot-data")]
 failures = []
 
@@ -41,14 +42,7 @@ def scene(*options):
 
 
 os.makedirs(WORK, exist_ok=True)
-model = os.path.join(WORK, "one_link.sdf")
-with open(model, "w") as f:
-    f.write("""<?xml version="1.0"?>
-<sdf version="1.6"><model name="m"><link name="a">
-  <inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
-  <collision name="c"><pose>0.1 0 0 0 0 0</pose><geometry><mesh><uri>model://example-robot-data/robots/talos_data/meshes/torso/torso_1.STL</uri></mesh></geometry></collision>
-</link></model></sdf>
-""")
+model = os.path.join(SOURCE, "tests/data/sdf/one_mesh_link.sdf")
 
 plain = scene()
 check(len(plain["ssv"]) == 0 and len(plain["meshes"]) == 1, f"default: {len(plain['ssv'])} SSVs, {len(plain['meshes'])} mesh")
