@@ -17,6 +17,12 @@
 //   contact_derivatives/talos/generic             rigid_contact_dynamics_derivatives<double>: a, lambda and their
 //                                                 derivatives wrt q, v, tau
 //   contact_derivatives/talos/finite_differences  central differences of rigid_contact_dynamics<double> (6 nv calls)
+// and hyq on its four feet under the compliant ground (examples/data/hyq_sim.yaml; contact_dynamics_derivatives.hpp;
+// the pool's states against the plane z = 0, some feet pressing and some not, which costs the same: no branch):
+//   compliant_derivatives/hyq/generated           NAME::contact_forward_dynamics_derivatives: qdd, dqdd/dq, dqdd/dv, M^-1
+//   compliant_derivatives/hyq/generic             contact_forward_dynamics_derivatives<double>, same outputs
+//   compliant_derivatives/hyq/finite_differences  central differences of the generated contact_accelerations (6 nv calls)
+//   compliant_derivatives/hyq/value               one generated contact_accelerations (what the derivatives cost against)
 // and one simulator step of talos standing on 8 sole spheres pressed 1 mm into the ground (RK4, 1e-4 s,
 // sim/step_derivatives.hpp):
 //   step_derivatives/talos/generic             sim::StepDerivatives<double>::compute: q+, v+, dx+/dx, dx+/du
@@ -27,12 +33,15 @@
 #include <memory>
 
 #include "hyq.hpp"
+#include "collision/contact_spheres.hpp"
+#include "hyq_contact.hpp"
 #include "hyq_derivatives.hpp"
 #include "iiwa14.hpp"
 #include "iiwa14_derivatives.hpp"
 #include "lola.hpp"
 #include "lola_derivatives.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
+#include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/rigid_contact_derivatives.hpp"
 #include "mbgen/sim/step_derivatives.hpp"
@@ -182,6 +191,98 @@ void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
   });
   add_benchmark("contact_derivatives", robot, "finite_differences",
                 [w = std::make_shared<ContactFiniteDifferences>(robot.model, contacts)](const Sample& s) { return w->run(s); });
+}
+
+/// hyq's scene on the ground (examples/data/hyq_sim.yaml): its model, spheres, law and the plane z = 0.
+struct CompliantGround {
+  CompliantGround() {
+    gen::LoadOptions options;
+    options.extras_file = std::string(MBGEN_SOURCE_DIR) + "/examples/data/hyq_sim.yaml";
+    const gen::Description d = gen::load_description(std::string(MBGEN_SHARED_ROBOTS) + "/hyq/hyq_no_sensors.urdf", options);
+    model = d.model;
+    spheres = gen::contact_spheres(d);
+    exponent = d.scene->contact->parameters.exponent;
+    contact_inputs(GroundPlane{}, d.scene->contact->parameters, ground, law);
+  }
+  Model model;
+  std::vector<ContactSphere> spheres;
+  double exponent = 1.5, ground[kGroundInputs] = {}, law[kLawInputs] = {};
+};
+
+/// Central differences of the generated contact_accelerations: the fallback without the derivatives.
+struct CompliantFiniteDifferences {
+  explicit CompliantFiniteDifferences(std::shared_ptr<const CompliantGround> scene)
+      : scene(std::move(scene)), nv(this->scene->model.nv()), q(this->scene->model.nq()), v(nv), tau(nv), plus(nv), minus(nv),
+        e(VecX<double>::Zero(nv)), contacts(static_cast<std::size_t>(kContactOutputs * hyq_contact::num_contact_spheres)),
+        da(nv, 3 * nv) {}
+  void accelerations(const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& out) {
+    hyq_contact::contact_accelerations(qx.data(), vx.data(), ux.data(), scene->ground, scene->law, out.data(), contacts.data());
+  }
+  const double* run(const Sample& s) {
+    const double h = 1e-6;
+    for (int k = 0; k < nv; ++k) {
+      for (int side : {1, -1}) {
+        e[k] = side * h;
+        integrate<double>(scene->model, s.q, e, q);
+        accelerations(q, s.v, s.tau, side > 0 ? plus : minus);
+      }
+      e[k] = 0;
+      da.col(k) = (plus - minus) / (2 * h);
+      v = s.v;
+      v[k] += h;
+      accelerations(s.q, v, s.tau, plus);
+      v[k] -= 2 * h;
+      accelerations(s.q, v, s.tau, minus);
+      da.col(nv + k) = (plus - minus) / (2 * h);
+      tau = s.tau;
+      tau[k] += h;
+      accelerations(s.q, s.v, tau, plus);
+      tau[k] -= 2 * h;
+      accelerations(s.q, s.v, tau, minus);
+      da.col(2 * nv + k) = (plus - minus) / (2 * h);
+    }
+    return da.data();
+  }
+  std::shared_ptr<const CompliantGround> scene;
+  int nv;
+  VecX<double> q, v, tau, plus, minus, e;
+  std::vector<double> contacts;
+  MatX<double> da;
+};
+
+/// compliant_derivatives/hyq/{generated,generic,finite_differences,value} (header comment).
+void add_compliant(const Robot& robot) {
+  const auto scene = std::make_shared<const CompliantGround>();
+  const int nv = robot.model.nv(), m = hyq_contact::num_contact_spheres;
+  struct Buffers {
+    Buffers(int nv, int m) : out(nv), contacts(static_cast<std::size_t>(kContactOutputs * m)) {}
+    Outputs out;
+    std::vector<double> contacts;
+  };
+  add_benchmark("compliant_derivatives", robot, "generated", [scene, w = std::make_shared<Buffers>(nv, m)](const Sample& s) {
+    hyq_contact::contact_forward_dynamics_derivatives(s.q.data(), s.v.data(), s.tau.data(), scene->ground, scene->law,
+                                                      w->out.x.data(), w->out.a.data(), w->out.b.data(), w->out.c.data(),
+                                                      w->contacts.data());
+    return w->out.a.data();
+  });
+  struct Generic {
+    explicit Generic(const Model& model, int m) : data(model), d(model), contacts(static_cast<std::size_t>(kContactOutputs * m)) {}
+    Data<double> data;
+    ContactDynamicsDerivatives<double> d;
+    std::vector<double> contacts;
+  };
+  add_benchmark("compliant_derivatives", robot, "generic", [scene, w = std::make_shared<Generic>(scene->model, m)](const Sample& s) {
+    contact_forward_dynamics_derivatives<double>(scene->model, w->data, w->d, scene->spheres, scene->exponent, s.q, s.v, s.tau,
+                                                 scene->ground, scene->law, w->contacts.data());
+    return w->d.fd.dddq_dq.data();
+  });
+  add_benchmark("compliant_derivatives", robot, "finite_differences",
+                [w = std::make_shared<CompliantFiniteDifferences>(scene)](const Sample& s) { return w->run(s); });
+  add_benchmark("compliant_derivatives", robot, "value", [scene, w = std::make_shared<Buffers>(nv, m)](const Sample& s) {
+    hyq_contact::contact_accelerations(s.q.data(), s.v.data(), s.tau.data(), scene->ground, scene->law, w->out.x.data(),
+                                       w->contacts.data());
+    return w->out.x.data();
+  });
 }
 
 /// talos standing: neutral joints, four spheres (r 1 cm) at each sole's corners, the ground 1 mm
@@ -382,7 +483,10 @@ void add_loop_derivative_benchmarks() {
 
 void add_derivative_benchmarks(const Robot& robot) {
   if (robot.name == "iiwa14") add(robot, MBGEN_DERIVATIVE_API(iiwa14));
-  if (robot.name == "hyq") add(robot, MBGEN_DERIVATIVE_API(hyq));
+  if (robot.name == "hyq") {
+    add(robot, MBGEN_DERIVATIVE_API(hyq));
+    add_compliant(robot);
+  }
   if (robot.name == "talos") {
     add(robot, MBGEN_DERIVATIVE_API(talos));
     add_contacts(robot, {"left_sole_link", "right_sole_link"});

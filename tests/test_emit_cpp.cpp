@@ -80,6 +80,26 @@ std::size_t count_of(const std::string& body, const std::string& text) {
   return n;
 }
 
+TEST(EmitStatements, AStepIsASelectForOneStateAndLaneByLaneForABatch) {
+  TracedFunction f;
+  f.name = "step";
+  f.inputs = {{"x", 1, ""}};
+  f.outputs = {{"s", 2, ""}};
+  ExpressionGraph& g = f.graph;
+  const int x = g.input(0, 0);
+  // A constant's step folds (1 for 2.5, 0 at 0: the slope a select's max(0, 0) takes).
+  EXPECT_EQ(g.unary(Op::Step, g.constant(2.5)), g.constant(1.0));
+  EXPECT_EQ(g.unary(Op::Step, g.constant(0.0)), g.constant(0.0));
+  f.output_ids = {{g.unary(Op::Step, g.binary(Op::Mul, x, x)), g.unary(Op::Step, x)}};
+  const std::string one = emit_statements(f);
+  position_of(one, "> S(0) ? S(1) : S(0)");
+  StatementStyle batch;
+  batch.lanes = 4;
+  const std::string lanes = emit_statements(f, batch);
+  position_of(lanes, "lanes_step(");
+  EXPECT_EQ(count_operations(f).max, 2);  // counted with the selects
+}
+
 TEST(EmitStatements, SinesAndCosinesOfInputsComeFirstAllAtOnce) {
   const TracedFunction f = trigonometry();
   const std::string body = emit_statements(f, {});

@@ -226,7 +226,8 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
       "forward_dynamics", "full_accelerations", "inverse_dynamics", "actuator_forces", "mass_matrix", "mass_matrix_factor",
       "mass_matrix_solve", "forward_kinematics", "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations",
-      "closure_constraints", "inverse_dynamics_derivatives", "forward_dynamics_derivatives"};
+      "closure_constraints", "inverse_dynamics_derivatives", "forward_dynamics_derivatives",
+      "contact_forward_dynamics_derivatives"};
   ASSERT_EQ(static_cast<int>(functions.size()), MBGEN_GENERATED_FUNCTION_COUNT);
   int files = 0;
   for (const auto& entry : fs::directory_iterator(two)) (void)entry, ++files;
@@ -273,6 +274,23 @@ TEST(GenerateCommand, ForwardDynamicsDerivativesOfClosedLoopsAreInTheIndependent
                         "double* dqdd_dq, double* dqdd_dv, double* dqdd_dtau);"),
             std::string::npos);
   EXPECT_NE(header.find("void inverse_dynamics_derivatives("), std::string::npos);
+}
+
+TEST(GenerateCommand, ContactDerivativesOfClosedLoopsAreRefusedWithTheAlternatives) {
+  const fs::path out = fresh_dir("contact_derivatives_loops");
+  const fs::path log = fs::temp_directory_path() / "mbgen_test_generate_stderr_contact_derivatives_loops.txt";
+  const std::string lola = std::string(MBGEN_SOURCE_DIR) + "/robots/lola/lola.urdf --extras " + MBGEN_SOURCE_DIR +
+                           "/robots/lola/lola.yaml";
+  const int status = std::system((std::string(MBGEN_BINARY) + " generate " + lola + " --out " + out.string() +
+                                  " --outputs contact_fd_derivatives --quiet 2>" + log.string())
+                                     .c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);  // kBadInput: the description's loops
+  const std::string errors = read(log);
+  EXPECT_NE(errors.find("contact_fd_derivatives: the derivatives under the compliant ground are built for trees only"),
+            std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("request fd_derivatives"), std::string::npos) << errors;
+  EXPECT_FALSE(fs::exists(out / "lola.hpp"));  // nothing written
 }
 
 TEST(GenerateCommand, AnUnknownOutputNamesTheOnesThereAre) {

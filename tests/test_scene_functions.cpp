@@ -15,9 +15,10 @@ namespace {
 
 TEST(SceneFunctions, NoOutputsMeansEverythingButTheDerivatives) {
   const FunctionSelection s = select_functions(std::vector<std::string>{}, false);
-  EXPECT_EQ(s.left_out, (std::vector<std::string>{"inverse_dynamics_derivatives", "forward_dynamics_derivatives"}));
+  EXPECT_EQ(s.left_out, (std::vector<std::string>{"inverse_dynamics_derivatives", "forward_dynamics_derivatives",
+                                                  "contact_forward_dynamics_derivatives"}));
   EXPECT_TRUE(s.backend);
-  EXPECT_EQ(s.emitted.size(), all_functions().size() - 2);
+  EXPECT_EQ(s.emitted.size(), all_functions().size() - 3);
   // `all` is the same; named beside it, a derivative comes too; named alone, only it (and closure_positions).
   EXPECT_EQ(select_functions({"all"}, false).generated, s.generated);
   const FunctionSelection with = select_functions({"all", "fd_derivatives"}, false);
@@ -26,6 +27,11 @@ TEST(SceneFunctions, NoOutputsMeansEverythingButTheDerivatives) {
   EXPECT_EQ(with.emitted.size(), s.emitted.size() + 1);
   EXPECT_EQ(select_functions({"id_derivatives"}, false).generated,
             (std::vector<std::string>{"closure_positions", "inverse_dynamics_derivatives"}));
+  // The derivatives under the ground: on request, and a contact scene's request brings the
+  // simulation's functions, as every output of a scene with contact does.
+  EXPECT_EQ(select_functions({"contact_fd_derivatives"}, false).generated,
+            (std::vector<std::string>{"closure_positions", "contact_forward_dynamics_derivatives"}));
+  EXPECT_TRUE(select_functions({"contact_fd_derivatives"}, true).emits("contact_accelerations"));
 }
 
 TEST(SceneFunctions, EachOutputBringsWhatItNeeds) {

@@ -69,7 +69,8 @@ OpCount count_operations(const TracedFunction& f) {
       case Op::Sin:
       case Op::Cos: ++c.trig; break;
       case Op::Sqrt: ++c.sqrt; break;
-      case Op::Max: ++c.max; break;
+      case Op::Max:
+      case Op::Step: ++c.max; break;
       case Op::Pow: ++c.pow; break;
       default: break;
     }
@@ -306,6 +307,7 @@ class StatementPrinter {
         case Op::Sqrt: return fmt::format("std::sqrt({})", name(n.a));
         // A select, not std::fmax: no libm call on a microcontroller.
         case Op::Max: return fmt::format("{0} > {1} ? {0} : {1}", name(n.a), name(n.b));
+        case Op::Step: return fmt::format("{} > S(0) ? S(1) : S(0)", name(n.a));
         case Op::Pow: return fmt::format("std::pow({}, {})", name(n.a), name(n.b));
         default: return arithmetic(n, name(n.a), n.b >= 0 ? std::string(name(n.b)) : std::string());
       }
@@ -313,6 +315,7 @@ class StatementPrinter {
     switch (n.op) {
       case Op::Sqrt: return fmt::format("lanes_sqrt({})", vector_operand(n.a, name));
       case Op::Max: return fmt::format("lanes_max({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
+      case Op::Step: return fmt::format("lanes_step({})", vector_operand(n.a, name));
       case Op::Pow: return fmt::format("lanes_pow({}, {})", vector_operand(n.a, name), vector_operand(n.b, name));
       default: {
         // Vector (op) scalar is a vector; scalar (op) scalar is not: then the first is broadcast.

@@ -83,15 +83,15 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
 
 }  // namespace
 
-std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent, const EmitContext& ctx) {
-  // Outputs: the accelerations, the matrices, then the two work arrays; the tree's last matrix
-  // (M^-1) is traced whole, a closed system's (dydd/dtau = M_y^-1 T^T) is solved too.
-  if (f.work_outputs != 2 || f.outputs.size() != 6)
-    throw std::logic_error("emit_forward_dynamics_derivatives_definition: " + f.name + " is not its trace");
-  const ArraySpec& entries = f.outputs[4];
-  const ArraySpec& pivots = f.outputs[5];
-  const bool closed = f.outputs[3].name != "Minv";
-  const std::vector<std::size_t> solved = closed ? std::vector<std::size_t>{1, 2, 3} : std::vector<std::size_t>{1, 2};
+std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                        const std::vector<std::size_t>& solved, const EmitContext& ctx) {
+  // Outputs: the results, then the two work arrays (the factor's entries and inverse pivots).
+  const std::size_t count = f.outputs.size();
+  if (f.work_outputs != 2 || count < 4 || f.outputs[count - 2].name != "factor_entries" ||
+      f.outputs[count - 1].name != "inverse_pivot")
+    throw std::logic_error("emit_forward_dynamics_derivatives_definition: " + f.name + " is not a derivatives trace");
+  const ArraySpec& entries = f.outputs[count - 2];
+  const ArraySpec& pivots = f.outputs[count - 1];
   std::string solve_arguments = fmt::format("{}, {}", entries.name, pivots.name);
   for (std::size_t o : solved) solve_arguments += ", " + f.outputs[o].name;
   std::string entry_points;

@@ -8,6 +8,8 @@
 // twice Pinocchio's time); as row operations they are short and vectorise. A closed system's
 // (loop_dynamics_derivatives.hpp) the same: M_y's factor along its elimination tree, and its
 // three matrices solved (dydd/dtau = M_y^-1 T^T too: T^T has few entries, its solve fills them).
+// contact_forward_dynamics_derivatives (contact_dynamics_derivatives.hpp) is the tree's with the
+// ground's joint forces' derivatives added before the same two solves.
 #include <string>
 #include <vector>
 
@@ -17,10 +19,13 @@
 
 namespace mbgen::codegen {
 
-/// The source file of forward_dynamics_derivatives from its trace (trace_forward_dynamics_derivatives
-/// or trace_loop_forward_dynamics_derivatives: the work outputs factor_entries and inverse_pivot
-/// last), with the factor's structure: each row's parent (a tree's velocity parents; a closed
-/// system's LoopDynamicsDerivatives::y_parent).
-std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent, const EmitContext& ctx);
+/// The source file of a forward-dynamics derivative function from its trace
+/// (trace_forward_dynamics_derivatives, trace_loop_forward_dynamics_derivatives,
+/// trace_contact_forward_dynamics_derivatives: the work outputs factor_entries and inverse_pivot
+/// last), with the factor's structure, each row's parent (a tree's velocity parents; a closed
+/// system's LoopDynamicsDerivatives::y_parent), and the outputs (by position) that leave the trace
+/// to be solved in place.
+std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                        const std::vector<std::size_t>& solved, const EmitContext& ctx);
 
 }  // namespace mbgen::codegen

@@ -65,6 +65,7 @@ int ExpressionGraph::unary(Op op, int a) {
       case Op::Sin: return constant(std::sin(na.value));
       case Op::Cos: return constant(std::cos(na.value));
       case Op::Sqrt: return constant(std::sqrt(na.value));
+      case Op::Step: return constant(na.value > 0 ? 1.0 : 0.0);
       default: break;
     }
   }

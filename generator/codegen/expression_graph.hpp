@@ -12,7 +12,8 @@ namespace mbgen::codegen {
 
 /// Max: the larger operand (a > b ? a : b), the one value-dependent choice a traced algorithm may
 /// make (a guard against 0 / 0, e.g. in a Givens rotation of two numerically zero entries).
-enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt, Max, Pow };
+/// Step: 1 where the operand is > 0, else 0 (the slope of max(x, 0); printed as a select).
+enum class Op : std::uint8_t { Constant, Input, Add, Sub, Mul, Div, Neg, Sin, Cos, Sqrt, Max, Pow, Step };
 
 struct Node {
   Op op;

@@ -41,6 +41,13 @@ std::string full_velocities_source(const DefinitionInputs& in) {
   return emit_product_definition(in.function, in.other("velocity_map"), in.ctx);
 }
 
+// Each velocity index's parent in the tree (-1: none): the mass matrix factor's structure.
+std::vector<int> tree_parents(const Model& tree) {
+  std::vector<int> parent;
+  for (int k = 0; k < tree.nv(); ++k) parent.push_back(tree.velocity_parent(k));
+  return parent;
+}
+
 // Without contact spheres, contact_accelerations is a call of full_accelerations.
 std::string contact_accelerations_source(const DefinitionInputs& in) {
   if (in.has_contacts) return emit_definition(in.function, in.ctx);
@@ -140,15 +147,22 @@ const std::vector<GeneratedFunction>& function_catalog() {
       if (!in.model.subsystems.empty()) return trace_loop_forward_dynamics_derivatives(in.model);
       return trace_forward_dynamics_derivatives(in.tree);
     };
-    // The solves with M (a tree) or M_y (a closed system) run as row loops (emit_derivatives.hpp).
+    // The solves with M (a tree: dqdd/dq, dqdd/dv) or M_y (a closed system: and dydd/dtau) run as
+    // row loops (emit_derivatives.hpp).
     r.back().definition = [](const DefinitionInputs& in) {
-      std::vector<int> parent;
-      if (!in.model.subsystems.empty()) {
-        parent = closed_mass_matrix_elimination_tree(in.model);
-      } else {
-        for (int k = 0; k < in.model.nv(); ++k) parent.push_back(in.model.velocity_parent(k));
-      }
-      return emit_forward_dynamics_derivatives_definition(in.function, parent, in.ctx);
+      if (!in.model.subsystems.empty())
+        return emit_forward_dynamics_derivatives_definition(in.function, closed_mass_matrix_elimination_tree(in.model), {1, 2, 3}, in.ctx);
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model), {1, 2}, in.ctx);
+    };
+    row("contact_forward_dynamics_derivatives", Batch::no,
+         "the forward dynamics under the compliant ground and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau (trees)",
+         {"contact_fd_derivatives"});
+    r.back().on_request = true;
+    r.back().trace = [](const TraceInputs& in) {
+      return trace_contact_forward_dynamics_derivatives(in.model, in.contacts, in.contact_exponent);
+    };
+    r.back().definition = [](const DefinitionInputs& in) {
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model), {1, 2}, in.ctx);
     };
     // clang-format on
     return r;

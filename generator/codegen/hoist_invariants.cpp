@@ -45,7 +45,8 @@ std::vector<int> copy_nodes(const ExpressionGraph& from, const std::vector<bool>
         case Op::Neg:
         case Op::Sin:
         case Op::Cos:
-        case Op::Sqrt: copy = to.unary(n.op, operand(n.a)); break;
+        case Op::Sqrt:
+        case Op::Step: copy = to.unary(n.op, operand(n.a)); break;
         default: copy = to.binary(n.op, operand(n.a), operand(n.b)); break;
       }
       if (to.node(copy).op != n.op) throw std::logic_error("hoist_invariants: a copied node changed its operation");

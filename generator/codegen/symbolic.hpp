@@ -54,6 +54,9 @@ class Sym {
   /// The larger of a and b, decided at run time (found by ADL where the runtime writes
   /// `using std::max; max(x, y)`).
   friend Sym max(const Sym& a, const Sym& b) { return from_id(Recording::graph().binary(Op::Max, a.id_, b.id_)); }
+  /// 1 where a > 0, else 0, decided at run time (the contact law's slopes; found by ADL where
+  /// the runtime calls unit_step).
+  friend Sym unit_step(const Sym& a) { return from_id(Recording::graph().unary(Op::Step, a.id_)); }
   /// a^b (the contact law's exponent other than 1, 1.5 or 2).
   friend Sym pow(const Sym& a, const Sym& b) { return from_id(Recording::graph().binary(Op::Pow, a.id_, b.id_)); }
 

@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 
 #include "codegen/trace_support.hpp"
+#include <stdexcept>
+
 #include "mbgen/algorithm/aba_derivatives.hpp"
+#include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
 
 namespace mbgen::codegen {
@@ -59,6 +62,58 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
   // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv.
   f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(d.Minv), ids_of(d.factor_entries),
                   ids_of(d.inverse_pivot)};
+  return f;
+}
+
+TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, const std::vector<ContactSphere>& spheres,
+                                                          double exponent) {
+  if (!model.subsystems.empty())
+    throw std::invalid_argument(fmt::format(
+        "contact_fd_derivatives: the derivatives under the compliant ground are built for trees only, and this "
+        "robot has {} closed loops: request fd_derivatives (the closed system's, without the ground) or describe the "
+        "robot without its loops",
+        model.closures.size()));
+  const int n = model.nv(), spheres_count = static_cast<int>(spheres.size());
+  TracedFunction f;
+  f.name = "contact_forward_dynamics_derivatives";
+  f.doc = fmt::format(
+      "The forward dynamics under tau and the compliant ground (as contact_accelerations: the law of "
+      "mbgen/algorithm/contact_law.hpp, exponent {} built in, at each contact sphere) and its derivatives dqdd/dq, "
+      "dqdd/dv and dqdd/dtau = M^-1: the inverse dynamics' derivatives minus the ground's joint forces' at the qdd "
+      "found, times -M^-1 (contact_dynamics_derivatives.hpp). d/dq is taken along q (+) delta with delta in v-space, "
+      "as forward_dynamics_derivatives. Where the law switches (touch-down, the normal force's clamp, the stiction "
+      "speed) the slope of the side the value takes. Unrolled up to the solves with M, which run as loops over whole rows.",
+      exponent);
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "tau", "joint forces"),
+              {"ground", kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
+              {"law", kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
+  f.outputs = {v_spec(model, "qdd", "joint accelerations"), square_spec(model, "dqdd_dq", "dqdd/dq along q (+) delta"),
+               square_spec(model, "dqdd_dv", "dqdd/dv"), square_spec(model, "Minv", "dqdd/dtau = M^-1"),
+               {"contacts", kContactOutputs * spheres_count,
+                fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
+                            "there (3, N, world), slip velocity (3, m/s)",
+                            spheres_count),
+                {spheres_count, kContactOutputs}}};
+  int entries = 0;
+  for (int k = 0; k < n; ++k)
+    for (int i = model.velocity_parent(k); i >= 0; i = model.velocity_parent(i)) ++entries;
+  f.outputs.push_back({"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)});
+  f.outputs.push_back(v_spec(model, "inverse_pivot", "1 / D of M's factor"));
+  f.work_outputs = 2;
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  ContactDynamicsDerivatives<Sym> d(model);
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, n), tau = inputs(2, n), ground = inputs(3, kGroundInputs),
+               law = inputs(4, kLawInputs);
+  std::vector<Sym> contacts(static_cast<std::size_t>(kContactOutputs * spheres_count));
+  contact_forward_dynamics_derivatives_before_solves<Sym>(model, data, d, spheres, exponent, q, v, tau, ground.data(), law.data(),
+                                                         contacts.data());
+  std::vector<int> contact_ids;
+  for (const Sym& x : contacts) contact_ids.push_back(x.id());
+  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as dtau_c - dtau.
+  f.output_ids = {ids_of(d.fd.ddq), ids_of(d.fd.dddq_dq),     ids_of(d.fd.dddq_dv),
+                  ids_of(d.fd.Minv), contact_ids,             ids_of(d.fd.factor_entries),
+                  ids_of(d.fd.inverse_pivot)};
   return f;
 }
 

@@ -67,6 +67,15 @@ void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& dat
   d.dddq_dv = -d.dtau_dv;
 }
 
+/// The solves that finish forward_dynamics_derivatives_before_solves: d.dddq_dq and d.dddq_dv
+/// times M^-1 in place, from the factor in data.M. No allocation.
+template <typename S> void forward_dynamics_derivatives_solves(const Model& model, const Data<S>& data, DynamicsDerivatives<S>& d) {
+  for (int k = 0; k < model.nv(); ++k) {
+    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dq.col(k));
+    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dv.col(k));
+  }
+}
+
 /// qdd (d.ddq), dqdd/dq (d.dddq_dq), dqdd/dv (d.dddq_dv) and M^-1 (d.Minv) of the spanning tree at
 /// (q, v, tau); d.tau, d.dtau_dq and d.dtau_dv hold the inverse dynamics' at (q, v, qdd), and
 /// data.M the mass matrix's factor. No allocation.
@@ -74,10 +83,7 @@ template <typename S>
 void forward_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   forward_dynamics_derivatives_before_solves<S>(model, data, d, q, v, tau);
-  for (int k = 0; k < model.nv(); ++k) {
-    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dq.col(k));
-    detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dv.col(k));
-  }
+  forward_dynamics_derivatives_solves<S>(model, data, d);
 }
 
 }  // namespace mbgen

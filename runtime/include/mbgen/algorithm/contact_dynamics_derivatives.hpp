@@ -16,12 +16,13 @@
 // and the columns at or below j turn with it (dS = s x S), so with (s x S).F = -S.(s x* F)
 //   dtau_c,i / ds = S_i . dF - [i at or below j] S_i . (s x* F).
 // Along v the point and the columns stay: dv_w = s_lin + s_ang x w and dF = [df; w x df].
-// df/dw and df/dv_w are the law's 3 x 3 Jacobians in forward-mode automatic differentiation
-// (Eigen's AutoDiffScalar over six inputs: the law is a dozen lines, branch-free but for max).
+// df/dw and df/dv_w are the law's 3 x 3 Jacobians (contact_force_jacobians, contact_law.hpp).
+// The ground's part joins the inverse dynamics' before the solves with M:
+//   da/dq = -M^-1 (dtau/dq - dtau_c/dq), and the same along v,
+// so the generator traces up to those solves and prints them as loops (as the tree's, aba_derivatives.hpp).
 #include <vector>
 
 #include <Eigen/Core>
-#include <unsupported/Eigen/AutoDiff>
 
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
@@ -35,7 +36,9 @@ template <typename S> struct ContactDynamicsDerivatives {
       : fd(model),
         tau_total(VecX<S>::Zero(model.nv())),
         dtau_dq(MatX<S>::Zero(model.nv(), model.nv())),
-        dtau_dv(MatX<S>::Zero(model.nv(), model.nv())) {}
+        dtau_dv(MatX<S>::Zero(model.nv(), model.nv())),
+        dF_q(fd.J.size()),
+        dF_v(fd.J.size()) {}
 
   /// Results in fd: fd.ddq = a, fd.dddq_dq = da/dq, fd.dddq_dv = da/dv, fd.Minv = da/dtau (nv x nv,
   /// Eigen's column-major storage); fd.tau, fd.dtau_dq, fd.dtau_dv: the inverse dynamics' at a
@@ -43,37 +46,15 @@ template <typename S> struct ContactDynamicsDerivatives {
   DynamicsDerivatives<S> fd;
   VecX<S> tau_total;         ///< tau + tau_c at the last call
   MatX<S> dtau_dq, dtau_dv;  ///< the ground's joint forces' derivatives, dtau_c/dq and dtau_c/dv
+  std::vector<Force<S>> dF_q, dF_v;  ///< work: per sweep column, a body's spheres' summed dF along q and v
 };
 
 namespace detail {
-/// The law's Jacobians at a witness w moving at v_w: df/dw and df/dv_w (world axes), and f.
-template <typename S>
-void contact_law_jacobians(const Vec3<S>& w, const Vec3<S>& v_w, const S* ground, const S* law, double exponent, Vec3<S>& f,
-                           Mat3<S>& df_dw, Mat3<S>& df_dv) {
-  using AD = Eigen::AutoDiffScalar<Eigen::Matrix<S, 6, 1>>;
-  Vec3<AD> w_ad, v_ad;
-  for (int i = 0; i < 3; ++i) {
-    w_ad[i] = AD(w[i], 6, i);
-    v_ad[i] = AD(v_w[i], 6, 3 + i);
-  }
-  const AD g[kGroundInputs] = {AD(ground[0]), AD(ground[1]), AD(ground[2]), AD(ground[3])};
-  const AD l[kLawInputs] = {AD(law[0]), AD(law[1]), AD(law[2]), AD(law[3])};
-  const ContactForce<AD> out = contact_force_at_witness<AD>(w_ad, v_ad, g, l, exponent);
-  for (int i = 0; i < 3; ++i) {
-    f[i] = out.force[i].value();
-    // A force that is exactly zero (apart) has an empty derivative vector.
-    if (out.force[i].derivatives().size() != 6) {
-      df_dw.row(i).setZero();
-      df_dv.row(i).setZero();
-      continue;
-    }
-    df_dw.row(i) = out.force[i].derivatives().template head<3>().transpose();
-    df_dv.row(i) = out.force[i].derivatives().template tail<3>().transpose();
-  }
-}
-
 /// dtau_c/dq and dtau_c/dv (d.dtau_dq, d.dtau_dv; header comment) from the sweep's columns and
-/// twists (d.fd, filled at the same q and v) and the world poses data.X_WB.
+/// twists (d.fd, filled at the same q and v) and the world poses data.X_WB. The spheres on one
+/// body (consecutive, as contact_spheres lists them) share its chain: their dF per column add up
+/// first and their wrenches into one, and the chain's columns project the sums once, which is
+/// most of the work (a flat foot's four to six spheres: that many times less).
 template <typename S>
 void contact_joint_force_derivatives(const Data<S>& data, const std::vector<ContactSphere>& spheres,
                                      double exponent, const S* ground, const S* law, ContactDynamicsDerivatives<S>& d) {
@@ -82,38 +63,51 @@ void contact_joint_force_derivatives(const Data<S>& data, const std::vector<Cont
   d.dtau_dq.setZero();
   d.dtau_dv.setZero();
   const Vec3<S> n(ground[0], ground[1], ground[2]);
-  for (const ContactSphere& sphere : spheres) {
-    const int b = sphere.body.value();
-    const Vec3<S> c = data.X_WB[sphere.body].act(cast<S>(sphere.center));
-    const Vec3<S> w = c - S(sphere.radius) * n;
-    // Apart, the force is zero in a neighbourhood (and the law's root has no derivative at 0).
-    if (!(ground[3] - n.dot(w) > S(0))) continue;
+  std::size_t k = 0;
+  while (k < spheres.size()) {
+    const int b = spheres[k].body.value();
     const Motion<S>& V = id.V[at(b)];
-    Vec3<S> f;
-    Mat3<S> df_dw, df_dv;
-    contact_law_jacobians<S>(w, V.linear + V.angular.cross(w), ground, law, exponent, f, df_dw, df_dv);
-    const Force<S> F{f, w.cross(f)};
-    // Column s of the chain: along q and along v.
+    for (int j = b; j != 0; j = id.bodies[at(j)].parent)
+      for (int s = id.bodies[at(j)].first_column; s < id.bodies[at(j)].first_column + id.bodies[at(j)].num_columns; ++s)
+        d.dF_q[at(s)] = d.dF_v[at(s)] = Force<S>::Zero();
+    Force<S> F_body = Force<S>::Zero();
+    for (; k < spheres.size() && spheres[k].body.value() == b; ++k) {
+      const Vec3<S> c = data.X_WB[spheres[k].body].act(cast<S>(spheres[k].center));
+      const Vec3<S> w = c - S(spheres[k].radius) * n;
+      // No test for contact: apart, the law's force and Jacobians are exactly 0, and the traced
+      // form (the generated contact_forward_dynamics_derivatives) cannot branch on the state.
+      Vec3<S> f;
+      Mat3<S> df_dw, df_dv;
+      contact_force_jacobians<S>(w, V.linear + V.angular.cross(w), ground, law, exponent, f, df_dw, df_dv);
+      F_body += Force<S>{f, w.cross(f)};
+      // Column s of the chain: along q and along v.
+      for (int j = b; j != 0; j = id.bodies[at(j)].parent) {
+        const auto& sj = id.bodies[at(j)];
+        const Motion<S>& Vp = id.V[at(sj.parent)];
+        for (int s = sj.first_column; s < sj.first_column + sj.num_columns; ++s) {
+          const Motion<S>& col = id.J[at(s)];
+          const Vec3<S> dw = col.linear + col.angular.cross(c);
+          const Motion<S> dV = col.cross(V - Vp);
+          const Vec3<S> df_q = df_dw * dw + df_dv * (dV.linear + dV.angular.cross(w) + V.angular.cross(dw));
+          d.dF_q[at(s)] += Force<S>{df_q, dw.cross(f) + w.cross(df_q)};
+          const Vec3<S> df_v = df_dv * (col.linear + col.angular.cross(w));
+          d.dF_v[at(s)] += Force<S>{df_v, w.cross(df_v)};
+        }
+      }
+    }
+    // The sums projected on the chain's columns; the columns at or below j turn with it.
     for (int j = b; j != 0; j = id.bodies[at(j)].parent) {
       const auto& sj = id.bodies[at(j)];
-      const Motion<S>& Vp = id.V[at(sj.parent)];
       for (int s = sj.first_column; s < sj.first_column + sj.num_columns; ++s) {
-        const Motion<S>& col = id.J[at(s)];
         const int sv = id.column_v[at(s)];
-        const Vec3<S> dw = col.linear + col.angular.cross(c);
-        const Motion<S> dV = col.cross(V - Vp);
-        const Vec3<S> df_q = df_dw * dw + df_dv * (dV.linear + dV.angular.cross(w) + V.angular.cross(dw));
-        const Force<S> dF_q{df_q, dw.cross(f) + w.cross(df_q)};
-        const Force<S> turned = col.cross(F);
-        const Vec3<S> df_v = df_dv * (col.linear + col.angular.cross(w));
-        const Force<S> dF_v{df_v, w.cross(df_v)};
+        const Force<S> turned = id.J[at(s)].cross(F_body);
         bool below = true;  // i's body at or below j
         for (int i = b; i != 0; i = id.bodies[at(i)].parent) {
           const auto& si = id.bodies[at(i)];
-          for (int k = si.first_column; k < si.first_column + si.num_columns; ++k) {
-            const int iv = id.column_v[at(k)];
-            d.dtau_dq(iv, sv) += id.J[at(k)].dot(dF_q) - (below ? id.J[at(k)].dot(turned) : S(0));
-            d.dtau_dv(iv, sv) += id.J[at(k)].dot(dF_v);
+          for (int c = si.first_column; c < si.first_column + si.num_columns; ++c) {
+            const int iv = id.column_v[at(c)];
+            d.dtau_dq(iv, sv) += id.J[at(c)].dot(d.dF_q[at(s)]) - (below ? id.J[at(c)].dot(turned) : S(0));
+            d.dtau_dv(iv, sv) += id.J[at(c)].dot(d.dF_v[at(s)]);
           }
           if (i == j) below = false;
         }
@@ -122,6 +116,25 @@ void contact_joint_force_derivatives(const Data<S>& data, const std::vector<Cont
   }
 }
 }  // namespace detail
+
+/// What comes before the solves with M (the part the generator unrolls, as
+/// forward_dynamics_derivatives_before_solves): d.fd.ddq = a, d.fd.dddq_dq = dtau_c/dq - dtau/dq and
+/// d.fd.dddq_dv = dtau_c/dv - dtau/dv (dtau the inverse dynamics' at (q, v, a) without the ground),
+/// d.fd.Minv = M^-1 and M's factor; out as contact_forward_dynamics writes it. No allocation.
+template <typename S>
+void contact_forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, ContactDynamicsDerivatives<S>& d,
+                                                        const std::vector<ContactSphere>& spheres, double exponent,
+                                                        const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau,
+                                                        const S* ground, const S* law, S* out) {
+  d.tau_total = tau;
+  contact_joint_forces<S>(model, data, spheres, exponent, q, v.data(), ground, law, d.tau_total.data(), out);
+  forward_dynamics_derivatives_before_solves<S>(model, data, d.fd, q, v, d.tau_total);
+  if (spheres.empty()) return;
+  detail::contact_joint_force_derivatives<S>(data, spheres, exponent, ground, law, d);
+  // -M^-1 (dtau - dtau_c): the ground's part joins before the solves, one solve for both.
+  d.fd.dddq_dq += d.dtau_dq;
+  d.fd.dddq_dv += d.dtau_dv;
+}
 
 /// a (d.fd.ddq) at (q, v, tau) under the ground's forces on the spheres, and da/dq, da/dv, da/dtau
 /// (header comment; results listed in ContactDynamicsDerivatives). ground and law as
@@ -132,13 +145,8 @@ void contact_forward_dynamics_derivatives(const Model& model, Data<S>& data, Con
                                           const std::vector<ContactSphere>& spheres, double exponent, const ConstVecRef<S>& q,
                                           const ConstVecRef<S>& v, const ConstVecRef<S>& tau, const S* ground, const S* law,
                                           S* out) {
-  d.tau_total = tau;
-  contact_joint_forces<S>(model, data, spheres, exponent, q, v.data(), ground, law, d.tau_total.data(), out);
-  forward_dynamics_derivatives<S>(model, data, d.fd, q, v, d.tau_total);
-  if (spheres.empty()) return;
-  detail::contact_joint_force_derivatives<S>(data, spheres, exponent, ground, law, d);
-  d.fd.dddq_dq.noalias() += d.fd.Minv * d.dtau_dq;
-  d.fd.dddq_dv.noalias() += d.fd.Minv * d.dtau_dv;
+  contact_forward_dynamics_derivatives_before_solves<S>(model, data, d, spheres, exponent, q, v, tau, ground, law, out);
+  forward_dynamics_derivatives_solves<S>(model, data, d.fd);
 }
 
 }  // namespace mbgen

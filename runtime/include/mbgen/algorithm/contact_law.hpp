@@ -43,6 +43,11 @@ template <typename T> T contact_max(const T& a, const T& b) {
   return max(a, b);
 }
 
+/// 1 where x > 0, else 0 (also at x = 0): the slope of max(x, 0), as the select max compiles to
+/// picks 0 there. The symbolic scalar has its own (found by argument-dependent lookup), which the
+/// generator prints as a select too.
+template <typename T> T unit_step(const T& x) { return x > T(0) ? T(1) : T(0); }
+
 /// delta^e for delta >= 0: a product or a square root for the usual exponents (a square root
 /// costs a fraction of a pow), pow otherwise.
 template <typename T> T contact_spring_power(const T& delta, double exponent) {
@@ -52,6 +57,17 @@ template <typename T> T contact_spring_power(const T& delta, double exponent) {
   if (exponent == 1.5) return delta * sqrt(delta);
   if (exponent == 2) return delta * delta;
   return pow(delta, exponent);
+}
+
+/// d(delta^e)/d delta for delta >= 0 and e >= 1 (the extras refuse e < 1): finite at 0, where it
+/// is 0 but for e = 1.
+template <typename T> T contact_spring_slope(const T& delta, double exponent) {
+  using std::pow;
+  using std::sqrt;
+  if (exponent == 1) return T(1);
+  if (exponent == 1.5) return T(1.5) * sqrt(delta);
+  if (exponent == 2) return T(2) * delta;
+  return T(exponent) * pow(delta, T(exponent - 1));
 }
 
 /// The law at a witness point w (the sphere's lowest point, world) moving at v_w, without a branch
@@ -75,6 +91,45 @@ ContactForce<T> contact_force_at_witness(const Vec3<T>& w, const Vec3<T>& v_w, c
   const T scale = sqrt(contact_max<T>(out.slip_velocity.squaredNorm(), law[3] * law[3]));
   out.force = fn * n - (law[2] * fn / scale) * out.slip_velocity;
   return out;
+}
+
+/// The law's force f at w moving at v_w (contact_force_at_witness's) and its Jacobians df/dw and
+/// df/dv_w (world axes, 3 x 3), by hand and without a branch on the state, so that the generator
+/// traces them into the generated contact derivatives. With pen the penetration, h = k delta^e
+/// (1 - d n . v_w) the unclamped normal force, s = slip, sigma = sqrt(max(|s|^2, v_s^2)),
+/// P = I - n n^T:
+///   f = f_n u,  u = n - mu s / sigma,  f_n = max(h, 0),  delta = max(pen, 0),  d pen = -n . dw,
+///   df_n = [h > 0] ((1 - d n . v_w) k e delta^(e-1) [pen > 0] d pen - k delta^e d n . dv_w),
+///   ds = P dv_w,  d sigma = [|s|^2 > v_s^2] (P s) . dv_w / sigma,
+///   df/dw = u df_n/dw,  df/dv_w = u df_n/dv_w - (mu f_n / sigma) (P - [|s|^2 > v_s^2] s (P s)^T / sigma^2).
+/// Where a max switches (touch-down, the clamp, the stiction speed), the slope of the side its
+/// select takes: 0 at a tie. Apart, every entry is exactly 0.
+template <typename T>
+void contact_force_jacobians(const Vec3<T>& w, const Vec3<T>& v_w, const T* ground, const T* law, double exponent, Vec3<T>& f,
+                             Mat3<T>& df_dw, Mat3<T>& df_dv) {
+  using std::sqrt;
+  const Vec3<T> n(ground[0], ground[1], ground[2]);
+  const T penetration = ground[3] - n.dot(w);
+  const T delta = contact_max<T>(penetration, T(0));
+  const T normal_velocity = n.dot(v_w);
+  const Vec3<T> slip = v_w - n * normal_velocity;
+  const T spring = law[0] * contact_spring_power<T>(delta, exponent);
+  const T damping_factor = T(1) - law[1] * normal_velocity;
+  const T h = spring * damping_factor;
+  const T fn = contact_max<T>(h, T(0));
+  const T stiction2 = law[3] * law[3];
+  const T slip2 = slip.squaredNorm();
+  const T sigma = sqrt(contact_max<T>(slip2, stiction2));
+  const T mu_over_sigma = law[2] / sigma;
+  const Vec3<T> u = n - mu_over_sigma * slip;
+  f = fn * u;
+  const T pressing = unit_step(h);
+  const T dfn_dpen = pressing * damping_factor * law[0] * contact_spring_slope<T>(delta, exponent) * unit_step(penetration);
+  df_dw = u * (-dfn_dpen * n).transpose();
+  const Mat3<T> P = Mat3<T>::Identity() - n * n.transpose();
+  const Vec3<T> Ps = P * slip;
+  const T sliding = unit_step(slip2 - stiction2) / (sigma * sigma);
+  df_dv = u * (-(pressing * spring * law[1]) * n).transpose() - (mu_over_sigma * fn) * (P - sliding * slip * Ps.transpose());
 }
 
 /// The law at one sphere: centre c, its velocity v_c and the body's angular velocity omega
