@@ -75,7 +75,7 @@ inline constexpr double ground_offset = 0;  ///< m
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [30] independent accelerations, independent_joint_names order
-/// Cost: 13676 operations: 5894 additions/subtractions, 7520 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
+/// Cost: 13658 operations: 5882 additions/subtractions, 7514 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void forward_dynamics(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Accelerations of every tree joint of the closed system (the dependent ones from the loops), as forward_dynamics computes them.
@@ -83,7 +83,7 @@ void forward_dynamics(const double* q, const double* v, const double* tau, doubl
 /// in  v: [30] independent velocities, independent_joint_names order
 /// in  tau: [46] joint forces of every tree joint (those of dependent joints act through G^T)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
-/// Cost: 13720 operations: 5916 additions/subtractions, 7542 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
+/// Cost: 13702 operations: 5904 additions/subtractions, 7536 multiplications, 59 divisions, 99 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void full_accelerations(const double* q, const double* v, const double* tau, double* qdd);
 
 /// Velocity map T of the closed system at q: v = T vy gives every tree joint's velocity from the independent ones (the identity off the loops, each sub-system's G = [I; -Phi_z^-1 Phi_y] on its coordinates).
@@ -111,7 +111,7 @@ void acceleration_bias(const double* q, const double* vy, double* g);
 /// in  v: [46] joint velocities
 /// in  qdd: [46] joint accelerations
 /// out tau: [46] joint forces
-/// Cost: 5189 operations: 2277 additions/subtractions, 2840 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
+/// Cost: 5171 operations: 2265 additions/subtractions, 2834 multiplications, 0 divisions, 4 negations, 68 sin/cos, 0 square roots.
 void inverse_dynamics(const double* q, const double* v, const double* qdd, double* tau);
 
 /// Inverse dynamics of the closed system for its actuators: the forces of the actuated joints (actuated_joint_names) that give the independent accelerations ydd at (q, vy), the loops closed and every other joint passive, and the residual: the generalized forces on the independent coordinates no actuator reaches (a floating base's six: what the contacts must supply). Joint forces tau_a on actuated_v_index plus the residual on independent_v_index make forward_dynamics return ydd. An actuator that is a dependent coordinate of its loops is solved for through them; at its dead point the result is not finite.
@@ -120,7 +120,7 @@ void inverse_dynamics(const double* q, const double* v, const double* qdd, doubl
 /// in  ydd: [30] independent accelerations, independent_joint_names order
 /// out tau_a: [24] actuator forces (N m or N), actuated_joint_names order
 /// out residual: [30] generalized forces no actuator supplies (zero where the actuators reach), independent_joint_names order
-/// Cost: 7643 operations: 3191 additions/subtractions, 4236 multiplications, 34 divisions, 78 negations, 68 sin/cos, 18 square roots, 18 max (selects).
+/// Cost: 7625 operations: 3179 additions/subtractions, 4230 multiplications, 34 divisions, 78 negations, 68 sin/cos, 18 square roots, 18 max (selects).
 void actuator_forces(const double* q, const double* vy, const double* ydd, double* tau_a, double* residual);
 
 /// Joint-space mass matrix M(q) (composite-rigid-body algorithm).
@@ -157,7 +157,7 @@ void frame_poses(const double* q, double* X_WF);
 /// Jacobian of each frame in frame_names: rows [linear velocity of the frame origin; angular velocity], both in world axes (LOCAL_WORLD_ALIGNED).
 /// in  q: [47] joint positions
 /// out J: [3 x 6 x 46] per frame a row-major 6 x nv matrix
-/// Cost: 704 operations: 291 additions/subtractions, 387 multiplications, 0 divisions, 0 negations, 26 sin/cos, 0 square roots.
+/// Cost: 689 operations: 282 additions/subtractions, 381 multiplications, 0 divisions, 0 negations, 26 sin/cos, 0 square roots.
 void frame_jacobians(const double* q, double* J);
 
 /// Centre of mass of the robot in the world.
@@ -178,7 +178,7 @@ void centroidal_momentum_matrix(const double* q, double* Ag);
 /// out J: [3 x 6 x 46] per frame a row-major 6 x nv matrix, LOCAL_WORLD_ALIGNED
 /// out com: [3] centre of mass, world
 /// out Ag: [6 x 46, row-major] centroidal momentum matrix
-/// Cost: 4229 operations: 1903 additions/subtractions, 2229 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
+/// Cost: 4214 operations: 1894 additions/subtractions, 2223 multiplications, 3 divisions, 26 negations, 68 sin/cos, 0 square roots.
 void task_kinematics(const double* q, double* X_WF, double* J, double* com, double* Ag);
 
 /// The kept closure rows in full coordinates at (q, v): residual, Jacobian and bias with J qdd = gamma (runtime: closure_constraints), sub-system by sub-system; what a solver that keeps the loops by multipliers reads (the simulator's soft span through a dead point). No rows without loops.
@@ -205,7 +205,7 @@ void contact_points(const double* q, double* p, double* J);
 /// in  law: [4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)
 /// out qdd: [46] accelerations of every tree joint, joint_names order
 /// out contacts: [12 x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot there (3, N, world), slip velocity (3, m/s)
-/// Cost: 15301 operations: 6608 additions/subtractions, 8359 multiplications, 71 divisions, 99 negations, 68 sin/cos, 42 square roots, 54 max (selects).
+/// Cost: 15283 operations: 6596 additions/subtractions, 8353 multiplications, 71 divisions, 99 negations, 68 sin/cos, 42 square roots, 54 max (selects).
 void contact_accelerations(const double* q, const double* v, const double* tau, const double* ground, const double* law, double* qdd, double* contacts);
 // inverse_dynamics_derivatives: left out (not among the outputs of lola.yaml's scene, nor needed by them).
 // forward_dynamics_derivatives: left out (not among the outputs of lola.yaml's scene, nor needed by them).

@@ -93,6 +93,9 @@ int ExpressionGraph::binary(Op op, int a, int b) {
     case Op::Add:
       if (is_constant(a, 0)) return b;
       if (is_constant(b, 0)) return a;
+      // (x - y) + (y - x): 0 for every finite x and y, as x - x below (IEEE subtraction is
+      // antisymmetric). The floating base's v x v terms of the recursions are such sums.
+      if (node(a).op == Op::Sub && node(b).op == Op::Sub && node(a).a == node(b).b && node(a).b == node(b).a) return constant(0);
       if (node(b).op == Op::Neg) return binary(Op::Sub, a, node(b).a);
       if (node(a).op == Op::Neg) return binary(Op::Sub, b, node(a).a);
       break;
