@@ -23,9 +23,14 @@
 //   compliant_derivatives/hyq/generic             contact_forward_dynamics_derivatives<double>, same outputs
 //   compliant_derivatives/hyq/finite_differences  central differences of the generated contact_accelerations (6 nv calls)
 //   compliant_derivatives/hyq/value               one generated contact_accelerations (what the derivatives cost against)
+// and one simulator step (RK4, 1e-4 s) of hyq standing on its four feet, neutral joints, the ground 1 mm above the
+// lowest foot, the scene's law (sim/step_derivatives.hpp):
+//   step_derivatives/hyq/generic    sim::StepDerivatives<sim::GenericBackend<double>>::compute
+//   step_derivatives/hyq/generated  sim::StepDerivatives<hyq_contact::Backend>::compute: the stages call the generated
+//                                   contact_forward_dynamics_derivatives
 // and one simulator step of talos standing on 8 sole spheres pressed 1 mm into the ground (RK4, 1e-4 s,
 // sim/step_derivatives.hpp):
-//   step_derivatives/talos/generic             sim::StepDerivatives<double>::compute: q+, v+, dx+/dx, dx+/du
+//   step_derivatives/talos/generic             sim::StepDerivatives<sim::GenericBackend<double>>::compute: q+, v+, dx+/dx, dx+/du
 //   step_derivatives/talos/finite_differences  central differences of the simulator's step (6 nv steps, each
 //                                               after set_state)
 #include "bench_derivatives.hpp"
@@ -285,6 +290,46 @@ void add_compliant(const Robot& robot) {
   });
 }
 
+/// step_derivatives/hyq/{generic,generated} (header comment).
+void add_step_derivatives_hyq() {
+  struct Standing {
+    Standing() : q(neutral_configuration<double>(scene.model)), v(VecX<double>::Zero(scene.model.nv())), tau(v) {
+      Data<double> data(scene.model);
+      const int m = static_cast<int>(scene.spheres.size());
+      VecX<double> c(3 * m), J(6 * scene.model.nv() * m);
+      contact_points<double>(scene.model, data, scene.spheres, q, c.data(), J.data());
+      double lowest = 1e9;
+      for (int k = 0; k < m; ++k) lowest = std::min(lowest, c[3 * k + 2] - scene.spheres[static_cast<std::size_t>(k)].radius);
+      options.ground.offset = lowest + 1e-3;
+      options.contact_parameters.exponent = scene.exponent;
+      options.energy_check_interval = 0;
+    }
+    CompliantGround scene;
+    VecX<double> q, v, tau;
+    sim::SimulatorOptions options;
+  };
+  const auto standing = std::make_shared<const Standing>();
+  benchmark::RegisterBenchmark("step_derivatives/hyq/generic", [standing](benchmark::State& state) {
+    sim::Simulator<sim::GenericBackend<double>> simulator(sim::GenericBackend<double>(standing->scene.model, standing->scene.spheres),
+                                                          standing->options);
+    simulator.set_state(standing->q.data(), standing->v.data());
+    sim::StepDerivatives<sim::GenericBackend<double>> d(simulator);
+    for (auto _ : state) {
+      d.compute(standing->q.data(), standing->v.data(), standing->tau.data());
+      benchmark::DoNotOptimize(d.dx_dx().data());
+    }
+  })->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("step_derivatives/hyq/generated", [standing](benchmark::State& state) {
+    sim::Simulator<hyq_contact::Backend> simulator(hyq_contact::Backend{}, standing->options);
+    simulator.set_state(standing->q.data(), standing->v.data());
+    sim::StepDerivatives<hyq_contact::Backend> d(simulator);
+    for (auto _ : state) {
+      d.compute(standing->q.data(), standing->v.data(), standing->tau.data());
+      benchmark::DoNotOptimize(d.dx_dx().data());
+    }
+  })->Unit(benchmark::kMicrosecond);
+}
+
 /// talos standing: neutral joints, four spheres (r 1 cm) at each sole's corners, the ground 1 mm
 /// above the lowest sphere; a simulator (RK4, 1e-4 s) at rest there.
 struct StandingOnSpheres {
@@ -319,7 +364,7 @@ struct StepFiniteDifferences {
   explicit StepFiniteDifferences(const Model& model)
       : model(&model), scene(model), nv(model.nv()), q(model.nq()), e(VecX<double>::Zero(nv)), dq(nv), dq_minus(nv),
         center(model.nq()), jacobian(2 * nv, 3 * nv) {
-    sim::StepDerivatives<double> d(*scene.simulator);
+    sim::StepDerivatives<sim::GenericBackend<double>> d(*scene.simulator);
     d.compute(scene.q.data(), scene.v.data(), scene.tau.data());
     center = d.q_next();
   }
@@ -366,7 +411,7 @@ void add_step_derivatives(const Robot& robot) {
   const std::string prefix = "step_derivatives/" + robot.name + "/";
   benchmark::RegisterBenchmark((prefix + "generic").c_str(), [model](benchmark::State& state) {
     StandingOnSpheres scene(*model);
-    sim::StepDerivatives<double> d(*scene.simulator);
+    sim::StepDerivatives<sim::GenericBackend<double>> d(*scene.simulator);
     for (auto _ : state) {
       d.compute(scene.q.data(), scene.v.data(), scene.tau.data());
       benchmark::DoNotOptimize(d.dx_dx().data());
@@ -486,6 +531,7 @@ void add_derivative_benchmarks(const Robot& robot) {
   if (robot.name == "hyq") {
     add(robot, MBGEN_DERIVATIVE_API(hyq));
     add_compliant(robot);
+    add_step_derivatives_hyq();
   }
   if (robot.name == "talos") {
     add(robot, MBGEN_DERIVATIVE_API(talos));

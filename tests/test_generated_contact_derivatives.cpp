@@ -4,7 +4,10 @@
 // differences: double to 1e-12 relative (max-norm over the generic result's), float to 1e-3; no
 // allocation. The ground is cut between the spheres' two middle heights at each state
 // (compliant_contact_cases.hpp), so that some spheres press, slide or stick and others hang free,
-// and the law is the generated one's (its exponent is built in). Compiled once per robot, as
+// and the law is the generated one's (its exponent is built in). And the derivatives of a
+// simulator step on the generated backend (sim::StepDerivatives<NAME::Backend>, whose stages call
+// the generated function) against the same on the generic backend (test_step_derivatives.cpp
+// checks those against dual numbers and central differences), 1e-12. Compiled once per robot, as
 // test_generated_derivatives.cpp (tests/CMakeLists.txt: mbgen_add_generated_derivatives_test).
 #include <gtest/gtest.h>
 
@@ -16,6 +19,7 @@
 #include "derivative_errors.hpp"
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
+#include "mbgen/sim/step_derivatives.hpp"
 #include "test_support.hpp"
 
 namespace mbgen::test {
@@ -101,6 +105,42 @@ template <typename T> void check_scalar(double tolerance) {
 
 TEST(GeneratedContactDerivatives, DoubleEqualsGeneric) { check_scalar<double>(1e-12); }
 TEST(GeneratedContactDerivatives, FloatEqualsGeneric) { check_scalar<float>(1e-3); }
+
+TEST(GeneratedContactDerivatives, StepDerivativesOnTheGeneratedBackendEqualTheGenerics) {
+  Scene s = load_scene();
+  const Model& model = s.model;
+  std::mt19937_64 rng(3301);
+  for (const sim::Integrator integrator : {sim::Integrator::rk4, sim::Integrator::symplectic_euler}) {
+    for (int trial = 0; trial < 3; ++trial) {
+      const VecX<double> q = random_configuration<double>(model, rng);
+      const VecX<double> v = random_vector<double>(model.nv(), rng, 1.0);
+      const VecX<double> tau = random_vector<double>(model.nv(), rng, 10.0);
+      s.contact.cut_at(model, q);
+      sim::SimulatorOptions o;
+      o.integrator = integrator;
+      o.ground = s.contact.ground;
+      o.contact_parameters = s.contact.law;
+      o.energy_check_interval = 0;
+      sim::Simulator<robot::Backend> generated(robot::Backend{}, o);
+      sim::Simulator<sim::GenericBackend<double>> generic(sim::GenericBackend<double>(model, s.contact.spheres), o);
+      generated.set_state(q.data(), v.data());
+      generic.set_state(q.data(), v.data());
+      sim::StepDerivatives<robot::Backend> dg(generated);
+      sim::StepDerivatives<sim::GenericBackend<double>> dd(generic);
+      dg.compute(q.data(), v.data(), tau.data());
+      dd.compute(q.data(), v.data(), tau.data());
+      EXPECT_LT(max_relative(dg.q_next(), dd.q_next()), 1e-12) << to_string(integrator);
+      EXPECT_LT(max_relative(dg.v_next(), dd.v_next()), 1e-12) << to_string(integrator);
+      EXPECT_LT(max_relative(dg.dx_dx(), dd.dx_dx()), 1e-12) << to_string(integrator);
+      EXPECT_LT(max_relative(dg.dx_du(), dd.dx_du()), 1e-12) << to_string(integrator);
+      // The ground acts in the step (its derivative is not the free fall's).
+      bool pressing = false;
+      for (int k = 0; k < robot::num_contact_spheres; ++k)
+        pressing = pressing || dg.contact_outputs()[static_cast<std::size_t>(kContactOutputs * k)] > 0;
+      EXPECT_TRUE(pressing);
+    }
+  }
+}
 
 TEST(GeneratedContactDerivatives, AllocateNothing) {
   const std::size_t n = robot::nv, m = robot::num_contact_spheres;

@@ -28,7 +28,8 @@ namespace {
 
 using sim::Integrator;
 using sim::Simulator;
-using sim::StepDerivatives;
+// The generic backend's; test_generated_contact_derivatives.cpp compares a generated backend's with it.
+using GenericStepDerivatives = sim::StepDerivatives<sim::GenericBackend<double>>;
 using Backend = sim::GenericBackend<double>;
 
 constexpr double kStep = 1e-4;  // s: the simulator's default
@@ -103,7 +104,7 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
 
   /// The step's Jacobians by central differences through the simulator (dq along integrate, the
   /// result's dq+ by difference from d's q+), and the tolerances they are compared at.
-  void central_differences(const StepDerivatives<double>& d, MatX<double>& dx_dx, MatX<double>& dx_du, double& tol_x,
+  void central_differences(const GenericStepDerivatives& d, MatX<double>& dx_dx, MatX<double>& dx_du, double& tol_x,
                            double& tol_u) {
     const int nv = model.nv();
     const auto step_from = [&](const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& q1,
@@ -142,7 +143,7 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
   }
 
   /// d's Jacobians equal the central differences (their dx_dx and its tolerance returned).
-  void expect_central_differences(const StepDerivatives<double>& d, MatX<double>& dx_dx, double& tol_x) {
+  void expect_central_differences(const GenericStepDerivatives& d, MatX<double>& dx_dx, double& tol_x) {
     MatX<double> dx_du;
     double tol_u;
     central_differences(d, dx_dx, dx_du, tol_x, tol_u);
@@ -213,7 +214,7 @@ class StepDerivativesTest : public ::testing::TestWithParam<Case> {
 
 TEST_P(StepDerivativesTest, ValuesAreTheSimulatorsStep) {
   auto s = simulator(q, v);
-  StepDerivatives<double> d(*s);
+  GenericStepDerivatives d(*s);
   d.compute(q.data(), v.data(), tau.data());
   ASSERT_EQ(s->step(), sim::StepStatus::ok);
   EXPECT_DOUBLE_EQ(s->time(), options.step);
@@ -235,7 +236,7 @@ TEST_P(StepDerivativesTest, MatchDualNumbers) {
   if (probe.num_limited_joints() > 0) {
     ASSERT_TRUE(s->joint_stops()[0].active);
   }
-  StepDerivatives<double> d(*s);
+  GenericStepDerivatives d(*s);
   d.compute(q.data(), v.data(), tau.data());
 
   sim::JointStops<Dual> stops;
@@ -267,7 +268,7 @@ TEST_P(StepDerivativesTest, MatchDualNumbers) {
 
 TEST_P(StepDerivativesTest, MatchCentralDifferencesThroughTheSimulator) {
   auto s = simulator(q, v);
-  StepDerivatives<double> d(*s);
+  GenericStepDerivatives d(*s);
   d.compute(q.data(), v.data(), tau.data());
   MatX<double> dx_dx;
   double tol_x;
@@ -292,7 +293,7 @@ TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
       if (i + 1 < nv) t[i] += -coupling * vx[i + 1];
     }
   };
-  const StepDerivatives<double>::PassiveDerivatives jacobians = [=](const double*, const double*, double* dq, double* dv) {
+  const GenericStepDerivatives::PassiveDerivatives jacobians = [=](const double*, const double*, double* dq, double* dv) {
     for (int i = 0; i < nv * nv; ++i) dq[i] = dv[i] = 0;
     for (int i = first; i < nv; ++i) {
       dq[i * nv + i] = -k;
@@ -301,7 +302,7 @@ TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
     }
   };
   auto s = simulator(q, v);
-  StepDerivatives<double> d(*s, jacobians);
+  GenericStepDerivatives d(*s, jacobians);
   d.compute(q.data(), v.data(), tau.data());
   MatX<double> dx_dx;
   double tol_x;
@@ -309,7 +310,7 @@ TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
   // The law is felt: the same step without it differs by far more than the tolerance.
   passive = {};
   auto bare = simulator(q, v);
-  StepDerivatives<double> without(*bare);
+  GenericStepDerivatives without(*bare);
   without.compute(q.data(), v.data(), tau.data());
   EXPECT_GT(relative_error(without.dx_dx(), dx_dx), 100 * tol_x);
 }
@@ -317,7 +318,7 @@ TEST_P(StepDerivativesPassiveTest, WithTheirJacobiansMatchCentralDifferences) {
 
 TEST_P(StepDerivativesTest, AllocatesNothing) {
   auto s = simulator(q, v);
-  StepDerivatives<double> d(*s);
+  GenericStepDerivatives d(*s);
   MallocGuard guard;
   d.compute(q.data(), v.data(), tau.data());
   EXPECT_EQ(guard.count(), 0u);
@@ -350,14 +351,14 @@ TEST(StepDerivativesRefusals, PassiveForcesWithoutTheirJacobians) {
   const VecX<double> q0 = neutral_configuration<double>(tree), v0 = VecX<double>::Zero(tree.nv());
   s.set_state(q0.data(), v0.data());
   try {
-    StepDerivatives<double> d(s);
+    GenericStepDerivatives d(s);
     ADD_FAILURE() << "passive forces without Jacobians accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("give their Jacobians"), std::string::npos) << e.what();
   }
   Simulator<Backend> plain{Backend(tree)};
   plain.set_state(q0.data(), v0.data());
-  EXPECT_THROW(StepDerivatives<double>(plain, [](const double*, const double*, double*, double*) {}), std::invalid_argument);
+  EXPECT_THROW(GenericStepDerivatives(plain, [](const double*, const double*, double*, double*) {}), std::invalid_argument);
 }
 
 // What is not differentiated is refused, with what to do.
@@ -368,7 +369,7 @@ TEST(StepDerivativesRefusals, ClosedLoopsAndOtherIntegrators) {
   const VecX<double> qc = neutral_configuration<double>(four_bar.model), vc = VecX<double>::Zero(four_bar.model.nv());
   closed.set_state(qc.data(), vc.data());
   try {
-    StepDerivatives<double> d(closed);
+    GenericStepDerivatives d(closed);
     ADD_FAILURE() << "closed loops accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("closed loops"), std::string::npos) << e.what();
@@ -381,7 +382,7 @@ TEST(StepDerivativesRefusals, ClosedLoopsAndOtherIntegrators) {
     const VecX<double> q0 = neutral_configuration<double>(tree), v0 = VecX<double>::Zero(tree.nv());
     s.set_state(q0.data(), v0.data());
     try {
-      StepDerivatives<double> d(s);
+      GenericStepDerivatives d(s);
       ADD_FAILURE() << sim::to_string(i) << " accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(sim::to_string(i)), std::string::npos) << e.what();

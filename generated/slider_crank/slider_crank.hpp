@@ -325,6 +325,7 @@ template <typename S> struct BasicBackend {
   }
   /// The exponent of the law contact_accelerations is built for (the scene's `contact: exponent`).
   double contact_exponent() const { return 1.5; }
+  // contact_dynamics_derivatives: left out (the scene generates no contact_forward_dynamics_derivatives: the contact_fd_derivatives output)
 
   // What the differential IK (mbgen/control/differential_ik.hpp) reads: the frames of
   // frame_poses / frame_jacobians, and the self-collision pairs.

@@ -334,6 +334,10 @@ void add_backend(const Generation& g, TemplateFields& fields) {
   const std::string distances_member = g.selection.emits("self_distances")
                                            ? g.templates.render("backend_distances", {{"robot", g.ctx.robot}})
                                            : member_note("self_distances", "self_distances");
+  const std::string derivatives_member =
+      g.selection.emits("contact_forward_dynamics_derivatives")
+          ? g.templates.render("backend_derivatives", {{"robot", g.ctx.robot}})
+          : member_note("contact_dynamics_derivatives", "contact_forward_dynamics_derivatives: the contact_fd_derivatives output");
   const std::string robot = g.ctx.robot;
   fields.push_back(
       {"backend",
@@ -348,7 +352,8 @@ void add_backend(const Generation& g, TemplateFields& fields) {
                            {"subsystem_name", subsystem_name_statements(g.model)},
                            {"frame_name", g.frames.names.empty() ? std::string("(void)k, \"\"") : fmt::format("{}::frame_names[k]", robot)},
                            {"kinematics", kinematics_member},
-                           {"distances", distances_member}})});
+                           {"distances", distances_member},
+                           {"derivatives", derivatives_member}})});
 }
 
 std::string header_file(const Generation& g) {

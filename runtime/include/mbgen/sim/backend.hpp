@@ -48,6 +48,13 @@
 //                                                 kContactOutputs per sphere); the simulator's step
 //   double contact_exponent()                     the law's exponent it computes with; a backend
 //                                                 with set_contact_exponent(e) takes any
+//   void contact_dynamics_derivatives(q, v, tau, ground, law, qdd, dqdd_dq, dqdd_dv, Minv, contacts)
+//                                                 accelerations_with_contact's qdd and its
+//                                                 derivatives (nv x nv each, row-major; dq a
+//                                                 tangent increment): a tree's, what
+//                                                 StepDerivatives (step_derivatives.hpp) chains;
+//                                                 optional (generated: the contact_fd_derivatives
+//                                                 output)
 //
 // and what the differential IK (control/differential_ik.hpp) asks of it:
 //   int num_frames(); const char* frame_name(k)   the frames it computes (generated: the scene's
@@ -84,6 +91,7 @@
 #include "mbgen/algorithm/jacobian.hpp"
 #include "mbgen/algorithm/constrained_dynamics.hpp"
 #include "mbgen/algorithm/contact_dynamics.hpp"
+#include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/contact_points.hpp"
 #include "mbgen/algorithm/loop_forward_dynamics.hpp"
 #include "mbgen/algorithm/subsystem_maps.hpp"
@@ -123,6 +131,7 @@ template <typename S> class ModelBackend {
     vy_ = VecX<S>::Zero(static_cast<int>(model_.structure().independent_v.size()));
     actuation_ = make_actuation(model, default_actuated_v(model));
     tau_contact_ = VecX<S>::Zero(model.nv());
+    if (model.subsystems.empty()) derivatives_.emplace(model);
     for (const SubSystem& s : model.subsystems) {
       std::string name;
       for (int c : s.closures) name += (name.empty() ? "" : ", ") + model.closures[static_cast<std::size_t>(c)].name;
@@ -217,6 +226,24 @@ template <typename S> class ModelBackend {
   void contact_points(const S* q, S* p, S* J) { mbgen::contact_points<S>(model_, data_, contacts_, ConstMap<S>(q, nq()), p, J); }
   double contact_exponent() const { return contact_exponent_; }
   void set_contact_exponent(double e) { contact_exponent_ = e; }
+  /// The tree's accelerations under tau and the ground's forces on the spheres, and their
+  /// derivatives (contact_forward_dynamics_derivatives, contact_dynamics_derivatives.hpp): qdd
+  /// (nv), dqdd/dq along q (+) dq, dqdd/dv, M^-1 (nv x nv each, row-major) and kContactOutputs
+  /// numbers per sphere. Throws std::logic_error for a model with closed loops (whose step
+  /// derivatives StepDerivatives refuses before any call).
+  void contact_dynamics_derivatives(const S* q, const S* v, const S* tau, const S* ground, const S* law, S* qdd, S* dqdd_dq,
+                                    S* dqdd_dv, S* Minv, S* contacts) {
+    if (!derivatives_)
+      throw std::logic_error("sim backend: contact_dynamics_derivatives of model '" + model_.name +
+                             "', which has closed loops: the derivatives under the ground are a tree's");
+    ContactDynamicsDerivatives<S>& d = *derivatives_;
+    contact_forward_dynamics_derivatives<S>(model_, data_, d, contacts_, contact_exponent_, ConstMap<S>(q, nq()),
+                                            ConstMap<S>(v, nv()), ConstMap<S>(tau, nv()), ground, law, contacts);
+    Eigen::Map<VecX<S>>(qdd, nv()) = d.fd.ddq;
+    RowMajorMap<S>(dqdd_dq, nv(), nv()) = d.fd.dddq_dq;
+    RowMajorMap<S>(dqdd_dv, nv(), nv()) = d.fd.dddq_dv;
+    RowMajorMap<S>(Minv, nv(), nv()) = d.fd.Minv;
+  }
 
   /// The frames task_kinematics computes (none by default). Throws std::invalid_argument for a
   /// name the model does not have. Allocates: call it at setup.
@@ -333,6 +360,8 @@ template <typename S> class ModelBackend {
   std::vector<int> limit_q_, limit_v_;
   std::vector<double> limit_lower_, limit_upper_;
   double contact_exponent_ = ContactParameters{}.exponent;
+  /// contact_dynamics_derivatives' work memory: a tree's only (none with loops).
+  std::optional<ContactDynamicsDerivatives<S>> derivatives_;
 };
 
 }  // namespace detail

@@ -1,7 +1,11 @@
 #pragma once
 // The derivatives of one simulator step (docs/derivatives.md, "One step"): for the step x+ = F(x,
-// u) that Simulator<GenericBackend<S>> takes from x = (q, v) with the joint forces u held over it,
-// dx+/dx and dx+/du, what a DDP or a shooting method needs at each knot.
+// u) that a Simulator<Backend> takes from x = (q, v) with the joint forces u held over it, dx+/dx
+// and dx+/du, what a DDP or a shooting method needs at each knot. The backend supplies each
+// stage's dynamics and their derivatives (contact_dynamics_derivatives, sim/backend.hpp): the
+// runtime's GenericBackend<S> by the generic algorithm, a generated NAME::Backend by the generated
+// contact_forward_dynamics_derivatives (the contact_fd_derivatives output); the chain around them
+// is this file's, the same for both.
 //
 // The step is the simulator's own: its integrator (explicit and symplectic Euler, RK4), its step
 // length, its ground and contact law, its end stops (their stiffness as set_state fixed it), the
@@ -23,6 +27,8 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -33,26 +39,41 @@
 
 namespace mbgen::sim {
 
-template <typename S> class StepDerivatives {
+namespace detail {
+template <typename B, typename = void> struct has_contact_dynamics_derivatives : std::false_type {};
+template <typename B>
+struct has_contact_dynamics_derivatives<
+    B, std::void_t<decltype(std::declval<B&>().contact_dynamics_derivatives(
+           std::declval<const typename B::Scalar*>(), std::declval<const typename B::Scalar*>(),
+           std::declval<const typename B::Scalar*>(), std::declval<const typename B::Scalar*>(),
+           std::declval<const typename B::Scalar*>(), std::declval<typename B::Scalar*>(), std::declval<typename B::Scalar*>(),
+           std::declval<typename B::Scalar*>(), std::declval<typename B::Scalar*>(), std::declval<typename B::Scalar*>()))>>
+    : std::true_type {};
+}  // namespace detail
+
+template <typename Backend> class StepDerivatives {
+  static_assert(detail::has_contact_dynamics_derivatives<Backend>::value,
+                "StepDerivatives needs the backend's contact_dynamics_derivatives: a generated robot has it when it is "
+                "generated with the contact_fd_derivatives output (docs/derivatives.md)");
+
  public:
+  using S = typename Backend::Scalar;
   /// The Jacobians of the simulator's passive forces p(q, v) at (q, v): dtau_dq and dtau_dv, nv x
   /// nv row-major each, dq a tangent increment (q (+) dq, as everywhere here), to be written whole.
   using PassiveDerivatives = std::function<void(const S* q, const S* v, S* dtau_dq, S* dtau_dv)>;
 
   /// The step `simulator` takes (call after its set_state: the stops' stiffness is fixed there),
-  /// with `passive_derivatives` the Jacobians of its passive forces when it has any. Throws
-  /// std::invalid_argument for closed loops, an integrator other than explicit_euler,
-  /// symplectic_euler and rk4, and passive forces without their Jacobians (or Jacobians without
-  /// passive forces). Allocates here; compute() does not.
-  explicit StepDerivatives(Simulator<GenericBackend<S>>& simulator, PassiveDerivatives passive_derivatives = {})
-      : model_(simulator.backend().model()),
+  /// with `passive_derivatives` the Jacobians of its passive forces when it has any; a copy of its
+  /// backend computes the stages. Throws std::invalid_argument for closed loops, an integrator
+  /// other than explicit_euler, symplectic_euler and rk4, and passive forces without their
+  /// Jacobians (or Jacobians without passive forces). Allocates here; compute() does not.
+  explicit StepDerivatives(Simulator<Backend>& simulator, PassiveDerivatives passive_derivatives = {})
+      : backend_(simulator.backend()),
         options_(simulator.options()),
-        data_(model_),
-        dynamics_(model_),
-        nq_(model_.nq()),
-        nv_(model_.nv()),
-        floating_(model_.floating_base()) {
-    if (!model_.subsystems.empty())
+        nq_(backend_.nq()),
+        nv_(backend_.nv()),
+        floating_(backend_.floating_base()) {
+    if (backend_.ny() != backend_.nv())
       throw std::invalid_argument("StepDerivatives: the model has closed loops; the step's projection onto the closed set is "
                                   "not differentiated (use the closed system's fd_derivatives, docs/derivatives.md)");
     const Integrator i = options_.integrator;
@@ -67,9 +88,11 @@ template <typename S> class StepDerivatives {
     if (!passive_ && passive_derivatives_)
       throw std::invalid_argument("StepDerivatives: passive-force Jacobians given, but the simulator has no passive forces "
                                   "(set_passive_forces before making the derivatives)");
-    if (options_.contact) spheres_ = simulator.backend().contacts();
     double g[kGroundInputs], l[kLawInputs];
     contact_inputs(options_.ground, options_.contact_parameters, g, l);
+    // Without contact the simulator calls the contact-free dynamics: the same law at zero
+    // stiffness and friction gives exactly zero forces and Jacobians (contact_law.hpp).
+    if (!options_.contact) l[0] = 0, l[2] = 0;
     for (int k = 0; k < kGroundInputs; ++k) ground_[k] = S(g[k]);
     for (int k = 0; k < kLawInputs; ++k) law_[k] = S(l[k]);
     const auto& reports = simulator.joint_stops();
@@ -85,7 +108,8 @@ template <typename S> class StepDerivatives {
     if (passive_) passive_dq_ = RowMajor::Zero(nv_, nv_), passive_dv_ = passive_dq_;
     tangent_ = MatX<S>::Zero(nv_, cols);
     dx_dx_ = MatX<S>::Zero(2 * nv_, 2 * nv_), dx_du_ = MatX<S>::Zero(2 * nv_, nv_);
-    contact_out_.assign(kContactOutputs * spheres_.size(), S(0));
+    dqdd_dq_ = RowMajor::Zero(nv_, nv_), dqdd_dv_ = dqdd_dq_, Minv_ = dqdd_dq_;
+    contact_out_.assign(static_cast<std::size_t>(kContactOutputs * backend_.num_contacts()), S(0));
   }
 
   /// One step of options().step from (q: nq, v: nv) under the joint forces tau (nv) held: the
@@ -167,28 +191,26 @@ template <typename S> class StepDerivatives {
     stops_.add_torques(qhat_.data(), v.data(), tau_total_.data(), false);
     stop_dq_.setZero(), stop_dv_.setZero();
     stops_.add_jacobians(qhat_.data(), v.data(), 0.0, stop_dv_, stop_dq_);
-    contact_forward_dynamics_derivatives<S>(model_, data_, dynamics_, spheres_, options_.contact_parameters.exponent, qhat_, v,
-                                            tau_total_, ground_, law_, contact_out_.data());
-    const DynamicsDerivatives<S>& fd = dynamics_.fd;
-    kv_[s] = fd.ddq;
-    Aq_ = fd.dddq_dq, Av_ = fd.dddq_dv;
+    backend_.contact_dynamics_derivatives(qhat_.data(), v.data(), tau_total_.data(), ground_, law_, kv_[s].data(),
+                                          dqdd_dq_.data(), dqdd_dv_.data(), Minv_.data(), contact_out_.data());
+    Aq_ = dqdd_dq_, Av_ = dqdd_dv_;
     // The stops' torques act on their own coordinate: a diagonal through M^-1.
     for (const JointStopReport<S>& r : stops_.reports()) {
       const int i = r.v_index;
-      if (stop_dq_(i, i) != S(0)) Aq_.col(i) += fd.Minv.col(i) * stop_dq_(i, i);
-      if (stop_dv_(i, i) != S(0)) Av_.col(i) += fd.Minv.col(i) * stop_dv_(i, i);
+      if (stop_dq_(i, i) != S(0)) Aq_.col(i) += Minv_.col(i) * stop_dq_(i, i);
+      if (stop_dv_(i, i) != S(0)) Av_.col(i) += Minv_.col(i) * stop_dv_(i, i);
     }
     // The passive forces' Jacobians through M^-1 (dense: a law may couple joints).
     if (passive_) {
       passive_derivatives_(qhat_.data(), v.data(), passive_dq_.data(), passive_dv_.data());
-      Aq_.noalias() += fd.Minv * passive_dq_;
-      Av_.noalias() += fd.Minv * passive_dv_;
+      Aq_.noalias() += Minv_ * passive_dq_;
+      Av_.noalias() += Minv_ * passive_dv_;
     }
     // dK_v = Aq T(q) G_q + Av G_v, plus M^-1 on the u columns.
     output_map(q, G.topRows(nq_), tangent_);
     dK_[s].bottomRows(nv_).noalias() = Aq_ * tangent_;
     dK_[s].bottomRows(nv_).noalias() += Av_ * G.bottomRows(nv_);
-    dK_[s].bottomRightCorner(nv_, nv_) += fd.Minv;
+    dK_[s].bottomRightCorner(nv_, nv_) += Minv_;
     // dK_q: the configuration rate at (normalize(q), v).
     rate(q, v, kq_[s]);
     dK_[s].topRows(nq_).setZero();
@@ -254,11 +276,8 @@ template <typename S> class StepDerivatives {
     out.middleRows(3, 3).noalias() = (S(2) / norm) * M * Gq.middleRows(3, 4);
   }
 
-  Model model_;
+  Backend backend_;
   SimulatorOptions options_;
-  Data<S> data_;
-  ContactDynamicsDerivatives<S> dynamics_;
-  std::vector<ContactSphere> spheres_;
   JointStops<S> stops_;
   S ground_[kGroundInputs] = {}, law_[kLawInputs] = {};
   int nq_, nv_;
@@ -267,9 +286,10 @@ template <typename S> class StepDerivatives {
   VecX<S> kq_[4], kv_[4];
   MatX<S> G0_, Gs_, G_end_, dK_[4], Aq_, Av_, stop_dq_, stop_dv_, tangent_, dx_dx_, dx_du_;
   using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  typename Simulator<GenericBackend<S>>::PassiveForces passive_;
+  typename Simulator<Backend>::PassiveForces passive_;
   PassiveDerivatives passive_derivatives_;
   RowMajor passive_dq_, passive_dv_;
+  RowMajor dqdd_dq_, dqdd_dv_, Minv_;  ///< the stage's, as the backend writes them
   std::vector<S> contact_out_;
 };
 
