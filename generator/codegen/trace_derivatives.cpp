@@ -17,6 +17,14 @@ namespace {
 ArraySpec square_spec(const Model& m, const char* name, const char* what) {
   return {name, m.nv() * m.nv(), fmt::format("[{0} x {0}, row-major] {1}", m.nv(), what), {m.nv(), m.nv()}};
 }
+
+/// The entries L(k, i) of a tree's mass matrix factor, i an ancestor of k: the work array's size.
+int factor_entry_count(const Model& tree) {
+  int entries = 0;
+  for (int k = 0; k < tree.nv(); ++k)
+    for (int i = tree.velocity_parent(k); i >= 0; i = tree.velocity_parent(i)) ++entries;
+  return entries;
+}
 }  // namespace
 
 TracedFunction trace_inverse_dynamics_derivatives(const Model& tree) {
@@ -38,10 +46,7 @@ TracedFunction trace_inverse_dynamics_derivatives(const Model& tree) {
 }
 
 TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
-  const int n = tree.nv();
-  int entries = 0;
-  for (int k = 0; k < n; ++k)
-    for (int i = tree.velocity_parent(k); i >= 0; i = tree.velocity_parent(i)) ++entries;
+  const int entries = factor_entry_count(tree);
   TracedFunction f;
   f.name = "forward_dynamics_derivatives";
   f.doc = "The forward dynamics qdd = M(q)^-1 (tau - C(q, v) v - g(q)) and its derivatives dqdd/dq, dqdd/dv and "
@@ -94,9 +99,7 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
                             "there (3, N, world), slip velocity (3, m/s)",
                             spheres_count),
                 {spheres_count, kContactOutputs}}};
-  int entries = 0;
-  for (int k = 0; k < n; ++k)
-    for (int i = model.velocity_parent(k); i >= 0; i = model.velocity_parent(i)) ++entries;
+  const int entries = factor_entry_count(model);
   f.outputs.push_back({"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)});
   f.outputs.push_back(v_spec(model, "inverse_pivot", "1 / D of M's factor"));
   f.work_outputs = 2;

@@ -64,7 +64,8 @@ template <typename Backend> class StepDerivatives {
 
   /// The step `simulator` takes (call after its set_state: the stops' stiffness is fixed there),
   /// with `passive_derivatives` the Jacobians of its passive forces when it has any; a copy of its
-  /// backend computes the stages. Throws std::invalid_argument for closed loops, an integrator
+  /// backend computes the stages (a runtime backend's copy refers to the same Model, which must
+  /// outlive both, as it must outlive the simulator). Throws std::invalid_argument for closed loops, an integrator
   /// other than explicit_euler, symplectic_euler and rk4, and passive forces without their
   /// Jacobians (or Jacobians without passive forces). Allocates here; compute() does not.
   explicit StepDerivatives(Simulator<Backend>& simulator, PassiveDerivatives passive_derivatives = {})
