@@ -99,7 +99,8 @@ TEST(ContactLaw, UnitStepIsTheSlopeOfMax) {
   EXPECT_EQ(unit_step(2.5), 1.0);
   EXPECT_EQ(unit_step(-1e-300), 0.0);
   EXPECT_EQ(unit_step(0.0), 0.0);  // a select's max(0, 0) takes the constant side
-  EXPECT_EQ(unit_step(1e-300f * 0.0f), 0.0f);
+  EXPECT_EQ(unit_step(-0.0f), 0.0f);
+  EXPECT_EQ(unit_step(1e-30f), 1.0f);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ using test::LoopCase;
 using Arrays = std::vector<std::vector<double>>;
 
 /// f's outputs for `inputs`, evaluated node by node as the emitted C++ computes them (a max as
-/// `a > b ? a : b`, a its first operand).
+/// `a > b ? a : b`, a its first operand; a step as `a > 0 ? 1 : 0`).
 Arrays evaluate(const TracedFunction& f, const Arrays& inputs) {
   std::vector<double> x(static_cast<std::size_t>(f.graph.size()));
   for (int id = 0; id < f.graph.size(); ++id) {
@@ -44,6 +44,7 @@ Arrays evaluate(const TracedFunction& f, const Arrays& inputs) {
       case Op::Sqrt: y = std::sqrt(a); break;
       case Op::Max: y = a > b ? a : b; break;
       case Op::Pow: y = std::pow(a, b); break;
+      case Op::Step: y = a > 0 ? 1 : 0; break;
     }
   }
   Arrays out;

@@ -74,8 +74,11 @@ TEST(Templates, EveryFlavourHasEveryTemplateAndNoOther) {
   }
   // The only folder in a flavour's: the cpp flavour's python/ (below).
   for (const char* flavour : {"cpp", "c"})
-    for (const auto& entry : fs::directory_iterator(kTemplates / flavour))
-      if (entry.is_directory()) EXPECT_TRUE(std::string(flavour) == "cpp" && entry.path().filename() == "python") << entry.path();
+    for (const auto& entry : fs::directory_iterator(kTemplates / flavour)) {
+      if (entry.is_directory()) {
+        EXPECT_TRUE(std::string(flavour) == "cpp" && entry.path().filename() == "python") << entry.path();
+      }
+    }
 }
 
 // The Python module's templates (emit_python.hpp): the cpp flavour's python/ folder, its own catalog.

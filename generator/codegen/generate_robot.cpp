@@ -409,8 +409,8 @@ std::string python_module(const Generation& g) {
   for (const auto& [name, value] : g.distances.header_fields)
     if (name == "num_distance_pairs") pairs = std::stoi(value);
   PythonModuleContents contents{g.traced,      g.selection.emits("self_distances"), !g.contacts.empty(),
-                                !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs};
-  contents.batch_width = g.options.batch;
+                                !g.frames.names.empty(), g.selection.backend, g.model.nq(), g.model.nv(), pairs,
+                                g.options.batch,         {}};
   for (const TracedFunction* f : batched_traces(g)) contents.batched.push_back(f->name);
   const TemplateSet templates =
       TemplateSet::load(python_templates_directory(g.templates.directory()), python_template_catalog());
