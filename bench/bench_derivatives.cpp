@@ -36,6 +36,7 @@
 #include "bench_derivatives.hpp"
 
 #include <memory>
+#include <utility>
 
 #include "hyq.hpp"
 #include "collision/contact_spheres.hpp"
@@ -140,95 +141,18 @@ void add(const Robot& robot, const DerivativeApi& api) {
   });
 }
 
-/// Central differences of the generic rigid_contact_dynamics: the fallback without its derivatives.
-struct ContactFiniteDifferences {
-  ContactFiniteDifferences(const Model& model, const std::vector<RigidContact>& contacts)
-      : model(&model), data(model), ws(model, contacts), nv(model.nv()), q(model.nq()), v(nv), tau(nv), plus(nv), minus(nv),
-        e(VecX<double>::Zero(nv)), da(nv, 3 * nv) {}
+/// Central differences of accelerations(q, v, tau, out), q moved by the runtime's integrate: da/dq,
+/// da/dv, da/dtau side by side (nv x 3 nv), the fallback without derivatives (6 nv calls).
+template <typename Accelerations> struct CentralDifferences {
+  CentralDifferences(const Model& model, Accelerations accelerations)
+      : model(&model), accelerations(std::move(accelerations)), nv(model.nv()), q(model.nq()), v(nv), tau(nv), plus(nv),
+        minus(nv), e(VecX<double>::Zero(nv)), da(nv, 3 * nv) {}
   const double* run(const Sample& s) {
     const double h = 1e-6;
     for (int k = 0; k < nv; ++k) {
       for (int side : {1, -1}) {
         e[k] = side * h;
         integrate<double>(*model, s.q, e, q);
-        (side > 0 ? plus : minus) = rigid_contact_dynamics<double>(*model, data, ws, q, s.v, s.tau);
-      }
-      e[k] = 0;
-      da.col(k) = (plus - minus) / (2 * h);
-      v = s.v;
-      v[k] += h;
-      plus = rigid_contact_dynamics<double>(*model, data, ws, s.q, v, s.tau);
-      v[k] -= 2 * h;
-      minus = rigid_contact_dynamics<double>(*model, data, ws, s.q, v, s.tau);
-      da.col(nv + k) = (plus - minus) / (2 * h);
-      tau = s.tau;
-      tau[k] += h;
-      plus = rigid_contact_dynamics<double>(*model, data, ws, s.q, s.v, tau);
-      tau[k] -= 2 * h;
-      minus = rigid_contact_dynamics<double>(*model, data, ws, s.q, s.v, tau);
-      da.col(2 * nv + k) = (plus - minus) / (2 * h);
-    }
-    return da.data();
-  }
-  const Model* model;
-  Data<double> data;
-  RigidContactWorkspace<double> ws;
-  int nv;
-  VecX<double> q, v, tau, plus, minus, e;
-  MatX<double> da;
-};
-
-/// contact_derivatives/<robot>/{generic,finite_differences}: both feet held flat (6-D contacts
-/// at the sole frames), rigid_contact_dynamics_derivatives against central differences of
-/// rigid_contact_dynamics (6 nv calls).
-void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
-  std::vector<RigidContact> contacts;
-  for (const std::string& foot : feet) contacts.push_back({robot.model.frame_index(foot), RigidContactKind::Frame});
-  struct Generic {
-    Generic(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c), d(m, ws) {}
-    Data<double> data;
-    RigidContactWorkspace<double> ws;
-    RigidContactDerivatives<double> d;
-  };
-  add_benchmark("contact_derivatives", robot, "generic", [&robot, w = std::make_shared<Generic>(robot.model, contacts)](const Sample& s) {
-    rigid_contact_dynamics_derivatives<double>(robot.model, w->data, w->ws, w->d, s.q, s.v, s.tau);
-    return w->d.da_dq.data();
-  });
-  add_benchmark("contact_derivatives", robot, "finite_differences",
-                [w = std::make_shared<ContactFiniteDifferences>(robot.model, contacts)](const Sample& s) { return w->run(s); });
-}
-
-/// hyq's scene on the ground (examples/data/hyq_sim.yaml): its model, spheres, law and the plane z = 0.
-struct CompliantGround {
-  CompliantGround() {
-    gen::LoadOptions options;
-    options.extras_file = std::string(MBGEN_SOURCE_DIR) + "/examples/data/hyq_sim.yaml";
-    const gen::Description d = gen::load_description(std::string(MBGEN_SHARED_ROBOTS) + "/hyq/hyq_no_sensors.urdf", options);
-    model = d.model;
-    spheres = gen::contact_spheres(d);
-    exponent = d.scene->contact->parameters.exponent;
-    contact_inputs(GroundPlane{}, d.scene->contact->parameters, ground, law);
-  }
-  Model model;
-  std::vector<ContactSphere> spheres;
-  double exponent = 1.5, ground[kGroundInputs] = {}, law[kLawInputs] = {};
-};
-
-/// Central differences of the generated contact_accelerations: the fallback without the derivatives.
-struct CompliantFiniteDifferences {
-  explicit CompliantFiniteDifferences(std::shared_ptr<const CompliantGround> scene)
-      : scene(std::move(scene)), nv(this->scene->model.nv()), q(this->scene->model.nq()), v(nv), tau(nv), plus(nv), minus(nv),
-        e(VecX<double>::Zero(nv)), contacts(static_cast<std::size_t>(kContactOutputs * hyq_contact::num_contact_spheres)),
-        da(nv, 3 * nv) {}
-  void accelerations(const VecX<double>& qx, const VecX<double>& vx, const VecX<double>& ux, VecX<double>& out) {
-    hyq_contact::contact_accelerations(qx.data(), vx.data(), ux.data(), scene->ground, scene->law, out.data(), contacts.data());
-  }
-  const double* run(const Sample& s) {
-    const double h = 1e-6;
-    for (int k = 0; k < nv; ++k) {
-      for (int side : {1, -1}) {
-        e[k] = side * h;
-        integrate<double>(scene->model, s.q, e, q);
         accelerations(q, s.v, s.tau, side > 0 ? plus : minus);
       }
       e[k] = 0;
@@ -248,11 +172,62 @@ struct CompliantFiniteDifferences {
     }
     return da.data();
   }
-  std::shared_ptr<const CompliantGround> scene;
+  const Model* model;
+  Accelerations accelerations;
   int nv;
   VecX<double> q, v, tau, plus, minus, e;
-  std::vector<double> contacts;
   MatX<double> da;
+};
+
+template <typename Accelerations> std::shared_ptr<CentralDifferences<Accelerations>> central_differences(const Model& model,
+                                                                                                        Accelerations f) {
+  return std::make_shared<CentralDifferences<Accelerations>>(model, std::move(f));
+}
+
+/// contact_derivatives/<robot>/{generic,finite_differences}: both feet held flat (6-D contacts
+/// at the sole frames), rigid_contact_dynamics_derivatives against central differences of
+/// rigid_contact_dynamics (6 nv calls).
+void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
+  std::vector<RigidContact> contacts;
+  for (const std::string& foot : feet) contacts.push_back({robot.model.frame_index(foot), RigidContactKind::Frame});
+  struct Generic {
+    Generic(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c), d(m, ws) {}
+    Data<double> data;
+    RigidContactWorkspace<double> ws;
+    RigidContactDerivatives<double> d;
+  };
+  add_benchmark("contact_derivatives", robot, "generic", [&robot, w = std::make_shared<Generic>(robot.model, contacts)](const Sample& s) {
+    rigid_contact_dynamics_derivatives<double>(robot.model, w->data, w->ws, w->d, s.q, s.v, s.tau);
+    return w->d.da_dq.data();
+  });
+  // The rigid contacts' accelerations (generic: there is no generated form to difference).
+  struct Dynamics {
+    Dynamics(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c) {}
+    Data<double> data;
+    RigidContactWorkspace<double> ws;
+  };
+  auto rigid = [&model = robot.model, w = std::make_shared<Dynamics>(robot.model, contacts)](
+                   const VecX<double>& q, const VecX<double>& v, const VecX<double>& tau, VecX<double>& out) {
+    out = rigid_contact_dynamics<double>(model, w->data, w->ws, q, v, tau);
+  };
+  add_benchmark("contact_derivatives", robot, "finite_differences",
+                [w = central_differences(robot.model, rigid)](const Sample& s) { return w->run(s); });
+}
+
+/// hyq's scene on the ground (examples/data/hyq_sim.yaml): its model, spheres, law and the plane z = 0.
+struct CompliantGround {
+  CompliantGround() {
+    gen::LoadOptions options;
+    options.extras_file = std::string(MBGEN_SOURCE_DIR) + "/examples/data/hyq_sim.yaml";
+    const gen::Description d = gen::load_description(std::string(MBGEN_SHARED_ROBOTS) + "/hyq/hyq_no_sensors.urdf", options);
+    model = d.model;
+    spheres = gen::contact_spheres(d);
+    exponent = d.scene->contact->parameters.exponent;
+    contact_inputs(GroundPlane{}, d.scene->contact->parameters, ground, law);
+  }
+  Model model;
+  std::vector<ContactSphere> spheres;
+  double exponent = 1.5, ground[kGroundInputs] = {}, law[kLawInputs] = {};
 };
 
 /// compliant_derivatives/hyq/{generated,generic,finite_differences,value} (header comment).
@@ -281,8 +256,12 @@ void add_compliant(const Robot& robot) {
                                                  scene->ground, scene->law, w->contacts.data());
     return w->d.fd.dddq_dq.data();
   });
+  auto compliant = [scene, contacts = std::vector<double>(static_cast<std::size_t>(kContactOutputs * m))](
+                       const VecX<double>& q, const VecX<double>& v, const VecX<double>& tau, VecX<double>& out) mutable {
+    hyq_contact::contact_accelerations(q.data(), v.data(), tau.data(), scene->ground, scene->law, out.data(), contacts.data());
+  };
   add_benchmark("compliant_derivatives", robot, "finite_differences",
-                [w = std::make_shared<CompliantFiniteDifferences>(scene)](const Sample& s) { return w->run(s); });
+                [w = central_differences(scene->model, compliant)](const Sample& s) { return w->run(s); });
   add_benchmark("compliant_derivatives", robot, "value", [scene, w = std::make_shared<Buffers>(nv, m)](const Sample& s) {
     hyq_contact::contact_accelerations(s.q.data(), s.v.data(), s.tau.data(), scene->ground, scene->law, w->out.x.data(),
                                        w->contacts.data());

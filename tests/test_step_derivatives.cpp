@@ -374,6 +374,17 @@ TEST(StepDerivativesRefusals, ClosedLoopsAndOtherIntegrators) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("closed loops"), std::string::npos) << e.what();
   }
+  // The backend's own derivatives are a tree's: called on the closed model, an error naming it.
+  std::vector<double> x(static_cast<std::size_t>(four_bar.model.nv())), m(x.size() * x.size());
+  const double ground[kGroundInputs] = {0, 0, 1, 0}, law[kLawInputs] = {1e3, 0.5, 0.8, 0.01};
+  try {
+    closed.backend().contact_dynamics_derivatives(qc.data(), vc.data(), vc.data(), ground, law, x.data(), m.data(), m.data(),
+                                                  m.data(), nullptr);
+    ADD_FAILURE() << "closed loops differentiated";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("closed loops"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(four_bar.model.name), std::string::npos) << e.what();
+  }
   const Model tree = load_tree(shared_robot("iiwa14/iiwa14_primitive_collision.urdf"), gen::BaseType::Fixed);
   for (Integrator i : {Integrator::dormand_prince45, Integrator::linearly_implicit_euler}) {
     sim::SimulatorOptions o;
