@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "codegen/emit_cpp.hpp"
 
@@ -18,17 +20,40 @@ std::string int_list(const std::vector<int>& values) {
 }
 
 /// The factor's structure as constant tables and the row solve (L^T z = b from the last row up,
-/// D^-1, L x = z from the first down, each step on whole rows: mass_matrix_factor.hpp's sweeps for a
-/// tree, loop_dynamics_derivatives.hpp's factor_chain_solve for a closed system), then the solves
-/// of the `solved` outputs in place (row-major, n rows each).
+/// D^-1, L x = z from the first down: mass_matrix_factor.hpp's sweeps for a tree,
+/// loop_dynamics_derivatives.hpp's factor_chain_solve for a closed system), then the solves of the
+/// `solved` outputs in place (row-major, n rows each).
+///
+/// Each row of the result is gathered, a block of C columns at a time held in C accumulators:
+/// z_i = b_i - sum of L(k, i) z_k over i's descendants k, then x_k = z_k / D_k - sum of L(k, i) x_i
+/// over k's ancestors i. The scatter form (row_i -= l row_k for each pair) loads and stores a whole
+/// row per term; gathered, a term is one load and one multiply-subtract per column: on
+/// talos_reduced's 38 x 38 right-hand sides 63,000 instructions a solve against 114,000 (callgrind,
+/// -O3, SSE2), the same 25,000 multiply-adds.
 std::string solve_helpers(const std::string& function, const std::vector<int>& parent, const TracedFunction& f,
                           const std::vector<std::size_t>& solved) {
   const int n = static_cast<int>(parent.size());
+  // k's entries L(k, i), i = k's chain of parents from the nearest, from first[k] on.
   std::vector<int> first(static_cast<std::size_t>(n));
+  std::vector<std::vector<std::pair<int, int>>> below(static_cast<std::size_t>(n));  // (k, entry of L(k, i)) per i
   int entries = 0;
   for (int k = 0; k < n; ++k) {
     first[static_cast<std::size_t>(k)] = entries;
-    for (int i = parent[static_cast<std::size_t>(k)]; i >= 0; i = parent[static_cast<std::size_t>(i)]) ++entries;
+    for (int i = parent[static_cast<std::size_t>(k)]; i >= 0; i = parent[static_cast<std::size_t>(i)])
+      below[static_cast<std::size_t>(i)].emplace_back(k, entries++);
+  }
+  std::vector<int> below_first, below_row, below_entry;
+  for (const auto& row : below) {
+    below_first.push_back(static_cast<int>(below_row.size()));
+    for (const auto& [k, e] : row) {
+      below_row.push_back(k);
+      below_entry.push_back(e);
+    }
+  }
+  below_first.push_back(entries);
+  if (entries == 0) {  // no parents at all: the tables keep one unused entry (a C++ array is never empty)
+    below_row.push_back(0);
+    below_entry.push_back(0);
   }
   std::string parameters, calls, what;
   for (std::size_t o : solved) {
@@ -39,36 +64,59 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
   }
   return fmt::format(
       "// The factor's L^T D L structure: each row's parent (-1: none) and where its entries L(k, i),\n"
-      "// i = k's chain of parents from the nearest, start in factor_entries.\n"
+      "// i = k's chain of parents from the nearest, start in factor_entries; and each row i's\n"
+      "// descendants k (the rows whose chain passes through i) with where L(k, i) is.\n"
       "constexpr int {0}_parent[{1}] = {{{2}}};\n"
       "constexpr int {0}_first[{1}] = {{{3}}};\n"
+      "constexpr int {0}_below_first[{1} + 1] = {{{7}}};\n"
+      "constexpr int {0}_below_row[{8}] = {{{9}}};\n"
+      "constexpr int {0}_below_entry[{8}] = {{{10}}};\n"
+      "\n"
+      "// Columns c0 .. c0 + C - 1 of row i of L^T z = b, in place: z_i = b_i - sum of L(k, i) z_k over\n"
+      "// i's descendants k, the C sums held in registers.\n"
+      "template <typename S, int W, int C>\n"
+      "inline void {0}_gather_below(const S* factor_entries, S* B, int i, int c0) {{\n"
+      "  S sum[C];\n"
+      "  S* bi = B + i * W + c0;\n"
+      "  for (int c = 0; c < C; ++c) sum[c] = bi[c];\n"
+      "  for (int t = {0}_below_first[i]; t < {0}_below_first[i + 1]; ++t) {{\n"
+      "    const S l = factor_entries[{0}_below_entry[t]];\n"
+      "    const S* bk = B + {0}_below_row[t] * W + c0;\n"
+      "    for (int c = 0; c < C; ++c) sum[c] -= l * bk[c];\n"
+      "  }}\n"
+      "  for (int c = 0; c < C; ++c) bi[c] = sum[c];\n"
+      "}}\n"
+      "\n"
+      "// The same columns of row k of L x = D^-1 z, in place: x_k = d z_k - sum of L(k, i) x_i over k's\n"
+      "// ancestors i.\n"
+      "template <typename S, int W, int C>\n"
+      "inline void {0}_gather_above(const S* factor_entries, S d, S* B, int k, int c0) {{\n"
+      "  S sum[C];\n"
+      "  S* bk = B + k * W + c0;\n"
+      "  for (int c = 0; c < C; ++c) sum[c] = d * bk[c];\n"
+      "  int e = {0}_first[k];\n"
+      "  for (int i = {0}_parent[k]; i >= 0; i = {0}_parent[i], ++e) {{\n"
+      "    const S l = factor_entries[e];\n"
+      "    const S* bi = B + i * W + c0;\n"
+      "    for (int c = 0; c < C; ++c) sum[c] -= l * bi[c];\n"
+      "  }}\n"
+      "  for (int c = 0; c < C; ++c) bk[c] = sum[c];\n"
+      "}}\n"
       "\n"
       "// B = A^-1 B in place for a row-major {1} x W matrix B, A the factored matrix: the factor's\n"
-      "// sparse solve, each step an operation on two whole rows.\n"
+      "// sparse solve, row by row, in blocks of C columns (eight 16-byte registers of sums) and the rest.\n"
       "template <typename S, int W>\n"
       "void {0}_solve(const S* factor_entries, const S* inverse_pivot, S* B) {{\n"
-      "  for (int k = {1} - 1; k >= 0; --k) {{\n"
-      "    const S* bk = B + k * W;\n"
-      "    int e = {0}_first[k];\n"
-      "    for (int i = {0}_parent[k]; i >= 0; i = {0}_parent[i], ++e) {{\n"
-      "      S* bi = B + i * W;\n"
-      "      const S l = factor_entries[e];\n"
-      "      for (int c = 0; c < W; ++c) bi[c] -= l * bk[c];\n"
-      "    }}\n"
+      "  constexpr int C = W < static_cast<int>(128 / sizeof(S)) ? W : static_cast<int>(128 / sizeof(S));\n"
+      "  constexpr int R = W % C;\n"
+      "  for (int i = {1} - 1; i >= 0; --i) {{\n"
+      "    for (int c0 = 0; c0 + C <= W; c0 += C) {0}_gather_below<S, W, C>(factor_entries, B, i, c0);\n"
+      "    if (R != 0) {0}_gather_below<S, W, (R != 0 ? R : 1)>(factor_entries, B, i, W - R);\n"
       "  }}\n"
       "  for (int k = 0; k < {1}; ++k) {{\n"
-      "    S* bk = B + k * W;\n"
       "    const S d = inverse_pivot[k];\n"
-      "    for (int c = 0; c < W; ++c) bk[c] *= d;\n"
-      "  }}\n"
-      "  for (int k = 0; k < {1}; ++k) {{\n"
-      "    S* bk = B + k * W;\n"
-      "    int e = {0}_first[k];\n"
-      "    for (int i = {0}_parent[k]; i >= 0; i = {0}_parent[i], ++e) {{\n"
-      "      const S* bi = B + i * W;\n"
-      "      const S l = factor_entries[e];\n"
-      "      for (int c = 0; c < W; ++c) bk[c] -= l * bi[c];\n"
-      "    }}\n"
+      "    for (int c0 = 0; c0 + C <= W; c0 += C) {0}_gather_above<S, W, C>(factor_entries, d, B, k, c0);\n"
+      "    if (R != 0) {0}_gather_above<S, W, (R != 0 ? R : 1)>(factor_entries, d, B, k, W - R);\n"
       "  }}\n"
       "}}\n"
       "\n"
@@ -78,7 +126,8 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
       "{6}"
       "}}\n"
       "\n",
-      function, n, int_list(parent), int_list(first), what, parameters, calls);
+      function, n, int_list(parent), int_list(first), what, parameters, calls, int_list(below_first),
+      below_row.size(), int_list(below_row), int_list(below_entry));
 }
 
 }  // namespace

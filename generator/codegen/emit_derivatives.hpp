@@ -2,10 +2,10 @@
 // The generated forward_dynamics_derivatives: its traced part (the forward dynamics, the inverse
 // dynamics' derivatives at its accelerations, the mass matrix's factor: aba_derivatives.hpp's
 // forward_dynamics_derivatives_before_solves) printed as straight-line code, and the solves with
-// that factor printed here as loops over whole rows of dqdd/dq and dqdd/dv (M^-1 is traced:
-// Z^T D^-1 Z, aba_derivatives.hpp). Unrolled, the 3 nv solves were two thirds of the function's
-// operations and made its code too large for the instruction caches (talos: 150k statements,
-// twice Pinocchio's time); as row operations they are short and vectorise. A closed system's
+// that factor printed here as loops over the rows of dqdd/dq and dqdd/dv, each row gathered a block
+// of columns at a time (M^-1 is traced: Z^T D^-1 Z, aba_derivatives.hpp). Unrolled, the 3 nv solves
+// were two thirds of the function's operations and made its code too large for the instruction
+// caches (talos: 150k statements, twice Pinocchio's time); as loops they are short and vectorise. A closed system's
 // (loop_dynamics_derivatives.hpp) the same: M_y's factor along its elimination tree, and its
 // three matrices solved (dydd/dtau = M_y^-1 T^T too: T^T has few entries, its solve fills them).
 // contact_forward_dynamics_derivatives (contact_dynamics_derivatives.hpp) is the tree's with the
