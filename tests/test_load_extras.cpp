@@ -2,6 +2,7 @@
 // robot.yaml convention on the seven shared closed-loop models.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "load/load_error.hpp"
@@ -192,6 +193,33 @@ TEST(LoadExtras, ContactParametersOutOfRangeAreErrors) {
   e = load_error(kData + "/tiny_arm.urdf", kData + "/extras/contact_zero_normal.yaml");
   EXPECT_EQ(e.element(), "scene: contact: ground: normal");
   EXPECT_EQ(e.problem(), "is zero");
+}
+
+// scene: derivatives_wrt (docs/extras.md): the inputs as given; an empty list, an unknown input or
+// one named twice are errors at their line.
+TEST(LoadExtras, DerivativesWrtIsRead) {
+  const Description d = load_with(kData + "/tiny_arm.urdf", kData + "/extras/derivatives_q_tau.yaml");
+  ASSERT_TRUE(d.scene);
+  EXPECT_EQ(d.scene->derivatives_wrt, (std::vector<std::string>{"q", "tau"}));
+  EXPECT_TRUE(load_with(kData + "/tiny_arm.urdf", kData + "/extras/contact.yaml").scene->derivatives_wrt.empty());
+}
+
+TEST(LoadExtras, DerivativesWrtThatIsEmptyUnknownOrRepeatedIsAnError) {
+  const std::string path = (std::filesystem::temp_directory_path() / "mbgen_test_derivatives_wrt.yaml").string();
+  const auto error_for = [&](const std::string& list) {
+    std::ofstream(path) << "scene:\n  outputs: [fd_derivatives]\n  derivatives_wrt: " << list << "\n";
+    return load_error(kData + "/tiny_arm.urdf", path);
+  };
+  LoadError e = error_for("[]");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.problem(), "is empty");
+  e = error_for("[q, qdd]");
+  EXPECT_EQ(e.element(), "scene: derivatives_wrt");
+  EXPECT_NE(e.problem().find("'qdd' is not one of q, v, tau"), std::string::npos) << e.what();
+  e = error_for("[q, tau, q]");
+  EXPECT_EQ(e.problem(), "names q twice");
+  e = error_for("q");
+  EXPECT_EQ(e.element(), "scene: derivatives_wrt");
 }
 
 // scene: joint_limits (docs/extras.md): the law's numbers and the per-joint exceptions as given;

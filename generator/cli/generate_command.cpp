@@ -29,6 +29,7 @@ struct GenerateOptions {
   std::string flavour = "cpp", templates;              ///< templates: a user's folder, instead of the flavour's
   std::vector<std::string> frames;
   std::vector<std::string> outputs;  ///< overrides the scene's outputs; {"all"}: everything
+  std::vector<std::string> derivatives_wrt;  ///< overrides the scene's derivatives_wrt
   bool quiet = false;
   long max_operations = codegen::kDefaultGraphLimit;
   int batch = 0;  ///< --batch W: states per call of the batch functions, 0 none
@@ -62,6 +63,7 @@ int run_generate(const GenerateOptions& o) {
     options.batch = o.batch;
     options.max_statements_per_part = o.max_statements;
     options.outputs = o.outputs;
+    options.derivatives_wrt = o.derivatives_wrt;
     options.python = o.python;
     if (options.frames.empty() && d.scene) options.frames = d.scene->jacobian_frames;
     options.inputs.push_back({std::filesystem::path(d.description_file).filename().string(),
@@ -110,6 +112,11 @@ void add_generate_command(CLI::App& app, int& status) {
         if (value == "all" || std::find(known.begin(), known.end(), value) != known.end()) return "";
         return fmt::format("unknown output '{}': the outputs are {} (or all)", value, fmt::join(known, ", "));
       });
+  cmd->add_option("--derivatives-wrt", options->derivatives_wrt,
+                  "the inputs the derivative outputs are taken with respect to, of q, v, tau (default: the scene's "
+                  "derivatives_wrt, else all three); the other blocks are left out of the functions and their signatures")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"q", "v", "tau"}));
   auto* flavour = cmd->add_option("--flavour", options->flavour,
                                   "output flavour, from mbgen's templates: cpp (namespace, overloads) or c (C99 header, "
                                   "extern \"C\" functions <name>_<function>_<scalar>); default cpp")

@@ -62,6 +62,10 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
     calls += fmt::format("  {}_solve<S, {}>(factor_entries, inverse_pivot, {});\n", function, out.size / n, out.name);
     what += (what.empty() ? "" : ", ") + out.name;
   }
+  if (solved.empty()) {  // derivatives_wrt without q and v: M^-1 alone, traced; nothing to solve
+    calls = "  (void)factor_entries;\n  (void)inverse_pivot;\n";
+    what = "nothing";
+  }
   return fmt::format(
       "// The factor's L^T D L structure: each row's parent (-1: none) and where its entries L(k, i),\n"
       "// i = k's chain of parents from the nearest, start in factor_entries; and each row i's\n"

@@ -139,30 +139,34 @@ const std::vector<GeneratedFunction>& function_catalog() {
     row("inverse_dynamics_derivatives", Batch::no, "inverse_dynamics and its derivatives dtau/dq, dtau/dv (analytic)",
          {"id_derivatives"});
     r.back().on_request = true;
-    r.back().trace = [](const TraceInputs& in) { return trace_inverse_dynamics_derivatives(in.tree); };
+    r.back().trace = [](const TraceInputs& in) { return trace_inverse_dynamics_derivatives(in.tree, in.derivative_blocks); };
     row("forward_dynamics_derivatives", Batch::no, "the forward dynamics and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau",
          {"fd_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) {
-      if (!in.model.subsystems.empty()) return trace_loop_forward_dynamics_derivatives(in.model);
-      return trace_forward_dynamics_derivatives(in.tree);
+      if (!in.model.subsystems.empty()) return trace_loop_forward_dynamics_derivatives(in.model, in.derivative_blocks);
+      return trace_forward_dynamics_derivatives(in.tree, in.derivative_blocks);
     };
     // The solves with M (a tree: dqdd/dq, dqdd/dv) or M_y (a closed system: and dydd/dtau) run as
-    // row loops (emit_derivatives.hpp).
+    // row loops (emit_derivatives.hpp), of the blocks the function has.
     r.back().definition = [](const DefinitionInputs& in) {
       if (!in.model.subsystems.empty())
-        return emit_forward_dynamics_derivatives_definition(in.function, closed_mass_matrix_elimination_tree(in.model), {1, 2, 3}, in.ctx);
-      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model), {1, 2}, in.ctx);
+        return emit_forward_dynamics_derivatives_definition(
+            in.function, closed_mass_matrix_elimination_tree(in.model),
+            solved_outputs(in.function, {"dqdd_dq", "dqdd_dv", "dqdd_dtau"}), in.ctx);
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
+                                                          solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
     };
     row("contact_forward_dynamics_derivatives", Batch::no,
          "the forward dynamics under the compliant ground and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau (trees)",
          {"contact_fd_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) {
-      return trace_contact_forward_dynamics_derivatives(in.model, in.contacts, in.contact_exponent);
+      return trace_contact_forward_dynamics_derivatives(in.model, in.contacts, in.contact_exponent, in.derivative_blocks);
     };
     r.back().definition = [](const DefinitionInputs& in) {
-      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model), {1, 2}, in.ctx);
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
+                                                          solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
     };
     // clang-format on
     return r;

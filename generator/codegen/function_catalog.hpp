@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "codegen/emit_context.hpp"
+#include "codegen/trace_derivatives.hpp"
 #include "codegen/traced_function.hpp"
 #include "mbgen/algorithm/actuator_forces.hpp"
 #include "mbgen/contact_model.hpp"
@@ -26,6 +27,7 @@ struct TraceInputs {
   const Actuation& actuation;
   const std::vector<ContactSphere>& contacts;
   double contact_exponent;
+  DerivativeBlocks derivative_blocks;  ///< the derivatives' inputs (trace_derivatives.hpp)
 };
 
 struct GeneratedFunction;

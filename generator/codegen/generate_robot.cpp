@@ -114,6 +114,8 @@ struct Generation {
   Actuation actuation;
   std::vector<ContactSphere> contacts;
   double contact_exponent = 1.5;
+  /// The derivatives' inputs: --derivatives-wrt, else the scene's `derivatives_wrt`, else all.
+  DerivativeBlocks derivative_blocks;
   std::string left_out_reason;
   FunctionSelection selection;
   std::vector<int> independent;       ///< the closed system's coordinates (v indices)
@@ -133,6 +135,10 @@ struct Generation {
         contacts(gen::contact_spheres(d)),
         independent(d.model.structure().independent_v) {
     if (!contacts.empty()) contact_exponent = description.scene->contact->parameters.exponent;
+    derivative_blocks = DerivativeBlocks::from_names(
+        !options.derivatives_wrt.empty() ? options.derivatives_wrt
+        : description.scene             ? description.scene->derivatives_wrt
+                                        : std::vector<std::string>{});
     selection = select_functions(description, options.outputs, &left_out_reason);
   }
 
@@ -160,7 +166,7 @@ struct Generation {
 
 /// The catalogue's traced rows the selection emits (a per-frame row only when there are frames).
 void trace_functions(Generation& g) {
-  const TraceInputs in{g.model, g.tree, g.frames.indices, g.actuation, g.contacts, g.contact_exponent};
+  const TraceInputs in{g.model, g.tree, g.frames.indices, g.actuation, g.contacts, g.contact_exponent, g.derivative_blocks};
   for (const GeneratedFunction& row : function_catalog()) {
     if (row.writer != Writer::traced || !g.selection.emits(row.name) || (row.per_frame && g.frames.indices.empty())) continue;
     g.traced.push_back(g.bounded(row.name, [&] { return row.trace(in); }));
@@ -334,10 +340,16 @@ void add_backend(const Generation& g, TemplateFields& fields) {
   const std::string distances_member = g.selection.emits("self_distances")
                                            ? g.templates.render("backend_distances", {{"robot", g.ctx.robot}})
                                            : member_note("self_distances", "self_distances");
+  // The step's derivatives (sim::StepDerivatives) read all three blocks.
   const std::string derivatives_member =
-      g.selection.emits("contact_forward_dynamics_derivatives")
-          ? g.templates.render("backend_derivatives", {{"robot", g.ctx.robot}})
-          : member_note("contact_dynamics_derivatives", "contact_forward_dynamics_derivatives: the contact_fd_derivatives output");
+      !g.selection.emits("contact_forward_dynamics_derivatives")
+          ? member_note("contact_dynamics_derivatives", "contact_forward_dynamics_derivatives: the contact_fd_derivatives output")
+      : !g.derivative_blocks.all()
+          ? member_note("contact_dynamics_derivatives",
+                        fmt::format("contact_forward_dynamics_derivatives with respect to all of q, v and tau (derivatives_wrt "
+                                    "takes {} only)",
+                                    g.derivative_blocks.names()))
+          : g.templates.render("backend_derivatives", {{"robot", g.ctx.robot}});
   const std::string robot = g.ctx.robot;
   fields.push_back(
       {"backend",

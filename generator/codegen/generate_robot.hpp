@@ -34,6 +34,10 @@ struct CodegenOptions {
   int batch = 0;
   /// Statements per part above which a function is split into noinline parts (split_statements).
   int max_statements_per_part = kMaxStatementsPerPart;
+  /// The inputs the derivatives are taken with respect to (q, v, tau: trace_derivatives.hpp's
+  /// DerivativeBlocks), overriding the scene's `derivatives_wrt`; empty: the scene's (all when it
+  /// says nothing).
+  std::vector<std::string> derivatives_wrt;
   /// Also write <name>_python.cpp, the robot's Python module (emit_python.hpp); the cpp flavour's
   /// API and the double scalar.
   bool python = false;

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include "codegen/trace_support.hpp"
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
@@ -18,6 +20,19 @@ ArraySpec square_spec(const Model& m, const char* name, const char* what) {
   return {name, m.nv() * m.nv(), fmt::format("[{0} x {0}, row-major] {1}", m.nv(), what), {m.nv(), m.nv()}};
 }
 
+/// Appends a matrix output and its trace's ids when its block is asked for.
+void add_block(TracedFunction& f, bool wanted, ArraySpec spec, std::vector<int> ids) {
+  if (!wanted) return;
+  f.outputs.push_back(std::move(spec));
+  f.output_ids.push_back(std::move(ids));
+}
+
+/// The doc's last sentence when blocks are left out: which ones, and why the signature lacks them.
+void note_blocks(TracedFunction& f, DerivativeBlocks blocks) {
+  if (blocks.all()) return;
+  f.doc += fmt::format(" Generated with respect to {} only (derivatives_wrt): the other inputs' blocks are left out.", blocks.names());
+}
+
 /// The entries L(k, i) of a tree's mass matrix factor, i an ancestor of k: the work array's size.
 int factor_entry_count(const Model& tree) {
   int entries = 0;
@@ -27,51 +42,87 @@ int factor_entry_count(const Model& tree) {
 }
 }  // namespace
 
-TracedFunction trace_inverse_dynamics_derivatives(const Model& tree) {
+DerivativeBlocks DerivativeBlocks::from_names(const std::vector<std::string>& names) {
+  if (names.empty()) return {};
+  DerivativeBlocks b{false, false, false};
+  for (const std::string& n : names) {
+    if (n == "q") b.q = true;
+    else if (n == "v") b.v = true;
+    else if (n == "tau") b.tau = true;
+    else throw std::invalid_argument(fmt::format("derivatives with respect to '{}': the inputs are q, v and tau", n));
+  }
+  return b;
+}
+
+std::string DerivativeBlocks::names() const {
+  std::string out;
+  for (const auto& [wanted, name] : {std::pair{q, "q"}, std::pair{v, "v"}, std::pair{tau, "tau"}})
+    if (wanted) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+std::vector<std::size_t> solved_outputs(const TracedFunction& f, const std::vector<std::string>& names) {
+  std::vector<std::size_t> solved;
+  for (std::size_t k = 0; k < f.outputs.size(); ++k)
+    if (std::find(names.begin(), names.end(), f.outputs[k].name) != names.end()) solved.push_back(k);
+  return solved;
+}
+
+TracedFunction trace_inverse_dynamics_derivatives(const Model& tree, DerivativeBlocks blocks) {
+  if (!blocks.q && !blocks.v)
+    throw std::invalid_argument(fmt::format(
+        "id_derivatives with respect to {} only: nothing to compute (dtau/dqdd is mass_matrix's M); take q or v in "
+        "derivatives_wrt, or generate mass_matrix",
+        blocks.names()));
   TracedFunction f;
   f.name = "inverse_dynamics_derivatives";
   f.doc = "The inverse dynamics tau = M(q) qdd + C(q, v) v + g(q) and its derivatives dtau/dq and dtau/dv (dtau/dqdd is "
           "mass_matrix's M). d/dq is taken along q (+) delta with delta in v-space (integrate: a floating base moves by the "
           "exponential of its body twist), so dtau/dq is nv x nv. Analytic recursion (rnea_derivatives.hpp).";
   f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "qdd", "joint accelerations")};
-  f.outputs = {v_spec(tree, "tau", "joint forces"), square_spec(tree, "dtau_dq", "dtau/dq along q (+) delta"),
-               square_spec(tree, "dtau_dv", "dtau/dv")};
   Recording rec(f.graph);
   Data<Sym> data(tree);
   DynamicsDerivatives<Sym> d(tree);
   const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), a = inputs(2, tree.nv());
   inverse_dynamics_derivatives<Sym>(tree, data, d, q, v, a);
-  f.output_ids = {ids_of(d.tau), ids_of(d.dtau_dq), ids_of(d.dtau_dv)};
+  f.outputs = {v_spec(tree, "tau", "joint forces")};
+  f.output_ids = {ids_of(d.tau)};
+  add_block(f, blocks.q, square_spec(tree, "dtau_dq", "dtau/dq along q (+) delta"), ids_of(d.dtau_dq));
+  add_block(f, blocks.v, square_spec(tree, "dtau_dv", "dtau/dv"), ids_of(d.dtau_dv));
+  note_blocks(f, blocks);
   return f;
 }
 
-TracedFunction trace_forward_dynamics_derivatives(const Model& tree) {
+TracedFunction trace_forward_dynamics_derivatives(const Model& tree, DerivativeBlocks blocks) {
   const int entries = factor_entry_count(tree);
   TracedFunction f;
   f.name = "forward_dynamics_derivatives";
   f.doc = "The forward dynamics qdd = M(q)^-1 (tau - C(q, v) v - g(q)) and its derivatives dqdd/dq, dqdd/dv and "
           "dqdd/dtau = M^-1: the inverse dynamics' derivatives at the qdd found, times -M^-1 (aba_derivatives.hpp). d/dq is "
           "taken along q (+) delta with delta in v-space, as inverse_dynamics_derivatives. Unrolled up to the solves with "
-          "M, which run as loops over whole rows of dqdd/dq and dqdd/dv (the same sparse L^T D L solve, vectorisable).";
+          "M, which run as loops over the rows of dqdd/dq and dqdd/dv (the same sparse L^T D L solve, a block of columns at a time).";
   f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "tau", "joint forces")};
-  f.outputs = {v_spec(tree, "qdd", "joint accelerations"), square_spec(tree, "dqdd_dq", "dqdd/dq along q (+) delta"),
-               square_spec(tree, "dqdd_dv", "dqdd/dv"), square_spec(tree, "Minv", "dqdd/dtau = M^-1"),
-               {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
-               v_spec(tree, "inverse_pivot", "1 / D of M's factor")};
-  f.work_outputs = 2;
   Recording rec(f.graph);
   Data<Sym> data(tree);
   DynamicsDerivatives<Sym> d(tree);
   const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), tau = inputs(2, tree.nv());
   forward_dynamics_derivatives_before_solves<Sym>(tree, data, d, q, v, tau);
   // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv.
-  f.output_ids = {ids_of(d.ddq), ids_of(d.dddq_dq), ids_of(d.dddq_dv), ids_of(d.Minv), ids_of(d.factor_entries),
-                  ids_of(d.inverse_pivot)};
+  f.outputs = {v_spec(tree, "qdd", "joint accelerations")};
+  f.output_ids = {ids_of(d.ddq)};
+  add_block(f, blocks.q, square_spec(tree, "dqdd_dq", "dqdd/dq along q (+) delta"), ids_of(d.dddq_dq));
+  add_block(f, blocks.v, square_spec(tree, "dqdd_dv", "dqdd/dv"), ids_of(d.dddq_dv));
+  add_block(f, blocks.tau, square_spec(tree, "Minv", "dqdd/dtau = M^-1"), ids_of(d.Minv));
+  add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
+            ids_of(d.factor_entries));
+  add_block(f, true, v_spec(tree, "inverse_pivot", "1 / D of M's factor"), ids_of(d.inverse_pivot));
+  f.work_outputs = 2;
+  note_blocks(f, blocks);
   return f;
 }
 
 TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, const std::vector<ContactSphere>& spheres,
-                                                          double exponent) {
+                                                          double exponent, DerivativeBlocks blocks) {
   if (!model.subsystems.empty())
     throw std::invalid_argument(fmt::format(
         "contact_fd_derivatives: the derivatives under the compliant ground are built for trees only, and this "
@@ -87,22 +138,12 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
       "dqdd/dv and dqdd/dtau = M^-1: the inverse dynamics' derivatives minus the ground's joint forces' at the qdd "
       "found, times -M^-1 (contact_dynamics_derivatives.hpp). d/dq is taken along q (+) delta with delta in v-space, "
       "as forward_dynamics_derivatives. Where the law switches (touch-down, the normal force's clamp, the stiction "
-      "speed) the slope of the side the value takes. Unrolled up to the solves with M, which run as loops over whole rows.",
+      "speed) the slope of the side the value takes. Unrolled up to the solves with M, which run as loops over the rows.",
       exponent);
   f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "tau", "joint forces"),
               {"ground", kGroundInputs, "[4] the ground n . x <= offset: n_x, n_y, n_z (unit, world), offset (m)"},
               {"law", kLawInputs, "[4] stiffness (N/m^exponent), damping (s/m), friction coefficient, stiction velocity (m/s)"}};
-  f.outputs = {v_spec(model, "qdd", "joint accelerations"), square_spec(model, "dqdd_dq", "dqdd/dq along q (+) delta"),
-               square_spec(model, "dqdd_dv", "dqdd/dv"), square_spec(model, "Minv", "dqdd/dtau = M^-1"),
-               {"contacts", kContactOutputs * spheres_count,
-                fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
-                            "there (3, N, world), slip velocity (3, m/s)",
-                            spheres_count),
-                {spheres_count, kContactOutputs}}};
   const int entries = factor_entry_count(model);
-  f.outputs.push_back({"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)});
-  f.outputs.push_back(v_spec(model, "inverse_pivot", "1 / D of M's factor"));
-  f.work_outputs = 2;
   Recording rec(f.graph);
   Data<Sym> data(model);
   ContactDynamicsDerivatives<Sym> d(model);
@@ -114,13 +155,27 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
   std::vector<int> contact_ids;
   for (const Sym& x : contacts) contact_ids.push_back(x.id());
   // The solves run in place: dqdd_dq and dqdd_dv leave the trace as dtau_c - dtau.
-  f.output_ids = {ids_of(d.fd.ddq), ids_of(d.fd.dddq_dq),     ids_of(d.fd.dddq_dv),
-                  ids_of(d.fd.Minv), contact_ids,             ids_of(d.fd.factor_entries),
-                  ids_of(d.fd.inverse_pivot)};
+  f.outputs = {v_spec(model, "qdd", "joint accelerations")};
+  f.output_ids = {ids_of(d.fd.ddq)};
+  add_block(f, blocks.q, square_spec(model, "dqdd_dq", "dqdd/dq along q (+) delta"), ids_of(d.fd.dddq_dq));
+  add_block(f, blocks.v, square_spec(model, "dqdd_dv", "dqdd/dv"), ids_of(d.fd.dddq_dv));
+  add_block(f, blocks.tau, square_spec(model, "Minv", "dqdd/dtau = M^-1"), ids_of(d.fd.Minv));
+  add_block(f, true,
+            {"contacts", kContactOutputs * spheres_count,
+             fmt::format("[{} x 10] per sphere: penetration (m, <= 0 apart), witness point (3, world), force on the robot "
+                         "there (3, N, world), slip velocity (3, m/s)",
+                         spheres_count),
+             {spheres_count, kContactOutputs}},
+            contact_ids);
+  add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
+            ids_of(d.fd.factor_entries));
+  add_block(f, true, v_spec(model, "inverse_pivot", "1 / D of M's factor"), ids_of(d.fd.inverse_pivot));
+  f.work_outputs = 2;
+  note_blocks(f, blocks);
   return f;
 }
 
-TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model) {
+TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model, DerivativeBlocks blocks) {
   const int ny = num_independent(model), nv = model.nv();
   TracedFunction f;
   f.name = "forward_dynamics_derivatives";
@@ -128,26 +183,29 @@ TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model) {
           "dydd/dy, dydd/dyd and dydd/dtau = M_y^-1 T^T, the loops held closed: d/dy moves q along the closed set (the "
           "dependent coordinates follow, a floating base by integrate). The tree's analytic derivatives projected by the "
           "velocity map, with the closure's own dependence on y by the implicit-function theorem through Phi_z "
-          "(loop_dynamics_derivatives.hpp). Unrolled up to the solves with M_y, which run as loops over whole rows "
+          "(loop_dynamics_derivatives.hpp). Unrolled up to the solves with M_y, which run as loops over the rows "
           "(its L^T D L factor along its elimination tree). q must close the loops.";
   f.inputs = {closed_q_spec(model), y_spec(model, "v", "independent velocities"),
               v_spec(model, "tau", "joint forces of every tree joint (those of dependent joints act through T^T)")};
-  f.outputs = {y_spec(model, "qdd", "independent accelerations"),
-               {"dqdd_dq", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dy along the closed set", ny), {ny, ny}},
-               {"dqdd_dv", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dyd", ny), {ny, ny}},
-               {"dqdd_dtau", ny * nv, fmt::format("[{} x {}, row-major] dydd/dtau = M_y^-1 T^T", ny, nv), {ny, nv}}};
   Recording rec(f.graph);
   Data<Sym> data(model);
   LoopDynamicsDerivatives<Sym> ld(model);
   const int entries = static_cast<int>(ld.factor_entries.size());
-  f.outputs.push_back({"factor_entries", entries, fmt::format("[{}] L(k, i) of M_y's factor along its elimination tree", entries)});
-  f.outputs.push_back(y_spec(model, "inverse_pivot", "1 / D of M_y's factor"));
-  f.work_outputs = 2;
   const SymVec q = inputs(0, model.nq()), vy = inputs(1, ny), tau = inputs(2, nv);
   forward_dynamics_loops_derivatives_before_solves<Sym>(model, data, ld, q, vy, tau);
   // The solves run in place (emit_derivatives.cpp): the matrices leave the trace as -R_q, -R_v, T^T.
-  f.output_ids = {ids_of(ld.ydd),         ids_of(ld.dydd_dy),        ids_of(ld.dydd_dyd),
-                  ids_of(ld.dydd_dtau),   ids_of(ld.factor_entries), ids_of(ld.inverse_pivot)};
+  f.outputs = {y_spec(model, "qdd", "independent accelerations")};
+  f.output_ids = {ids_of(ld.ydd)};
+  add_block(f, blocks.q, {"dqdd_dq", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dy along the closed set", ny), {ny, ny}},
+            ids_of(ld.dydd_dy));
+  add_block(f, blocks.v, {"dqdd_dv", ny * ny, fmt::format("[{0} x {0}, row-major] dydd/dyd", ny), {ny, ny}}, ids_of(ld.dydd_dyd));
+  add_block(f, blocks.tau, {"dqdd_dtau", ny * nv, fmt::format("[{} x {}, row-major] dydd/dtau = M_y^-1 T^T", ny, nv), {ny, nv}},
+            ids_of(ld.dydd_dtau));
+  add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M_y's factor along its elimination tree", entries)},
+            ids_of(ld.factor_entries));
+  add_block(f, true, y_spec(model, "inverse_pivot", "1 / D of M_y's factor"), ids_of(ld.inverse_pivot));
+  f.work_outputs = 2;
+  note_blocks(f, blocks);
   return f;
 }
 

@@ -3,6 +3,7 @@
 // aba_derivatives.hpp) with the symbolic scalar. Matrices are emitted row-major, nv x nv; the
 // derivative with respect to q is along q (+) delta (configuration.hpp's integrate).
 #include "codegen/traced_function.hpp"
+#include <string>
 #include <vector>
 
 #include "mbgen/contact_model.hpp"
@@ -10,17 +11,35 @@
 
 namespace mbgen::codegen {
 
-/// tau, dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, qdd).
-TracedFunction trace_inverse_dynamics_derivatives(const Model& tree);
-/// qdd, dqdd/dq, dqdd/dv and M^-1 of the spanning tree's forward dynamics at (q, v, tau).
-TracedFunction trace_forward_dynamics_derivatives(const Model& tree);
+/// The inputs the derivatives are taken with respect to (the scene's `derivatives_wrt`,
+/// --derivatives-wrt): a block left out is neither an output nor computed (what only it needs
+/// drops out of the trace). The values (tau, qdd) are always returned.
+struct DerivativeBlocks {
+  bool q = true, v = true, tau = true;
+  /// From the names q, v, tau (empty: all three); std::invalid_argument for any other.
+  static DerivativeBlocks from_names(const std::vector<std::string>& names);
+  bool all() const { return q && v && tau; }
+  std::string names() const;  ///< "q, v, tau" or the part chosen
+};
+
+/// tau, dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, qdd); of the two
+/// matrices those `blocks` asks for (tau: none, dtau/dqdd being mass_matrix's M; a choice of
+/// neither q nor v is refused, std::invalid_argument).
+TracedFunction trace_inverse_dynamics_derivatives(const Model& tree, DerivativeBlocks blocks = {});
+/// qdd, dqdd/dq, dqdd/dv and M^-1 of the spanning tree's forward dynamics at (q, v, tau) (the
+/// matrices `blocks` asks for).
+TracedFunction trace_forward_dynamics_derivatives(const Model& tree, DerivativeBlocks blocks = {});
 /// qdd, dqdd/dq, dqdd/dv and M^-1 of the spanning tree's forward dynamics under the compliant
 /// ground at the spheres (contact_dynamics_derivatives.hpp), and what the law gave per sphere.
 /// Trees only: a closed system is refused (std::invalid_argument saying so).
 TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, const std::vector<ContactSphere>& spheres,
-                                                          double exponent);
+                                                          double exponent, DerivativeBlocks blocks = {});
 /// A closed system's: ydd, dydd/dy (along the closed set), dydd/dyd and dydd/dtau in its
 /// independent coordinates (loop_dynamics_derivatives.hpp), every matrix row-major.
-TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model);
+TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model, DerivativeBlocks blocks = {});
+
+/// The outputs of a derivatives trace that the generated code solves in place after the trace
+/// (emit_derivatives.hpp): those of `names` the function has, by index.
+std::vector<std::size_t> solved_outputs(const TracedFunction& f, const std::vector<std::string>& names);
 
 }  // namespace mbgen::codegen

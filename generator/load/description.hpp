@@ -81,6 +81,9 @@ struct SceneSpec {
   std::vector<std::string> outputs;
   std::vector<int> output_lines;            ///< the extras file's line of each output (0: unknown)
   std::vector<std::string> jacobian_frames; ///< from `jacobians: [frame, ...]`
+  /// `derivatives_wrt: [q, v, tau]`: the inputs the derivative outputs are taken with respect to
+  /// (the others' blocks are left out); empty: not given (all three).
+  std::vector<std::string> derivatives_wrt;
   double collision_margin = 0.0;
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given

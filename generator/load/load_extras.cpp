@@ -400,7 +400,8 @@ void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
   reject_unknown_keys(x.path, node, "scene",
-                      {"collision", "contact", "joint_limits", "lock", "loops", "merge_below", "outputs", "rotors", "scalar"});
+                      {"collision", "contact", "derivatives_wrt", "joint_limits", "lock", "loops", "merge_below", "outputs",
+                       "rotors", "scalar"});
   SceneSpec scene;
   if (node["lock"]) read_lock(x, node["lock"], d, scene);
   if (node["merge_below"]) {
@@ -411,6 +412,18 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   if (node["contact"]) scene.contact = read_contact(x, node["contact"], d);
   if (node["joint_limits"]) scene.joint_limits = read_joint_limits(x, node["joint_limits"], d);
   if (node["outputs"]) read_outputs(x, node["outputs"], d, scene);
+  if (const YAML::Node& wrt = node["derivatives_wrt"]) {
+    require_sequence(x.path, wrt, "scene: derivatives_wrt", "[q, tau]");
+    if (wrt.size() == 0)
+      fail(x.path, wrt, "scene: derivatives_wrt", "is empty",
+           "name the inputs the derivatives are taken with respect to, e.g. [q, tau], or leave the key out for all of q, v, tau");
+    for (std::size_t k = 0; k < wrt.size(); ++k) {
+      const std::string input = one_of(x.path, wrt[k], "scene: derivatives_wrt", {"q", "v", "tau"});
+      if (std::find(scene.derivatives_wrt.begin(), scene.derivatives_wrt.end(), input) != scene.derivatives_wrt.end())
+        fail(x.path, wrt[k], "scene: derivatives_wrt", fmt::format("names {} twice", input), "name each input once");
+      scene.derivatives_wrt.push_back(input);
+    }
+  }
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
   if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body", "none"});
   if (node["loops"]) {
