@@ -8,6 +8,8 @@
 #                            build them, so CI does not download a second compiler)
 #   install_deps.sh --browser  and Debian's Chromium, which the tests of `mbgen view`'s pages load
 #                            headless (scripts/test.sh asks for it; the Quick start's build does not)
+#   install_deps.sh --ccache   and ccache, which scripts/test_sanitized.sh compiles through (its
+#                            whole run is hours of compiling; a repeat recompiles what changed)
 # npm (the build installs three.js with it, for `mbgen view`) comes with Node.js: Debian's nodejs
 # and npm are installed only when no npm is on the PATH (a Node.js from elsewhere brings its own,
 # and Debian's npm package would conflict with it).
@@ -25,7 +27,8 @@ for option in "$@"; do
   case "$option" in
     --fuzz) packages+=(clang libclang-rt-14-dev) ;;
     --browser) packages+=(chromium) ;;
-    *) echo "usage: $0 [--fuzz] [--browser]" >&2; exit 2 ;;
+    --ccache) packages+=(ccache) ;;
+    *) echo "usage: $0 [--fuzz] [--browser] [--ccache]" >&2; exit 2 ;;
   esac
 done
 command -v npm >/dev/null || packages+=(nodejs npm)
