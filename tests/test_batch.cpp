@@ -163,5 +163,20 @@ TYPED_TEST(BatchTest, KinematicsEqualTheOneStateFunctionsBitForBit) {
   MBGEN_BATCH_CASE(centroidal_momentum_matrix, q, (std::vector<int>{6 * nv}), i[0], o[0]);
 }
 
+// The derivatives (generated with fd_derivatives and id_derivatives: MBGEN_BATCH_DERIVATIVES): the
+// trace on the lanes, then the factor's solves on the lanes (emit_derivatives.cpp).
+#if MBGEN_BATCH_DERIVATIVES
+TYPED_TEST(BatchTest, DerivativesEqualTheOneStateFunctionsBitForBit) {
+  using S = TypeParam;
+  constexpr int nv = gen_ns::nv, ny = gen_ns::ny;
+  MBGEN_BATCH_CASE(inverse_dynamics_derivatives, (std::vector<Argument<S>>{this->q, this->v, this->a}),
+                   (std::vector<int>{nv, nv * nv, nv * nv}), i[0], i[1], i[2], o[0], o[1], o[2]);
+  // A tree's: qdd, dqdd/dq, dqdd/dv, M^-1; a closed system's: in its ny independent coordinates,
+  // dydd/dtau ny x nv.
+  MBGEN_BATCH_CASE(forward_dynamics_derivatives, (std::vector<Argument<S>>{this->q, this->vy, this->tau}),
+                   (std::vector<int>{ny, ny * ny, ny * ny, ny * nv}), i[0], i[1], i[2], o[0], o[1], o[2], o[3]);
+}
+#endif
+
 }  // namespace
 }  // namespace mbgen::test

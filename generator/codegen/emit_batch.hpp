@@ -14,7 +14,8 @@
 namespace mbgen::codegen {
 
 // Which functions `--batch` emits over W states is the catalogue's (function_catalog.hpp,
-// batched_functions()): the straight-line dynamics and kinematics. Not batched: closure_positions
+// batched_functions()): the straight-line dynamics and kinematics, and the derivatives (their
+// solves after the trace on the lanes too: emit_derivatives.hpp). Not batched: closure_positions
 // (a Newton iteration whose steps differ per state), the loop maps, self_distances (its near set
 // branches per pair) and the contact functions.
 
@@ -27,7 +28,10 @@ std::string batch_name(const std::string& function);
 /// function_declaration.fmt for f's batch entry points.
 std::string emit_batch_declaration(const TracedFunction& f, int lanes, const EmitContext& ctx);
 
-/// batch_source.fmt: the source file of f's batch entry points.
-std::string emit_batch_definition(const TracedFunction& f, int lanes, const EmitContext& ctx);
+/// batch_source.fmt: the source file of f's batch entry points. A function with work outputs
+/// (the derivatives) brings what runs after its trace: `helpers` (placed after the lanes' helpers,
+/// before the trace) and its own `entry_points`.
+std::string emit_batch_definition(const TracedFunction& f, int lanes, const EmitContext& ctx, const std::string& helpers = "",
+                                  const std::string& entry_points = "");
 
 }  // namespace mbgen::codegen

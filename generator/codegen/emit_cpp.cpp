@@ -473,6 +473,13 @@ std::string batch_parameters(const TracedFunction& f, const std::string& scalar,
   return args;
 }
 
+std::string public_batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
+  std::string args = input_parameters(f, scalar, lanes);
+  for (std::size_t k = 0; k + static_cast<std::size_t>(f.work_outputs) < f.outputs.size(); ++k)
+    args += fmt::format("{}{}", args.empty() ? "" : ", ", array_parameter(f.outputs[k].name, scalar, lanes));
+  return args;
+}
+
 namespace {
 SplitStatements split_statements_of(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style);
 }  // namespace

@@ -68,6 +68,8 @@ struct StatementStyle {
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
 /// S (*out)[lanes]...` (in[i][w]: entry i of state w); lanes 0 gives parameters(f, scalar).
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
+/// The same without f's work outputs (TracedFunction::work_outputs): the entry points' parameters.
+std::string public_batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes);
 
 /// The straight-line statements of f's body: for one state, the prologue computing the sines
 /// and cosines of its inputs (`_angle`, `_sin`, `_cos`: StatementStyle), then `const S _tN = ...;` in topological order, with one

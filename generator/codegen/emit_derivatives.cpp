@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "codegen/emit_batch.hpp"
 #include "codegen/emit_cpp.hpp"
 
 namespace mbgen::codegen {
@@ -31,7 +32,7 @@ std::string int_list(const std::vector<int>& values) {
 /// talos_reduced's 38 x 38 right-hand sides 63,000 instructions a solve against 114,000 (callgrind,
 /// -O3, SSE2), the same 25,000 multiply-adds.
 std::string solve_helpers(const std::string& function, const std::vector<int>& parent, const TracedFunction& f,
-                          const std::vector<std::size_t>& solved) {
+                          const std::vector<std::size_t>& solved, int lanes) {
   const int n = static_cast<int>(parent.size());
   // k's entries L(k, i), i = k's chain of parents from the nearest, from first[k] on.
   std::vector<int> first(static_cast<std::size_t>(n));
@@ -55,10 +56,28 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
     below_row.push_back(0);
     below_entry.push_back(0);
   }
+  // One state: S* arrays, B(r, c) at B[r * W + c]. Lanes: S (*)[kLanes] arrays (batch_source.fmt),
+  // B(r, c) of state w at B[r * W + c][w], the sums GCC vectors V of the lanes; each lane's sums
+  // are the one-state function's, term by term in the same order (the blocks of columns only
+  // group them), so each state equals the one-state function bit for bit.
+  const bool batch = lanes > 0;
+  const auto param = [&](const char* constness, const std::string& name) {
+    return fmt::format("{}S{}", constness, fmt::format(fmt::runtime(batch ? " (*{})[kLanes]" : "* {}"), name));
+  };
+  const std::string sum_type = batch ? "typename Lanes<S>::type" : "S";
+  const std::string load = batch ? "lanes_load<V>({})" : "{}";
+  const auto ld = [&](const std::string& x) { return fmt::format(fmt::runtime(load), x); };
+  const auto entry = [](const std::string& row) { return fmt::format("B[{} * W + c0 + c]", row); };
+  const auto store = [&](const std::string& row) {
+    return batch ? fmt::format("lanes_store({}, sum[c])", entry(row)) : fmt::format("{} = sum[c]", entry(row));
+  };
+  // Blocks of C columns whose sums fill eight 16-byte registers.
+  const std::string chunk = batch ? "static_cast<int>(128 / (sizeof(S) * kLanes)) > 0 ? static_cast<int>(128 / (sizeof(S) * kLanes)) : 1"
+                                  : "static_cast<int>(128 / sizeof(S))";
   std::string parameters, calls, what;
   for (std::size_t o : solved) {
     const ArraySpec& out = f.outputs[o];
-    parameters += fmt::format(", S* {}", out.name);
+    parameters += ", " + param("", out.name);
     calls += fmt::format("  {}_solve<S, {}>(factor_entries, inverse_pivot, {});\n", function, out.size / n, out.name);
     what += (what.empty() ? "" : ", ") + out.name;
   }
@@ -79,59 +98,62 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
       "// Columns c0 .. c0 + C - 1 of row i of L^T z = b, in place: z_i = b_i - sum of L(k, i) z_k over\n"
       "// i's descendants k, the C sums held in registers.\n"
       "template <typename S, int W, int C>\n"
-      "inline void {0}_gather_below(const S* factor_entries, S* B, int i, int c0) {{\n"
-      "  S sum[C];\n"
-      "  S* bi = B + i * W + c0;\n"
-      "  for (int c = 0; c < C; ++c) sum[c] = bi[c];\n"
+      "inline void {0}_gather_below({11}, {12}, int i, int c0) {{\n"
+      "  typedef {13} V;\n"
+      "  V sum[C];\n"
+      "  for (int c = 0; c < C; ++c) sum[c] = {14};\n"
       "  for (int t = {0}_below_first[i]; t < {0}_below_first[i + 1]; ++t) {{\n"
-      "    const S l = factor_entries[{0}_below_entry[t]];\n"
-      "    const S* bk = B + {0}_below_row[t] * W + c0;\n"
-      "    for (int c = 0; c < C; ++c) sum[c] -= l * bk[c];\n"
+      "    const V l = {15};\n"
+      "    const int k = {0}_below_row[t];\n"
+      "    for (int c = 0; c < C; ++c) sum[c] -= l * {16};\n"
       "  }}\n"
-      "  for (int c = 0; c < C; ++c) bi[c] = sum[c];\n"
+      "  for (int c = 0; c < C; ++c) {17};\n"
       "}}\n"
       "\n"
       "// The same columns of row k of L x = D^-1 z, in place: x_k = d z_k - sum of L(k, i) x_i over k's\n"
       "// ancestors i.\n"
       "template <typename S, int W, int C>\n"
-      "inline void {0}_gather_above(const S* factor_entries, S d, S* B, int k, int c0) {{\n"
-      "  S sum[C];\n"
-      "  S* bk = B + k * W + c0;\n"
-      "  for (int c = 0; c < C; ++c) sum[c] = d * bk[c];\n"
+      "inline void {0}_gather_above({11}, {18}, {12}, int k, int c0) {{\n"
+      "  typedef {13} V;\n"
+      "  V sum[C];\n"
+      "  const V d = {19};\n"
+      "  for (int c = 0; c < C; ++c) sum[c] = d * {20};\n"
       "  int e = {0}_first[k];\n"
       "  for (int i = {0}_parent[k]; i >= 0; i = {0}_parent[i], ++e) {{\n"
-      "    const S l = factor_entries[e];\n"
-      "    const S* bi = B + i * W + c0;\n"
-      "    for (int c = 0; c < C; ++c) sum[c] -= l * bi[c];\n"
+      "    const V l = {21};\n"
+      "    for (int c = 0; c < C; ++c) sum[c] -= l * {22};\n"
       "  }}\n"
-      "  for (int c = 0; c < C; ++c) bk[c] = sum[c];\n"
+      "  for (int c = 0; c < C; ++c) {23};\n"
       "}}\n"
       "\n"
       "// B = A^-1 B in place for a row-major {1} x W matrix B, A the factored matrix: the factor's\n"
       "// sparse solve, row by row, in blocks of C columns (eight 16-byte registers of sums) and the rest.\n"
       "template <typename S, int W>\n"
-      "void {0}_solve(const S* factor_entries, const S* inverse_pivot, S* B) {{\n"
-      "  constexpr int C = W < static_cast<int>(128 / sizeof(S)) ? W : static_cast<int>(128 / sizeof(S));\n"
+      "void {0}_solve({11}, {18}, {12}) {{\n"
+      "  constexpr int C = W < ({24}) ? W : ({24});\n"
       "  constexpr int R = W % C;\n"
       "  for (int i = {1} - 1; i >= 0; --i) {{\n"
       "    for (int c0 = 0; c0 + C <= W; c0 += C) {0}_gather_below<S, W, C>(factor_entries, B, i, c0);\n"
       "    if (R != 0) {0}_gather_below<S, W, (R != 0 ? R : 1)>(factor_entries, B, i, W - R);\n"
       "  }}\n"
       "  for (int k = 0; k < {1}; ++k) {{\n"
-      "    const S d = inverse_pivot[k];\n"
-      "    for (int c0 = 0; c0 + C <= W; c0 += C) {0}_gather_above<S, W, C>(factor_entries, d, B, k, c0);\n"
-      "    if (R != 0) {0}_gather_above<S, W, (R != 0 ? R : 1)>(factor_entries, d, B, k, W - R);\n"
+      "    for (int c0 = 0; c0 + C <= W; c0 += C) {0}_gather_above<S, W, C>(factor_entries, inverse_pivot, B, k, c0);\n"
+      "    if (R != 0) {0}_gather_above<S, W, (R != 0 ? R : 1)>(factor_entries, inverse_pivot, B, k, W - R);\n"
       "  }}\n"
       "}}\n"
       "\n"
       "// {4}: solved in place.\n"
       "template <typename S>\n"
-      "void {0}_solves(const S* factor_entries, const S* inverse_pivot{5}) {{\n"
+      "void {0}_solves({11}, {18}{5}) {{\n"
       "{6}"
       "}}\n"
       "\n",
       function, n, int_list(parent), int_list(first), what, parameters, calls, int_list(below_first),
-      below_row.size(), int_list(below_row), int_list(below_entry));
+      below_row.size(), int_list(below_row), int_list(below_entry),
+      /*11*/ param("const ", "factor_entries"), /*12*/ param("", "B"), /*13*/ sum_type,
+      /*14*/ ld(entry("i")), /*15*/ ld("factor_entries[" + function + "_below_entry[t]]"),
+      /*16*/ ld(entry("k")), /*17*/ store("i"), /*18*/ param("const ", "inverse_pivot"), /*19*/ ld("inverse_pivot[k]"),
+      /*20*/ ld(entry("k")), /*21*/ ld("factor_entries[e]"), /*22*/ ld(entry("i")), /*23*/ store("k"), /*24*/ chunk);
 }
 
 }  // namespace
@@ -159,7 +181,35 @@ std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f
          {"robot", ctx.robot},
          {"arguments", call_arguments(f)},
          {"solve_arguments", solve_arguments}});
-  return emit_definition(f, ctx, solve_helpers(f.name, parent, f, solved), entry_points);
+  return emit_definition(f, ctx, solve_helpers(f.name, parent, f, solved, 0), entry_points);
+}
+
+std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                              const std::vector<std::size_t>& solved, int lanes,
+                                                              const EmitContext& ctx) {
+  const std::size_t count = f.outputs.size();
+  if (f.work_outputs != 2 || count < 4 || f.outputs[count - 2].name != "factor_entries" ||
+      f.outputs[count - 1].name != "inverse_pivot")
+    throw std::logic_error("emit_forward_dynamics_derivatives_batch_definition: " + f.name + " is not a derivatives trace");
+  const ArraySpec& entries = f.outputs[count - 2];
+  const ArraySpec& pivots = f.outputs[count - 1];
+  const std::string name = batch_name(f.name);
+  std::string solve_arguments = fmt::format("{}, {}", entries.name, pivots.name);
+  for (std::size_t o : solved) solve_arguments += ", " + f.outputs[o].name;
+  std::string entry_points;
+  for (const std::string& s : scalar_types(ctx.scalars))
+    entry_points += ctx.templates.render(
+        "solve_entry_point",
+        {{"public_name", ctx.public_name(name, s)},
+         {"parameters", public_batch_parameters(f, s, lanes)},
+         {"scalar", s},
+         {"work_declarations", fmt::format("{}[{}][{}], {}[{}][{}]", entries.name, std::max(entries.size, 1), lanes, pivots.name,
+                                           pivots.size, lanes)},
+         {"function", name},
+         {"robot", ctx.robot},
+         {"arguments", call_arguments(f)},
+         {"solve_arguments", solve_arguments}});
+  return emit_batch_definition(f, lanes, ctx, solve_helpers(name, parent, f, solved, lanes), entry_points);
 }
 
 }  // namespace mbgen::codegen

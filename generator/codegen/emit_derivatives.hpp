@@ -28,4 +28,11 @@ namespace mbgen::codegen {
 std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
                                                         const std::vector<std::size_t>& solved, const EmitContext& ctx);
 
+/// Its batch form over `lanes` states (emit_batch.hpp): the trace on GCC vectors, then the same
+/// solves on the lanes, each state's sums those of the one-state function term by term, so that
+/// each state equals it bit for bit.
+std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                              const std::vector<std::size_t>& solved, int lanes,
+                                                              const EmitContext& ctx);
+
 }  // namespace mbgen::codegen

@@ -136,11 +136,11 @@ const std::vector<GeneratedFunction>& function_catalog() {
     r.back().trace = [](const TraceInputs& in) { return trace_contact_accelerations(in.model, in.contacts, in.contact_exponent); };
     r.back().definition = contact_accelerations_source;
     // The derivatives (docs/derivatives.md), of the spanning tree: on request only.
-    row("inverse_dynamics_derivatives", Batch::no, "inverse_dynamics and its derivatives dtau/dq, dtau/dv (analytic)",
+    row("inverse_dynamics_derivatives", Batch::yes, "inverse_dynamics and its derivatives dtau/dq, dtau/dv (analytic)",
          {"id_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) { return trace_inverse_dynamics_derivatives(in.tree, in.derivative_blocks); };
-    row("forward_dynamics_derivatives", Batch::no, "the forward dynamics and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau",
+    row("forward_dynamics_derivatives", Batch::yes, "the forward dynamics and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau",
          {"fd_derivatives"});
     r.back().on_request = true;
     r.back().trace = [](const TraceInputs& in) {
@@ -156,6 +156,14 @@ const std::vector<GeneratedFunction>& function_catalog() {
             solved_outputs(in.function, {"dqdd_dq", "dqdd_dv", "dqdd_dtau"}), in.ctx);
       return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
                                                           solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
+    };
+    r.back().batch_definition = [](const DefinitionInputs& in, int lanes) {
+      if (!in.model.subsystems.empty())
+        return emit_forward_dynamics_derivatives_batch_definition(
+            in.function, closed_mass_matrix_elimination_tree(in.model),
+            solved_outputs(in.function, {"dqdd_dq", "dqdd_dv", "dqdd_dtau"}), lanes, in.ctx);
+      return emit_forward_dynamics_derivatives_batch_definition(
+          in.function, tree_parents(in.model), solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), lanes, in.ctx);
     };
     row("contact_forward_dynamics_derivatives", Batch::no,
          "the forward dynamics under the compliant ground and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau (trees)",

@@ -73,6 +73,9 @@ struct GeneratedFunction {
   TracedFunction (*trace)(const TraceInputs&) = nullptr;
   /// The source file from the trace; null: emit_definition of the function's own trace.
   std::string (*definition)(const DefinitionInputs&) = nullptr;
+  /// The batch form's source file over `lanes` states (a Batch::yes row whose trace has work
+  /// outputs); null: emit_batch_definition of the trace.
+  std::string (*batch_definition)(const DefinitionInputs&, int lanes) = nullptr;
 };
 
 /// Every function mbgen emits, in the order the header declares them.

@@ -406,9 +406,14 @@ std::vector<GeneratedFile> source_files(const Generation& g) {
     const std::vector<const TracedFunction*> batched = batched_traces(g);
     for (const std::string& name : batched_functions()) {
       const auto it = std::find_if(batched.begin(), batched.end(), [&](const TracedFunction* f) { return f->name == name; });
-      files.push_back({g.ctx.source_file(batch_name(name)), it != batched.end()
-                                                                ? emit_batch_definition(**it, g.options.batch, g.ctx)
-                                                                : left_out_source(g, batch_name(name), fmt::format("{} is not generated", name))});
+      if (it == batched.end()) {
+        files.push_back({g.ctx.source_file(batch_name(name)), left_out_source(g, batch_name(name), fmt::format("{} is not generated", name))});
+        continue;
+      }
+      const GeneratedFunction& row = *find_function(name);
+      const DefinitionInputs in{**it, g.traced, g.model, g.independent, !g.contacts.empty(), g.ctx};
+      files.push_back({g.ctx.source_file(batch_name(name)), row.batch_definition ? row.batch_definition(in, g.options.batch)
+                                                                                 : emit_batch_definition(**it, g.options.batch, g.ctx)});
     }
   }
   for (const std::string& f : g.selection.left_out) files.push_back({g.ctx.source_file(f), left_out_source(g, f, g.left_out_reason)});
