@@ -158,57 +158,51 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
 
 }  // namespace
 
-std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
-                                                        const std::vector<std::size_t>& solved, const EmitContext& ctx) {
-  // Outputs: the results, then the two work arrays (the factor's entries and inverse pivots).
+namespace {
+
+/// The entry points of a derivatives trace (work outputs factor_entries and inverse_pivot last):
+/// each declares the work arrays, runs the trace and solves the `solved` outputs in place, over one
+/// state or, with lanes, over the batch (then `function` is the batch's name).
+std::string solve_entry_points(const TracedFunction& f, const std::string& function, const std::vector<std::size_t>& solved,
+                               int lanes, const EmitContext& ctx) {
   const std::size_t count = f.outputs.size();
   if (f.work_outputs != 2 || count < 4 || f.outputs[count - 2].name != "factor_entries" ||
       f.outputs[count - 1].name != "inverse_pivot")
-    throw std::logic_error("emit_forward_dynamics_derivatives_definition: " + f.name + " is not a derivatives trace");
+    throw std::logic_error("emit_forward_dynamics_derivatives: " + f.name + " is not a derivatives trace");
   const ArraySpec& entries = f.outputs[count - 2];
   const ArraySpec& pivots = f.outputs[count - 1];
+  const std::string per_entry = lanes > 0 ? fmt::format("[{}]", lanes) : "";
   std::string solve_arguments = fmt::format("{}, {}", entries.name, pivots.name);
   for (std::size_t o : solved) solve_arguments += ", " + f.outputs[o].name;
   std::string entry_points;
   for (const std::string& s : scalar_types(ctx.scalars))
     entry_points += ctx.templates.render(
         "solve_entry_point",
-        {{"public_name", ctx.public_name(f.name, s)},
-         {"parameters", public_parameters(f, s)},
+        {{"public_name", ctx.public_name(function, s)},
+         {"parameters", lanes > 0 ? public_batch_parameters(f, s, lanes) : public_parameters(f, s)},
          {"scalar", s},
-         {"work_declarations", fmt::format("{}[{}], {}[{}]", entries.name, std::max(entries.size, 1), pivots.name, pivots.size)},
-         {"function", f.name},
+         {"work_declarations", fmt::format("{}[{}]{}, {}[{}]{}", entries.name, std::max(entries.size, 1), per_entry, pivots.name,
+                                           pivots.size, per_entry)},
+         {"function", function},
          {"robot", ctx.robot},
          {"arguments", call_arguments(f)},
          {"solve_arguments", solve_arguments}});
+  return entry_points;
+}
+
+}  // namespace
+
+std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                        const std::vector<std::size_t>& solved, const EmitContext& ctx) {
+  const std::string entry_points = solve_entry_points(f, f.name, solved, 0, ctx);
   return emit_definition(f, ctx, solve_helpers(f.name, parent, f, solved, 0), entry_points);
 }
 
 std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunction& f, const std::vector<int>& parent,
                                                               const std::vector<std::size_t>& solved, int lanes,
                                                               const EmitContext& ctx) {
-  const std::size_t count = f.outputs.size();
-  if (f.work_outputs != 2 || count < 4 || f.outputs[count - 2].name != "factor_entries" ||
-      f.outputs[count - 1].name != "inverse_pivot")
-    throw std::logic_error("emit_forward_dynamics_derivatives_batch_definition: " + f.name + " is not a derivatives trace");
-  const ArraySpec& entries = f.outputs[count - 2];
-  const ArraySpec& pivots = f.outputs[count - 1];
   const std::string name = batch_name(f.name);
-  std::string solve_arguments = fmt::format("{}, {}", entries.name, pivots.name);
-  for (std::size_t o : solved) solve_arguments += ", " + f.outputs[o].name;
-  std::string entry_points;
-  for (const std::string& s : scalar_types(ctx.scalars))
-    entry_points += ctx.templates.render(
-        "solve_entry_point",
-        {{"public_name", ctx.public_name(name, s)},
-         {"parameters", public_batch_parameters(f, s, lanes)},
-         {"scalar", s},
-         {"work_declarations", fmt::format("{}[{}][{}], {}[{}][{}]", entries.name, std::max(entries.size, 1), lanes, pivots.name,
-                                           pivots.size, lanes)},
-         {"function", name},
-         {"robot", ctx.robot},
-         {"arguments", call_arguments(f)},
-         {"solve_arguments", solve_arguments}});
+  const std::string entry_points = solve_entry_points(f, name, solved, lanes, ctx);
   return emit_batch_definition(f, lanes, ctx, solve_helpers(name, parent, f, solved, lanes), entry_points);
 }
 
