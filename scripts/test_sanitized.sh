@@ -4,7 +4,7 @@
 # code instrumented; the benchmarks left out: they time, they do not check). Any sanitizer report
 # fails its test (-fno-sanitize-recover, halt_on_error).
 #
-#   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (2 h 15 min on 2 cores
+#   bash scripts/test_sanitized.sh [ctest arguments...]            the whole suite (about 2 h on 2 cores
 #                                                                  from an empty compiler cache)
 #   bash scripts/test_sanitized.sh -R test_generated          (one ctest test per executable: sanitized.<executable>)
 #   bash scripts/test_sanitized.sh --subset [ctest arguments...]   the runtime's numerics and the
@@ -22,7 +22,7 @@ if [[ ${1:-} == --subset ]]; then
 fi
 # The whole suite includes fuzz.smoke, which needs clang; the subset does not.
 if $subset; then bash scripts/install_deps.sh --ccache; else bash scripts/install_deps.sh --fuzz --browser --ccache; fi
-# Through ccache: the whole build is 1,400 instrumented objects (over an hour on 2 cores, longer
+# Through ccache: the whole build is about 1,500 instrumented compilations (over an hour on 2 cores, longer
 # than the tests), and the run is repeated before each issue touching runtime/ or generator/ is
 # resolved, mostly over unchanged files. A clean clone at the same path as the last one finds
 # them in the cache (the tests' compile definitions hold the clone's path).
