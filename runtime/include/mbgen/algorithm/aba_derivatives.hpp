@@ -29,19 +29,11 @@ void factor_solve(const Model& model, const MatX<S>& factor, const VecX<S>& inve
   for (int k = 0; k < n; ++k)
     for (int i = model.velocity_parent(k); i >= 0; i = model.velocity_parent(i)) b[k] -= factor(k, i) * b[i];
 }
-}  // namespace detail
 
-/// What comes before the solves with M (the part the generator unrolls; the solves it prints as
-/// loops over whole rows, docs/derivatives.md): d.ddq = qdd at (q, v, tau), d.dddq_dq = -dtau/dq and
-/// d.dddq_dv = -dtau/dv at (q, v, qdd), the factor of M in data.M, its entries of ancestor pairs in
-/// d.factor_entries, 1 / D in d.inverse_pivot, and M^-1 in d.Minv. No allocation.
-template <typename S>
-void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d,
-                                                const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
+/// From M's factor L (mass_matrix_factor): its entries of ancestor pairs in d.factor_entries, 1 / D
+/// in d.inverse_pivot (the tables the solves read), and M^-1 in d.Minv.
+template <typename S> void mass_matrix_factor_tables(const Model& model, const MatX<S>& L, DynamicsDerivatives<S>& d) {
   const int n = model.nv();
-  d.ddq = aba<S>(model, data, q, v, tau);
-  inverse_dynamics_derivatives<S>(model, data, d, q, v, d.ddq);
-  const MatX<S>& L = mass_matrix_factor<S>(model, data, q);
   int e = 0;
   for (int k = 0; k < n; ++k) {
     d.inverse_pivot[k] = S(1) / L(k, k);
@@ -63,6 +55,19 @@ void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& dat
       d.Minv(r, k) = x;
       d.Minv(k, r) = x;
     }
+}
+}  // namespace detail
+
+/// What comes before the solves with M (the part the generator unrolls; the solves it prints as
+/// loops over whole rows, docs/derivatives.md): d.ddq = qdd at (q, v, tau), d.dddq_dq = -dtau/dq and
+/// d.dddq_dv = -dtau/dv at (q, v, qdd), the factor of M in data.M, its entries of ancestor pairs in
+/// d.factor_entries, 1 / D in d.inverse_pivot, and M^-1 in d.Minv. No allocation.
+template <typename S>
+void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d,
+                                                const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
+  d.ddq = aba<S>(model, data, q, v, tau);
+  inverse_dynamics_derivatives<S>(model, data, d, q, v, d.ddq);
+  detail::mass_matrix_factor_tables<S>(model, mass_matrix_factor<S>(model, data, q), d);
   d.dddq_dq = -d.dtau_dq;
   d.dddq_dv = -d.dtau_dv;
 }

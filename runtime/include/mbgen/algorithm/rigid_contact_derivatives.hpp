@@ -12,6 +12,10 @@
 //   [J    0 ] [dlambda] = - [dr2],     dr1, dr2 the partial derivatives at fixed a and lambda,
 // so with P = M^-1 dr1 and Y = M^-1 J^T:  dlambda = (J Y)^-1 (J P - dr2),  da = -P + Y dlambda;
 // and along tau (dr1 = -dtau): dlambda/dtau = -(J Y)^-1 Y^T, da/dtau = M^-1 - Y (J Y)^-1 Y^T.
+// Computed as W = (J Y)^-1 J and G = -(J Y)^-1 dr2 first (m rows each, small), then -P by the
+// nv-column solves with M's factor, then dlambda = G - W (-P) and da = (-P) + Y dlambda: the
+// generator traces everything before the solves (rigid_contact_derivatives_before_solves) and
+// prints the solves and the two products as loops (emit_derivatives.hpp), as for the tree's.
 //
 // dr1 is the inverse dynamics' derivative (rnea_derivatives.hpp) less that of J^T lambda with
 // lambda held fixed in the contact frames' axes. The column J_c (world axes, at the origin) of a
@@ -29,6 +33,7 @@
 // changes by the product rule (contact_acceleration_change below).
 #include <vector>
 
+#include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/rigid_contact_dynamics.hpp"
 #include "mbgen/algorithm/rnea_derivatives.hpp"
 
@@ -44,18 +49,18 @@ template <typename S> struct RigidContactDerivatives {
   MatX<S> dlambda_dq, dlambda_dv, dlambda_dtau; ///< m x nv
 
   // Work.
-  DynamicsDerivatives<S> id;        ///< the inverse dynamics' derivatives at (q, v, a)
+  DynamicsDerivatives<S> id;        ///< the inverse dynamics' derivatives at (q, v, a); M^-1 and M's factor tables
   Force<S> wrench;                  ///< one contact's forces on its body (world axes, at the origin)
   MatX<S> dr1_dq;                   ///< nv x nv: d(ID - J^T lambda)/dq
   MatX<S> dr2_dq, dr2_dv;           ///< m x nv: the contacts' accelerations' partial derivatives
-  MatX<S> P;                        ///< nv x nv: M^-1 dr1
+  MatX<S> W;                        ///< m x nv: (J Y)^-1 J
 };
 
 template <typename S>
 RigidContactDerivatives<S>::RigidContactDerivatives(const Model& model, const RigidContactWorkspace<S>& ws) : id(model) {
   const int nv = model.nv(), m = ws.m;
-  for (MatX<S>* x : {&da_dq, &da_dv, &da_dtau, &P, &dr1_dq}) *x = MatX<S>::Zero(nv, nv);
-  for (MatX<S>* x : {&dlambda_dq, &dlambda_dv, &dlambda_dtau, &dr2_dq, &dr2_dv}) *x = MatX<S>::Zero(m, nv);
+  for (MatX<S>* x : {&da_dq, &da_dv, &da_dtau, &dr1_dq}) *x = MatX<S>::Zero(nv, nv);
+  for (MatX<S>* x : {&dlambda_dq, &dlambda_dv, &dlambda_dtau, &dr2_dq, &dr2_dv, &W}) *x = MatX<S>::Zero(m, nv);
 }
 
 namespace detail {
@@ -145,6 +150,50 @@ template <typename S> void contact_operator_solve(const RigidContactWorkspace<S>
 }
 }  // namespace detail
 
+/// What comes before the solves with M (the part the generator unrolls): ws.a and ws.lambda (no
+/// status: rigid_contact_solve), d.id the inverse dynamics' derivatives at the solution with M's
+/// factor tables and M^-1 (forward_dynamics_derivatives' own), d.W = (J Y)^-1 J, and the blocks
+/// left for rigid_contact_derivatives_solves: d.da_dq = -dr1/dq and d.da_dv = -dr1/dv (to be
+/// solved into -P), d.dlambda_dq = -(J Y)^-1 dr2/dq and d.dlambda_dv the same (G), and along tau
+/// d.dlambda_dtau (final) and d.da_dtau = M^-1 (Y dlambda/dtau to be added). No allocation.
+template <typename S>
+void rigid_contact_derivatives_before_solves(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws,
+                                             RigidContactDerivatives<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                                             const ConstVecRef<S>& tau) {
+  detail::rigid_contact_solve<S>(model, data, ws, q, v, tau);
+  inverse_dynamics_derivatives<S>(model, data, d.id, q, v, ws.a);
+  detail::mass_matrix_factor_tables<S>(model, data.M, d.id);
+  detail::rigid_contact_force_derivatives<S>(model, data, ws, d);
+  detail::rigid_contact_acceleration_derivatives<S>(model, data, ws, d);
+  d.W = ws.J;
+  detail::contact_operator_solve<S>(ws, d.W);
+  d.da_dq = -d.dr1_dq;
+  d.da_dv = -d.id.dtau_dv;
+  d.dlambda_dq = -d.dr2_dq;
+  detail::contact_operator_solve<S>(ws, d.dlambda_dq);
+  d.dlambda_dv = -d.dr2_dv;
+  detail::contact_operator_solve<S>(ws, d.dlambda_dv);
+  d.dlambda_dtau = -ws.Y.transpose();
+  detail::contact_operator_solve<S>(ws, d.dlambda_dtau);
+  d.da_dtau = d.id.Minv;
+}
+
+/// The rest: -P = M^-1 (-dr1) in place, then dlambda = G - W (-P) and da = (-P) + Y dlambda, and
+/// da/dtau = M^-1 + Y dlambda/dtau. No allocation.
+template <typename S>
+void rigid_contact_derivatives_solves(const Model& model, const Data<S>& data, const RigidContactWorkspace<S>& ws,
+                                      RigidContactDerivatives<S>& d) {
+  for (int c = 0; c < model.nv(); ++c) {
+    detail::factor_solve<S>(model, data.M, d.id.inverse_pivot, d.da_dq.col(c));
+    detail::factor_solve<S>(model, data.M, d.id.inverse_pivot, d.da_dv.col(c));
+  }
+  for (auto [da, dlambda] : {std::pair{&d.da_dq, &d.dlambda_dq}, std::pair{&d.da_dv, &d.dlambda_dv}}) {
+    dlambda->noalias() -= d.W * *da;
+    da->noalias() += ws.Y * *dlambda;
+  }
+  d.da_dtau.noalias() += ws.Y * d.dlambda_dtau;
+}
+
 /// a and lambda (ws.a, ws.lambda, ws.status as rigid_contact_dynamics) and their derivatives with
 /// respect to q (along q (+) delta), v and tau (d.da_dq, ..., d.dlambda_dtau) at (q, v, tau).
 /// d.id holds the inverse dynamics' derivatives at the solution with the contact forces applied.
@@ -153,35 +202,9 @@ template <typename S>
 void rigid_contact_dynamics_derivatives(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws,
                                         RigidContactDerivatives<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                                         const ConstVecRef<S>& tau) {
-  const int nv = model.nv();
-  rigid_contact_dynamics<S>(model, data, ws, q, v, tau);
-  inverse_dynamics_derivatives<S>(model, data, d.id, q, v, ws.a);
-  detail::rigid_contact_force_derivatives<S>(model, data, ws, d);
-  detail::rigid_contact_acceleration_derivatives<S>(model, data, ws, d);
-  // d/dq and d/dv: P = M^-1 dr1, dlambda = (J Y)^-1 (J P - dr2), da = -P + Y dlambda.
-  const auto solve_pair = [&](const MatX<S>& dr1, const MatX<S>& dr2, MatX<S>& da, MatX<S>& dlambda) {
-    d.P = dr1;
-    for (int c = 0; c < nv; ++c) {
-      auto column = d.P.col(c);
-      mass_matrix_solve_in_place<S>(model, data.M, column);
-    }
-    dlambda = -dr2;
-    dlambda.noalias() += ws.J * d.P;
-    detail::contact_operator_solve<S>(ws, dlambda);
-    da = -d.P;
-    da.noalias() += ws.Y * dlambda;
-  };
-  solve_pair(d.dr1_dq, d.dr2_dq, d.da_dq, d.dlambda_dq);
-  solve_pair(d.id.dtau_dv, d.dr2_dv, d.da_dv, d.dlambda_dv);
-  // d/dtau: dlambda = -(J Y)^-1 Y^T, da = M^-1 + Y dlambda.
-  d.dlambda_dtau = -ws.Y.transpose();
-  detail::contact_operator_solve<S>(ws, d.dlambda_dtau);
-  d.da_dtau.setIdentity();
-  for (int c = 0; c < nv; ++c) {
-    auto column = d.da_dtau.col(c);
-    mass_matrix_solve_in_place<S>(model, data.M, column);
-  }
-  d.da_dtau.noalias() += ws.Y * d.dlambda_dtau;
+  rigid_contact_derivatives_before_solves<S>(model, data, ws, d, q, v, tau);
+  rigid_contact_derivatives_solves<S>(model, data, ws, d);
+  ws.status = detail::rigid_contact_status<S>(ws);
 }
 
 }  // namespace mbgen

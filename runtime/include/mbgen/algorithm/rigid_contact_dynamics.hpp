@@ -82,6 +82,7 @@ template <typename S> struct RigidContactWorkspace {
   VecX<S> free_a;    ///< nv: M^-1 (tau - h), the accelerations without contact
   MatX<S> Y;         ///< nv x m: M^-1 J^T
   MatX<S> JY_factor; ///< m x m: ldlt_factor of J M^-1 J^T
+  VecX<S> operator_diagonal;  ///< m: the diagonal of J M^-1 J^T before its factoring (the status' scale)
   Mat6X<S> frame_J;  ///< 6 x nv scratch: one frame's Jacobian
 };
 
@@ -110,6 +111,7 @@ RigidContactWorkspace<S>::RigidContactWorkspace(const Model& model, std::vector<
   free_a = VecX<S>::Zero(nv);
   Y = MatX<S>::Zero(nv, m);
   JY_factor = MatX<S>::Zero(m, m);
+  operator_diagonal = VecX<S>::Zero(m);
   frame_J = Mat6X<S>::Zero(6, nv);
 }
 
@@ -136,16 +138,15 @@ void rigid_contact_kinematics(const Model& model, Data<S>& data, RigidContactWor
     ws.J.middleRows(r0, rows) = ws.frame_J.topRows(rows);
   }
 }
-}  // namespace detail
 
-/// Joint accelerations (ws.a, also returned) and contact forces (ws.lambda) with the contacts
-/// held, at (q, v) under joint forces tau; ws.status says whether the contacts' system was
-/// regular and the results finite. Leaves the mass matrix's factor in data.M. No allocation.
+/// The solve of rigid_contact_dynamics without its checks, which a symbolic scalar cannot record
+/// (it has no comparisons): what the generator traces. ws.a, ws.lambda, and what the derivatives
+/// read (ws.J, ws.Y, ws.JY_factor, ws.operator_diagonal, M's factor in data.M).
 template <typename S>
-const VecX<S>& rigid_contact_dynamics(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws, const ConstVecRef<S>& q,
-                                      const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
+void rigid_contact_solve(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws, const ConstVecRef<S>& q,
+                         const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   const int m = ws.m;
-  detail::rigid_contact_kinematics<S>(model, data, ws, q, v);
+  rigid_contact_kinematics<S>(model, data, ws, q, v);
   ws.free_a = tau - nonlinear_effects<S>(model, data, q, v);
   mass_matrix_factor<S>(model, data, q);
   mass_matrix_solve_in_place<S>(model, data.M, ws.free_a);
@@ -157,20 +158,48 @@ const VecX<S>& rigid_contact_dynamics(const Model& model, Data<S>& data, RigidCo
   // J M^-1 J^T lambda = -gamma - J M^-1 (tau - h), then a = M^-1 (tau - h) + M^-1 J^T lambda.
   for (int i = 0; i < m; ++i)
     for (int j = 0; j <= i; ++j) ws.JY_factor(i, j) = ws.JY_factor(j, i) = ws.J.row(i).dot(ws.Y.col(j));
-  S largest = S(0);
-  for (int i = 0; i < m; ++i) largest = std::max(largest, ws.JY_factor(i, i));
+  ws.operator_diagonal = ws.JY_factor.diagonal();
   ldlt_factor<S>(ws.JY_factor, m, ws.JY_factor);
-  ws.status = RigidContactStatus::Solved;
-  for (int i = 0; i < m; ++i)  // F(i, i) = 1 / d_i; NaN fails the comparison too
-    if (!(ws.JY_factor(i, i) > S(0) && S(1) / ws.JY_factor(i, i) > S(ws.singular_tolerance) * largest))
-      ws.status = RigidContactStatus::Singular;
   ws.lambda = -ws.gamma;
   ws.lambda.noalias() -= ws.J * ws.free_a;
   ldlt_solve<S>(ws.JY_factor, m, ws.lambda.data());
   ws.a = ws.free_a;
   ws.a.noalias() += ws.Y * ws.lambda;
-  if (ws.status == RigidContactStatus::Solved && !(ws.a.allFinite() && ws.lambda.allFinite()))
-    ws.status = RigidContactStatus::NotFinite;
+}
+}  // namespace detail
+
+/// Whether J M^-1 J^T was regular: Singular when a pivot d_i of its L D L^T factor is not above
+/// `tolerance` times the largest diagonal entry (or is not finite). `diagonal` the operator's
+/// diagonal, `pivots` the d_i. The rule rigid_contact_dynamics applies, and a caller of the
+/// generated rigid_contact_fd_derivatives applies to its `operator_pivots` output.
+template <typename S, typename Diagonal, typename Pivots>
+RigidContactStatus rigid_contact_operator_status(const Diagonal& diagonal, const Pivots& pivots, int m, double tolerance) {
+  S largest = S(0);
+  for (int i = 0; i < m; ++i) largest = std::max(largest, S(diagonal[i]));
+  for (int i = 0; i < m; ++i)  // NaN fails the comparison too
+    if (!(S(pivots[i]) > S(tolerance) * largest)) return RigidContactStatus::Singular;
+  return RigidContactStatus::Solved;
+}
+
+namespace detail {
+/// The status of the last rigid_contact_solve: the operator's (its factor holds F(i, i) = 1 / d_i),
+/// then whether a and lambda are finite.
+template <typename S> RigidContactStatus rigid_contact_status(const RigidContactWorkspace<S>& ws) {
+  const RigidContactStatus status = rigid_contact_operator_status<S>(
+      ws.operator_diagonal, ws.JY_factor.diagonal().cwiseInverse(), ws.m, ws.singular_tolerance);
+  if (status == RigidContactStatus::Solved && !(ws.a.allFinite() && ws.lambda.allFinite())) return RigidContactStatus::NotFinite;
+  return status;
+}
+}  // namespace detail
+
+/// Joint accelerations (ws.a, also returned) and contact forces (ws.lambda) with the contacts
+/// held, at (q, v) under joint forces tau; ws.status says whether the contacts' system was
+/// regular and the results finite. Leaves the mass matrix's factor in data.M. No allocation.
+template <typename S>
+const VecX<S>& rigid_contact_dynamics(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws, const ConstVecRef<S>& q,
+                                      const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
+  detail::rigid_contact_solve<S>(model, data, ws, q, v, tau);
+  ws.status = detail::rigid_contact_status<S>(ws);
   return ws.a;
 }
 
