@@ -358,6 +358,26 @@ TEST(GenerateCommand, ContactDerivativesOfClosedLoopsAreRefusedWithTheAlternativ
   EXPECT_FALSE(fs::exists(out / "lola.hpp"));  // nothing written
 }
 
+// rigid_contact_fd_derivatives needs the contacts named in the scene, and a tree.
+TEST(GenerateCommand, RigidContactDerivativesWithoutContactsOrOfClosedLoopsAreRefused) {
+  const auto refused = [](const std::string& name, const std::string& description) {
+    const fs::path out = fresh_dir(name);
+    const fs::path log = fs::temp_directory_path() / ("mbgen_test_generate_stderr_" + name + ".txt");
+    const int status = std::system((std::string(MBGEN_BINARY) + " generate " + description + " --out " + out.string() +
+                                    " --outputs rigid_contact_fd_derivatives --quiet 2>" + log.string())
+                                       .c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << name;
+    EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out)) << name;  // nothing written
+    return read(log);
+  };
+  std::string errors = refused("rigid_without_contacts", std::string(MBGEN_TEST_DATA) + "/tiny_arm.urdf");
+  EXPECT_NE(errors.find("rigid_contact_fd_derivatives: the scene holds no rigid contact"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("scene: rigid_contacts: [{frame: l_sole"), std::string::npos) << errors;
+  errors = refused("rigid_of_loops", std::string(MBGEN_SOURCE_DIR) + "/robots/lola/lola.urdf --extras " + MBGEN_SOURCE_DIR +
+                                         "/robots/lola/lola.yaml");
+  EXPECT_NE(errors.find("the derivatives with rigid contacts are built for trees only"), std::string::npos) << errors;
+}
+
 TEST(GenerateCommand, AnUnknownOutputNamesTheOnesThereAre) {
   const auto [status, errors] = generate_with_errors(fresh_dir("unknown_output"), "--outputs mass_matrx");
   EXPECT_EQ(status, 2);

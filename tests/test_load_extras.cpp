@@ -222,6 +222,48 @@ TEST(LoadExtras, DerivativesWrtThatIsEmptyUnknownOrRepeatedIsAnError) {
   EXPECT_EQ(e.element(), "scene: derivatives_wrt");
 }
 
+// scene: rigid_contacts (docs/extras.md): each frame and kind as given (kind frame when left out, a
+// moving joint naming its child link); an empty list, an unknown frame (with a suggestion), a frame
+// fixed in the world, a frame named twice or an unknown kind are errors at their line.
+TEST(LoadExtras, RigidContactsAreRead) {
+  const std::string path = (std::filesystem::temp_directory_path() / "mbgen_test_rigid_contacts.yaml").string();
+  std::ofstream(path) << "scene:\n  rigid_contacts: [{frame: tool, kind: point}, {frame: knee}]\n";
+  const Description d = load_with(kData + "/tiny_arm.urdf", path);
+  ASSERT_TRUE(d.scene);
+  ASSERT_EQ(d.scene->rigid_contacts.size(), 2u);
+  EXPECT_EQ(d.scene->rigid_contacts[0].frame, "tool");
+  EXPECT_EQ(d.scene->rigid_contacts[0].kind, "point");
+  EXPECT_EQ(d.scene->rigid_contacts[1].frame, "leg");  // the prismatic joint's child
+  EXPECT_EQ(d.scene->rigid_contacts[1].kind, "frame");
+  EXPECT_EQ(d.scene->rigid_contacts[1].line, 2);
+}
+
+TEST(LoadExtras, RigidContactsThatAreEmptyUnknownFixedOrRepeatedAreErrors) {
+  const std::string path = (std::filesystem::temp_directory_path() / "mbgen_test_rigid_contacts_bad.yaml").string();
+  const auto error_for = [&](const std::string& list) {
+    std::ofstream(path) << "scene:\n  outputs: [rigid_contact_fd_derivatives]\n  rigid_contacts: " << list << "\n";
+    return load_error(kData + "/tiny_arm.urdf", path);
+  };
+  LoadError e = error_for("[]");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.problem(), "is empty");
+  e = error_for("[{frame: tol}]");
+  EXPECT_EQ(e.element(), "scene: rigid_contacts[0]: frame");
+  EXPECT_NE(e.problem().find("'tol'"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("tool"), std::string::npos) << e.what();  // did you mean
+  e = error_for("[{frame: base}]");
+  EXPECT_EQ(e.problem(), "'base' is fixed in the world");
+  e = error_for("[{frame: tool}, {frame: tool, kind: point}]");
+  EXPECT_EQ(e.element(), "scene: rigid_contacts[1]: frame");
+  EXPECT_EQ(e.problem(), "names 'tool' twice");
+  e = error_for("[{frame: tool, kind: line}]");
+  EXPECT_EQ(e.element(), "scene: rigid_contacts[0]: kind");
+  e = error_for("[{kind: point}]");
+  EXPECT_EQ(e.problem(), "has no frame");
+  e = error_for("[{frame: tool, mu: 1}]");
+  EXPECT_EQ(e.element(), "scene: rigid_contacts[0]: key 'mu'");
+}
+
 // scene: joint_limits (docs/extras.md): the law's numbers and the per-joint exceptions as given;
 // `false` turns the stops off; absent, the defaults (on).
 TEST(LoadExtras, JointLimitsSceneIsRead) {

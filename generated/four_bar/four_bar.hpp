@@ -181,6 +181,7 @@ void contact_accelerations(const double* q, const double* v, const double* tau, 
 // inverse_dynamics_derivatives: left out (not among the outputs of four_bar.yaml's scene, nor needed by them).
 // forward_dynamics_derivatives: left out (not among the outputs of four_bar.yaml's scene, nor needed by them).
 // contact_forward_dynamics_derivatives: left out (not among the outputs of four_bar.yaml's scene, nor needed by them).
+// rigid_contact_forward_dynamics_derivatives: left out (not among the outputs of four_bar.yaml's scene, nor needed by them).
 
 /// The independent velocities vy (ny) of every tree joint's v (nv): the inverse of full_velocities on
 /// velocities that keep the loops closed.

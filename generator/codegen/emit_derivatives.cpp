@@ -31,8 +31,14 @@ std::string int_list(const std::vector<int>& values) {
 /// row per term; gathered, a term is one load and one multiply-subtract per column: on
 /// talos_reduced's 38 x 38 right-hand sides 63,000 instructions a solve against 114,000 (callgrind,
 /// -O3, SSE2), the same 25,000 multiply-adds.
+/// `after` holds what the solves function does after the solves (its extra parameters, then
+/// the calls), for a function whose solved blocks feed products (rigid contacts).
+struct AfterSolves {
+  std::string parameters, calls;
+};
+
 std::string solve_helpers(const std::string& function, const std::vector<int>& parent, const TracedFunction& f,
-                          const std::vector<std::size_t>& solved, int lanes) {
+                          const std::vector<std::size_t>& solved, int lanes, const AfterSolves& after = {}) {
   const int n = static_cast<int>(parent.size());
   // k's entries L(k, i), i = k's chain of parents from the nearest, from first[k] on.
   std::vector<int> first(static_cast<std::size_t>(n));
@@ -85,6 +91,8 @@ std::string solve_helpers(const std::string& function, const std::vector<int>& p
     calls = "  (void)factor_entries;\n  (void)inverse_pivot;\n";
     what = "nothing";
   }
+  parameters += after.parameters;
+  calls += after.calls;
   return fmt::format(
       "// The factor's L^T D L structure: each row's parent (-1: none) and where its entries L(k, i),\n"
       "// i = k's chain of parents from the nearest, start in factor_entries; and each row i's\n"
@@ -164,16 +172,21 @@ namespace {
 /// each declares the work arrays, runs the trace and solves the `solved` outputs in place, over one
 /// state or, with lanes, over the batch (then `function` is the batch's name).
 std::string solve_entry_points(const TracedFunction& f, const std::string& function, const std::vector<std::size_t>& solved,
-                               int lanes, const EmitContext& ctx) {
-  const std::size_t count = f.outputs.size();
-  if (f.work_outputs != 2 || count < 4 || f.outputs[count - 2].name != "factor_entries" ||
-      f.outputs[count - 1].name != "inverse_pivot")
+                               int lanes, const EmitContext& ctx, const std::string& after_arguments = "") {
+  const std::size_t count = f.outputs.size(), work = static_cast<std::size_t>(f.work_outputs);
+  if (work < 2 || count < work + 2 || f.outputs[count - 2].name != "factor_entries" || f.outputs[count - 1].name != "inverse_pivot")
     throw std::logic_error("emit_forward_dynamics_derivatives: " + f.name + " is not a derivatives trace");
   const ArraySpec& entries = f.outputs[count - 2];
   const ArraySpec& pivots = f.outputs[count - 1];
   const std::string per_entry = lanes > 0 ? fmt::format("[{}]", lanes) : "";
+  std::string work_declarations;
+  for (std::size_t k = count - work; k < count - 2; ++k)
+    work_declarations += fmt::format("{}[{}]{}, ", f.outputs[k].name, f.outputs[k].size, per_entry);
+  work_declarations += fmt::format("{}[{}]{}, {}[{}]{}", entries.name, std::max(entries.size, 1), per_entry, pivots.name,
+                                   pivots.size, per_entry);
   std::string solve_arguments = fmt::format("{}, {}", entries.name, pivots.name);
   for (std::size_t o : solved) solve_arguments += ", " + f.outputs[o].name;
+  solve_arguments += after_arguments;
   std::string entry_points;
   for (const std::string& s : scalar_types(ctx.scalars))
     entry_points += ctx.templates.render(
@@ -181,8 +194,7 @@ std::string solve_entry_points(const TracedFunction& f, const std::string& funct
         {{"public_name", ctx.public_name(function, s)},
          {"parameters", lanes > 0 ? public_batch_parameters(f, s, lanes) : public_parameters(f, s)},
          {"scalar", s},
-         {"work_declarations", fmt::format("{}[{}]{}, {}[{}]{}", entries.name, std::max(entries.size, 1), per_entry, pivots.name,
-                                           pivots.size, per_entry)},
+         {"work_declarations", work_declarations},
          {"function", function},
          {"robot", ctx.robot},
          {"arguments", call_arguments(f)},
@@ -204,6 +216,57 @@ std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunct
   const std::string name = batch_name(f.name);
   const std::string entry_points = solve_entry_points(f, name, solved, lanes, ctx);
   return emit_batch_definition(f, lanes, ctx, solve_helpers(name, parent, f, solved, lanes), entry_points);
+}
+
+std::string emit_rigid_contact_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
+                                                      const std::vector<std::size_t>& solved, const EmitContext& ctx) {
+  const auto has = [&f](const char* name) {
+    return std::any_of(f.outputs.begin(), f.outputs.end(), [&](const ArraySpec& a) { return a.name == name; });
+  };
+  const auto size_of = [&f](const char* name) {
+    for (const ArraySpec& a : f.outputs)
+      if (a.name == name) return a.size;
+    throw std::logic_error("emit_rigid_contact_derivatives_definition: " + f.name + " has no " + name);
+  };
+  const int n = static_cast<int>(parent.size()), m = size_of("lambda");
+  if (size_of("Y") != n * m || size_of("W") != m * n)
+    throw std::logic_error("emit_rigid_contact_derivatives_definition: " + f.name + " is not a rigid-contact derivatives trace");
+  const std::string product = f.name + "_multiply_add";
+  AfterSolves after;
+  std::string arguments;
+  after.parameters = ", const S* Y, const S* W";
+  arguments = ", Y, W";
+  // dlambda = G + W (-P), then da = (-P) + Y dlambda (rigid_contact_derivatives.hpp's solves).
+  for (const char* x : {"q", "v"}) {
+    const std::string da = fmt::format("dqdd_d{}", x), dlambda = fmt::format("dlambda_d{}", x);
+    if (!has(da.c_str())) continue;
+    after.parameters += ", S* " + dlambda;
+    arguments += ", " + dlambda;
+    after.calls += fmt::format("  {0}<S, {1}, {2}, {2}>(W, {3}, {4});\n  {0}<S, {2}, {1}, {2}>(Y, {4}, {3});\n", product, m, n,
+                               da, dlambda);
+  }
+  if (has("dqdd_dtau")) {  // dqdd/dtau = M^-1 + Y dlambda/dtau
+    after.parameters += ", S* dqdd_dtau, const S* dlambda_dtau";
+    arguments += ", dqdd_dtau, dlambda_dtau";
+    after.calls += fmt::format("  {0}<S, {1}, {2}, {1}>(Y, dlambda_dtau, dqdd_dtau);\n", product, n, m);
+  }
+  if (!has("dqdd_dq") && !has("dqdd_dv")) after.calls += "  (void)W;\n";
+  if (!has("dqdd_dq") && !has("dqdd_dv") && !has("dqdd_dtau")) after.calls += "  (void)Y;\n";
+  const std::string products = fmt::format(
+      "// C += A B for row-major A (R x K), B (K x N) and C (R x N): the products with -(J M^-1 J^T)^-1 J\n"
+      "// and M^-1 J^T that follow the solves.\n"
+      "template <typename S, int R, int K, int N>\n"
+      "inline void {}(const S* A, const S* B, S* C) {{\n"
+      "  for (int r = 0; r < R; ++r)\n"
+      "    for (int k = 0; k < K; ++k) {{\n"
+      "      const S a = A[r * K + k];\n"
+      "      for (int c = 0; c < N; ++c) C[r * N + c] += a * B[k * N + c];\n"
+      "    }}\n"
+      "}}\n"
+      "\n",
+      product);
+  const std::string entry_points = solve_entry_points(f, f.name, solved, 0, ctx, arguments);
+  return emit_definition(f, ctx, products + solve_helpers(f.name, parent, f, solved, 0, after), entry_points);
 }
 
 }  // namespace mbgen::codegen

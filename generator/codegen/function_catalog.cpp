@@ -176,6 +176,17 @@ const std::vector<GeneratedFunction>& function_catalog() {
       return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
                                                           solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
     };
+    row("rigid_contact_forward_dynamics_derivatives", Batch::no,
+         "the forward dynamics with the scene's rigid contacts held, the contact forces, and their derivatives (trees)",
+         {"rigid_contact_fd_derivatives"});
+    r.back().on_request = true;
+    r.back().trace = [](const TraceInputs& in) {
+      return trace_rigid_contact_forward_dynamics_derivatives(in.model, in.rigid_contacts, in.derivative_blocks);
+    };
+    r.back().definition = [](const DefinitionInputs& in) {
+      return emit_rigid_contact_derivatives_definition(in.function, tree_parents(in.model),
+                                                       solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
+    };
     // clang-format on
     return r;
   }();

@@ -19,7 +19,7 @@ namespace mbgen::codegen {
 
 /// What a tracer may read: the closed system and its spanning tree (tree functions are traced on
 /// the tree: the tree's inverse dynamics and mass matrix), the frames of frame_poses and
-/// frame_jacobians, the description's actuation and its contact spheres.
+/// frame_jacobians, the description's actuation, its contact spheres and its rigid contacts.
 struct TraceInputs {
   const Model& model;
   const Model& tree;
@@ -28,6 +28,7 @@ struct TraceInputs {
   const std::vector<ContactSphere>& contacts;
   double contact_exponent;
   DerivativeBlocks derivative_blocks;  ///< the derivatives' inputs (trace_derivatives.hpp)
+  const std::vector<RigidContact>& rigid_contacts;  ///< the scene's `rigid_contacts`, resolved
 };
 
 struct GeneratedFunction;

@@ -116,6 +116,7 @@ struct Generation {
   double contact_exponent = 1.5;
   /// The derivatives' inputs: --derivatives-wrt, else the scene's `derivatives_wrt`, else all.
   DerivativeBlocks derivative_blocks;
+  std::vector<RigidContact> rigid_contacts;  ///< the scene's `rigid_contacts`
   std::string left_out_reason;
   FunctionSelection selection;
   std::vector<int> independent;       ///< the closed system's coordinates (v indices)
@@ -140,6 +141,15 @@ struct Generation {
         : description.scene             ? description.scene->derivatives_wrt
                                         : std::vector<std::string>{});
     selection = select_functions(description, options.outputs, &left_out_reason);
+    if (description.scene)
+      for (const gen::RigidContactSpec& c : description.scene->rigid_contacts) {
+        const auto frame = model.find_frame(c.frame);
+        if (!frame)  // a model reduction (lock, merge_below) took it away
+          throw gen::LoadError(description.extras_file, c.line, "scene: rigid_contacts: frame",
+                               fmt::format("'{}' is no frame of the reduced model", c.frame),
+                               "hold a frame the reduction keeps, or reduce less");
+        rigid_contacts.push_back({*frame, c.kind == "point" ? RigidContactKind::Point : RigidContactKind::Frame});
+      }
   }
 
   bool loops() const { return !model.subsystems.empty(); }
@@ -166,7 +176,8 @@ struct Generation {
 
 /// The catalogue's traced rows the selection emits (a per-frame row only when there are frames).
 void trace_functions(Generation& g) {
-  const TraceInputs in{g.model, g.tree, g.frames.indices, g.actuation, g.contacts, g.contact_exponent, g.derivative_blocks};
+  const TraceInputs in{g.model,    g.tree,          g.frames.indices,    g.actuation,
+                       g.contacts, g.contact_exponent, g.derivative_blocks, g.rigid_contacts};
   for (const GeneratedFunction& row : function_catalog()) {
     if (row.writer != Writer::traced || !g.selection.emits(row.name) || (row.per_frame && g.frames.indices.empty())) continue;
     g.traced.push_back(g.bounded(row.name, [&] { return row.trace(in); }));

@@ -10,6 +10,7 @@
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "mbgen/algorithm/contact_dynamics_derivatives.hpp"
 #include "mbgen/algorithm/loop_dynamics_derivatives.hpp"
+#include "mbgen/algorithm/rigid_contact_derivatives.hpp"
 
 namespace mbgen::codegen {
 
@@ -171,6 +172,80 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
             ids_of(d.fd.factor_entries));
   add_block(f, true, v_spec(model, "inverse_pivot", "1 / D of M's factor"), ids_of(d.fd.inverse_pivot));
   f.work_outputs = 2;
+  note_blocks(f, blocks);
+  return f;
+}
+
+TracedFunction trace_rigid_contact_forward_dynamics_derivatives(const Model& model, const std::vector<RigidContact>& contacts,
+                                                                DerivativeBlocks blocks) {
+  if (!model.closures.empty())
+    throw std::invalid_argument(fmt::format(
+        "rigid_contact_fd_derivatives: the derivatives with rigid contacts are built for trees only, and this robot has {} "
+        "loop closure(s): request fd_derivatives (the closed system's, without contacts) or describe the robot without its "
+        "loops",
+        model.closures.size()));
+  if (contacts.empty())
+    throw std::invalid_argument(
+        "rigid_contact_fd_derivatives: the scene holds no rigid contact: name the frames held in the extras, "
+        "scene: rigid_contacts: [{frame: l_sole, kind: frame}, {frame: r_sole, kind: frame}]");
+  const int n = model.nv();
+  TracedFunction f;
+  f.name = "rigid_contact_forward_dynamics_derivatives";
+  std::string held;
+  for (const RigidContact& c : contacts)
+    held += fmt::format("{}{} ({})", held.empty() ? "" : ", ", model.frame(c.frame).name,
+                        c.kind == RigidContactKind::Point ? "point: 3 rows" : "frame: 6 rows");
+  f.doc = fmt::format(
+      "The forward dynamics with rigid contacts held, M qdd + h = tau + J^T lambda and J qdd + gamma = 0 "
+      "(rigid_contact_dynamics.hpp), at {}; and the derivatives of qdd and lambda with respect to q (along q (+) delta, "
+      "delta in v-space, as forward_dynamics_derivatives), v and tau (rigid_contact_derivatives.hpp). lambda per contact "
+      "[force; moment] in the contact frame's axes (Pinocchio's LOCAL), the moment for a frame only. The results mean "
+      "something only when J M^-1 J^T is regular: operator_pivots holds, per row, its diagonal entry and its pivot d_i, "
+      "and the contacts are dependent (rigid_contact_dynamics' Singular) when a pivot is not above 1e-12 times the "
+      "largest diagonal entry (mbgen::rigid_contact_operator_status applies that rule). Unrolled up to the solves with "
+      "M, which run as loops over the rows, with the products by (J M^-1 J^T)^-1 J and M^-1 J^T after them.",
+      held);
+  f.inputs = {q_spec(model), v_spec(model, "v", "joint velocities"), v_spec(model, "tau", "joint forces")};
+  const int entries = factor_entry_count(model);
+  Recording rec(f.graph);
+  Data<Sym> data(model);
+  RigidContactWorkspace<Sym> ws(model, contacts);
+  RigidContactDerivatives<Sym> d(model, ws);
+  const int m = ws.m;
+  const SymVec q = inputs(0, model.nq()), v = inputs(1, n), tau = inputs(2, n);
+  rigid_contact_derivatives_before_solves<Sym>(model, data, ws, d, q, v, tau);
+  MatX<Sym> pivots(m, 2);
+  for (int i = 0; i < m; ++i) {
+    pivots(i, 0) = ws.operator_diagonal[i];
+    pivots(i, 1) = Sym(1.0) / ws.JY_factor(i, i);  // the factor holds 1 / d_i
+  }
+  const auto rows_spec = [&](const char* name, const char* what) {
+    return ArraySpec{name, m * n, fmt::format("[{} x {}, row-major] {}", m, n, what), {m, n}};
+  };
+  // The solves and products run in place after the trace (emit_derivatives.cpp): da_dq and da_dv
+  // leave it as -dr1/dq and -dr1/dv, dlambda_dq and dlambda_dv as -(J Y)^-1 dr2, da_dtau as M^-1.
+  f.outputs = {v_spec(model, "qdd", "joint accelerations"),
+               {"lambda", m, fmt::format("[{}] contact forces, per contact [force; moment] in its frame's axes", m)}};
+  f.output_ids = {ids_of(ws.a), ids_of(ws.lambda)};
+  add_block(f, blocks.q, square_spec(model, "dqdd_dq", "dqdd/dq along q (+) delta"), ids_of(d.da_dq));
+  add_block(f, blocks.q, rows_spec("dlambda_dq", "dlambda/dq along q (+) delta"), ids_of(d.dlambda_dq));
+  add_block(f, blocks.v, square_spec(model, "dqdd_dv", "dqdd/dv"), ids_of(d.da_dv));
+  add_block(f, blocks.v, rows_spec("dlambda_dv", "dlambda/dv"), ids_of(d.dlambda_dv));
+  add_block(f, blocks.tau, square_spec(model, "dqdd_dtau", "dqdd/dtau"), ids_of(d.da_dtau));
+  add_block(f, blocks.tau, rows_spec("dlambda_dtau", "dlambda/dtau"), ids_of(d.dlambda_dtau));
+  add_block(f, true,
+            {"operator_pivots", 2 * m,
+             fmt::format("[{} x 2, row-major] per row of J M^-1 J^T: its diagonal entry, its pivot d_i (singular: a pivot "
+                         "<= 1e-12 x the largest diagonal entry)",
+                         m),
+             {m, 2}},
+            ids_of(pivots));
+  add_block(f, true, {"Y", n * m, fmt::format("[{} x {}, row-major] M^-1 J^T", n, m), {n, m}}, ids_of(ws.Y));
+  add_block(f, true, {"W", m * n, fmt::format("[{} x {}, row-major] -(J M^-1 J^T)^-1 J", m, n), {m, n}}, ids_of(d.W));
+  add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
+            ids_of(d.id.factor_entries));
+  add_block(f, true, v_spec(model, "inverse_pivot", "1 / D of M's factor"), ids_of(d.id.inverse_pivot));
+  f.work_outputs = 4;
   note_blocks(f, blocks);
   return f;
 }

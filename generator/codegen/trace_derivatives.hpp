@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mbgen/algorithm/rigid_contact_dynamics.hpp"
 #include "mbgen/contact_model.hpp"
 #include "mbgen/model.hpp"
 
@@ -34,6 +35,12 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree, DerivativeB
 /// Trees only: a closed system is refused (std::invalid_argument saying so).
 TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, const std::vector<ContactSphere>& spheres,
                                                           double exponent, DerivativeBlocks blocks = {});
+/// qdd and the contact forces lambda with the scene's rigid contacts held, and their derivatives
+/// with respect to q, v and tau (rigid_contact_derivatives.hpp): traced up to the solves with M,
+/// which emit_rigid_contact_derivatives_definition prints as loops with the two products after
+/// them. Trees only, and at least one contact: std::invalid_argument otherwise.
+TracedFunction trace_rigid_contact_forward_dynamics_derivatives(const Model& model, const std::vector<RigidContact>& contacts,
+                                                                DerivativeBlocks blocks = {});
 /// A closed system's: ydd, dydd/dy (along the closed set), dydd/dyd and dydd/dtau in its
 /// independent coordinates (loop_dynamics_derivatives.hpp), every matrix row-major.
 TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model, DerivativeBlocks blocks = {});

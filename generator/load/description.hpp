@@ -66,6 +66,15 @@ struct MeshGeometry {
 /// The ground contact a simulation of the scene uses (`scene: contact`, docs/extras.md): which
 /// links touch the ground (the vertex spheres of their SSVs, sim/contact.hpp), the compliant
 /// law's parameters and the ground plane.
+/// One contact of `scene: rigid_contacts`: a frame held rigidly (kind `frame`: 6 rows, a flat foot)
+/// or its origin held (kind `point`: 3 rows), for rigid_contact_fd_derivatives
+/// (mbgen/algorithm/rigid_contact_dynamics.hpp).
+struct RigidContactSpec {
+  std::string frame;
+  std::string kind = "frame";  ///< frame or point
+  int line = 0;                ///< the extras file's line, for errors
+};
+
 struct ContactSpec {
   std::vector<std::string> links;
   ContactParameters parameters;
@@ -84,6 +93,9 @@ struct SceneSpec {
   /// `derivatives_wrt: [q, v, tau]`: the inputs the derivative outputs are taken with respect to
   /// (the others' blocks are left out); empty: not given (all three).
   std::vector<std::string> derivatives_wrt;
+  /// `rigid_contacts: [{frame: l_sole, kind: frame}, ...]`: the contacts rigid_contact_fd_derivatives
+  /// holds, in the order given (their rows in that order).
+  std::vector<RigidContactSpec> rigid_contacts;
   double collision_margin = 0.0;
   std::vector<std::pair<std::string, std::string>> collision_exclude, collision_include;
   int prune_samples = 0;                    ///< 0: not given

@@ -397,11 +397,39 @@ void read_lock(const ExtrasFile& x, const YAML::Node& node, const Description& d
   }
 }
 
+/// `rigid_contacts: [{frame: l_sole, kind: frame}, {frame: toe, kind: point}]` (kind: frame when
+/// left out). Each frame a frame of the robot on a moving body, named once.
+void read_rigid_contacts(const ExtrasFile& x, const YAML::Node& node, Description& d, SceneSpec& scene) {
+  require_sequence(x.path, node, "scene: rigid_contacts", "[{frame: l_sole, kind: frame}, {frame: r_sole, kind: frame}]");
+  if (node.size() == 0)
+    fail(x.path, node, "scene: rigid_contacts", "is empty", "name the frames held, e.g. [{frame: l_sole}], or leave the key out");
+  for (std::size_t k = 0; k < node.size(); ++k) {
+    const std::string element = fmt::format("scene: rigid_contacts[{}]", k);
+    const YAML::Node& n = node[k];
+    require_map(x.path, n, element, "{frame: l_sole, kind: frame}");
+    reject_unknown_keys(x.path, n, element, {"frame", "kind"});
+    if (!n["frame"]) fail(x.path, n, element, "has no frame", "name the frame held: {frame: l_sole}");
+    RigidContactSpec c;
+    const FrameIndex f = resolve_frame(x.path, n["frame"], element + ": frame", d.model);
+    c.frame = d.model.frame(f).name;  // a moving joint named: its child body's frame
+    if (d.model.frame(f).body == kWorldBody)
+      fail(x.path, n["frame"], element + ": frame", fmt::format("'{}' is fixed in the world", c.frame),
+           "name a frame on a moving body (a foot's sole)");
+    if (n["kind"]) c.kind = one_of(x.path, n["kind"], element + ": kind", {"frame", "point"});
+    for (const RigidContactSpec& other : scene.rigid_contacts)
+      if (other.frame == c.frame)
+        fail(x.path, n["frame"], element + ": frame", fmt::format("names '{}' twice", c.frame),
+             "hold each frame once (kind: frame holds its origin and its axes)");
+    c.line = line_of(n);
+    scene.rigid_contacts.push_back(c);
+  }
+}
+
 void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
   require_map(x.path, node, "scene", "{outputs: [forward_dynamics], scalar: double}");
   reject_unknown_keys(x.path, node, "scene",
                       {"collision", "contact", "derivatives_wrt", "joint_limits", "lock", "loops", "merge_below", "outputs",
-                       "rotors", "scalar"});
+                       "rigid_contacts", "rotors", "scalar"});
   SceneSpec scene;
   if (node["lock"]) read_lock(x, node["lock"], d, scene);
   if (node["merge_below"]) {
@@ -424,6 +452,7 @@ void read_scene(const ExtrasFile& x, const YAML::Node& node, Description& d) {
       scene.derivatives_wrt.push_back(input);
     }
   }
+  if (node["rigid_contacts"]) read_rigid_contacts(x, node["rigid_contacts"], d, scene);
   if (node["scalar"]) scene.scalar = one_of(x.path, node["scalar"], "scene: scalar", {"double", "float"});
   if (node["rotors"]) scene.rotors = one_of(x.path, node["rotors"], "scene: rotors", {"armature", "body", "none"});
   if (node["loops"]) {

@@ -12,8 +12,8 @@
 //   [J    0 ] [dlambda] = - [dr2],     dr1, dr2 the partial derivatives at fixed a and lambda,
 // so with P = M^-1 dr1 and Y = M^-1 J^T:  dlambda = (J Y)^-1 (J P - dr2),  da = -P + Y dlambda;
 // and along tau (dr1 = -dtau): dlambda/dtau = -(J Y)^-1 Y^T, da/dtau = M^-1 - Y (J Y)^-1 Y^T.
-// Computed as W = (J Y)^-1 J and G = -(J Y)^-1 dr2 first (m rows each, small), then -P by the
-// nv-column solves with M's factor, then dlambda = G - W (-P) and da = (-P) + Y dlambda: the
+// Computed as W = -(J Y)^-1 J and G = -(J Y)^-1 dr2 first (m rows each, small), then -P by the
+// nv-column solves with M's factor, then dlambda = G + W (-P) and da = (-P) + Y dlambda: the
 // generator traces everything before the solves (rigid_contact_derivatives_before_solves) and
 // prints the solves and the two products as loops (emit_derivatives.hpp), as for the tree's.
 //
@@ -53,7 +53,7 @@ template <typename S> struct RigidContactDerivatives {
   Force<S> wrench;                  ///< one contact's forces on its body (world axes, at the origin)
   MatX<S> dr1_dq;                   ///< nv x nv: d(ID - J^T lambda)/dq
   MatX<S> dr2_dq, dr2_dv;           ///< m x nv: the contacts' accelerations' partial derivatives
-  MatX<S> W;                        ///< m x nv: (J Y)^-1 J
+  MatX<S> W;                        ///< m x nv: -(J Y)^-1 J
 };
 
 template <typename S>
@@ -152,7 +152,7 @@ template <typename S> void contact_operator_solve(const RigidContactWorkspace<S>
 
 /// What comes before the solves with M (the part the generator unrolls): ws.a and ws.lambda (no
 /// status: rigid_contact_solve), d.id the inverse dynamics' derivatives at the solution with M's
-/// factor tables and M^-1 (forward_dynamics_derivatives' own), d.W = (J Y)^-1 J, and the blocks
+/// factor tables and M^-1 (forward_dynamics_derivatives' own), d.W = -(J Y)^-1 J, and the blocks
 /// left for rigid_contact_derivatives_solves: d.da_dq = -dr1/dq and d.da_dv = -dr1/dv (to be
 /// solved into -P), d.dlambda_dq = -(J Y)^-1 dr2/dq and d.dlambda_dv the same (G), and along tau
 /// d.dlambda_dtau (final) and d.da_dtau = M^-1 (Y dlambda/dtau to be added). No allocation.
@@ -165,7 +165,7 @@ void rigid_contact_derivatives_before_solves(const Model& model, Data<S>& data, 
   detail::mass_matrix_factor_tables<S>(model, data.M, d.id);
   detail::rigid_contact_force_derivatives<S>(model, data, ws, d);
   detail::rigid_contact_acceleration_derivatives<S>(model, data, ws, d);
-  d.W = ws.J;
+  d.W = -ws.J;
   detail::contact_operator_solve<S>(ws, d.W);
   d.da_dq = -d.dr1_dq;
   d.da_dv = -d.id.dtau_dv;
@@ -178,7 +178,7 @@ void rigid_contact_derivatives_before_solves(const Model& model, Data<S>& data, 
   d.da_dtau = d.id.Minv;
 }
 
-/// The rest: -P = M^-1 (-dr1) in place, then dlambda = G - W (-P) and da = (-P) + Y dlambda, and
+/// The rest: -P = M^-1 (-dr1) in place, then dlambda = G + W (-P) and da = (-P) + Y dlambda, and
 /// da/dtau = M^-1 + Y dlambda/dtau. No allocation.
 template <typename S>
 void rigid_contact_derivatives_solves(const Model& model, const Data<S>& data, const RigidContactWorkspace<S>& ws,
@@ -188,7 +188,7 @@ void rigid_contact_derivatives_solves(const Model& model, const Data<S>& data, c
     detail::factor_solve<S>(model, data.M, d.id.inverse_pivot, d.da_dv.col(c));
   }
   for (auto [da, dlambda] : {std::pair{&d.da_dq, &d.dlambda_dq}, std::pair{&d.da_dv, &d.dlambda_dv}}) {
-    dlambda->noalias() -= d.W * *da;
+    dlambda->noalias() += d.W * *da;
     da->noalias() += ws.Y * *dlambda;
   }
   d.da_dtau.noalias() += ws.Y * d.dlambda_dtau;
