@@ -229,44 +229,67 @@ std::string emit_rigid_contact_derivatives_definition(const TracedFunction& f, c
     throw std::logic_error("emit_rigid_contact_derivatives_definition: " + f.name + " has no " + name);
   };
   const int n = static_cast<int>(parent.size()), m = size_of("lambda");
-  if (size_of("Y") != n * m || size_of("W") != m * n)
+  if (size_of("J") != m * n || size_of("contact_factor") != m * m || size_of("Y") != n * m)
     throw std::logic_error("emit_rigid_contact_derivatives_definition: " + f.name + " is not a rigid-contact derivatives trace");
-  const std::string product = f.name + "_multiply_add";
+  const std::string product = f.name + "_multiply_add", contact_solve = f.name + "_contact_solve";
   AfterSolves after;
-  std::string arguments;
-  after.parameters = ", const S* Y, const S* W";
-  arguments = ", Y, W";
-  // dlambda = G + W (-P), then da = (-P) + Y dlambda (rigid_contact_derivatives.hpp's solves).
+  after.parameters = ", const S* J, const S* contact_factor, const S* Y";
+  std::string arguments = ", J, contact_factor, Y";
+  // rigid_contact_derivatives.hpp's rigid_contact_derivatives_solves: dlambda = -(J Y)^-1 (dr2 +
+  // J (-P)), then da = (-P) + Y dlambda; along tau dlambda = -(J Y)^-1 Y^T, da = M^-1 + Y dlambda.
   for (const char* x : {"q", "v"}) {
     const std::string da = fmt::format("dqdd_d{}", x), dlambda = fmt::format("dlambda_d{}", x);
     if (!has(da.c_str())) continue;
     after.parameters += ", S* " + dlambda;
     arguments += ", " + dlambda;
-    after.calls += fmt::format("  {0}<S, {1}, {2}, {2}>(W, {3}, {4});\n  {0}<S, {2}, {1}, {2}>(Y, {4}, {3});\n", product, m, n,
-                               da, dlambda);
+    after.calls += fmt::format(
+        "  {0}<S, {2}, {3}, {3}>(J, {4}, {5});\n  {1}<S, {2}, {3}>(contact_factor, {5});\n  {0}<S, {3}, {2}, {3}>(Y, {5}, {4});\n",
+        product, contact_solve, m, n, da, dlambda);
   }
-  if (has("dqdd_dtau")) {  // dqdd/dtau = M^-1 + Y dlambda/dtau
-    after.parameters += ", S* dqdd_dtau, const S* dlambda_dtau";
+  if (has("dqdd_dtau")) {
+    after.parameters += ", S* dqdd_dtau, S* dlambda_dtau";
     arguments += ", dqdd_dtau, dlambda_dtau";
-    after.calls += fmt::format("  {0}<S, {1}, {2}, {1}>(Y, dlambda_dtau, dqdd_dtau);\n", product, n, m);
+    after.calls += fmt::format("  {1}<S, {2}, {3}>(contact_factor, dlambda_dtau);\n  {0}<S, {3}, {2}, {3}>(Y, dlambda_dtau, dqdd_dtau);\n",
+                               product, contact_solve, m, n);
   }
-  if (!has("dqdd_dq") && !has("dqdd_dv")) after.calls += "  (void)W;\n";
-  if (!has("dqdd_dq") && !has("dqdd_dv") && !has("dqdd_dtau")) after.calls += "  (void)Y;\n";
-  const std::string products = fmt::format(
-      "// C += A B for row-major A (R x K), B (K x N) and C (R x N): the products with -(J M^-1 J^T)^-1 J\n"
-      "// and M^-1 J^T that follow the solves.\n"
+  if (!has("dqdd_dq") && !has("dqdd_dv")) after.calls += "  (void)J;\n";
+  if (!has("dqdd_dq") && !has("dqdd_dv") && !has("dqdd_dtau")) after.calls += "  (void)contact_factor;\n  (void)Y;\n";
+  const std::string helpers = fmt::format(
+      "// C += A B for row-major A (R x K), B (K x N) and C (R x N): the products with J and M^-1 J^T\n"
+      "// around the solves.\n"
       "template <typename S, int R, int K, int N>\n"
-      "inline void {}(const S* A, const S* B, S* C) {{\n"
+      "inline void {0}(const S* A, const S* B, S* C) {{\n"
       "  for (int r = 0; r < R; ++r)\n"
       "    for (int k = 0; k < K; ++k) {{\n"
       "      const S a = A[r * K + k];\n"
       "      for (int c = 0; c < N; ++c) C[r * N + c] += a * B[k * N + c];\n"
       "    }}\n"
       "}}\n"
+      "\n"
+      "// X = -(J M^-1 J^T)^-1 X in place for a row-major R x N matrix X, from the operator's factor F\n"
+      "// (small_ldlt.hpp's ldlt_factor: L strictly below the diagonal, 1 / d on it), all N columns at\n"
+      "// once: L z = x, then z = -D^-1 z, then L^T x = z.\n"
+      "template <typename S, int R, int N>\n"
+      "inline void {1}(const S* F, S* X) {{\n"
+      "  for (int i = 0; i < R; ++i)\n"
+      "    for (int k = 0; k < i; ++k) {{\n"
+      "      const S l = F[i * R + k];\n"
+      "      for (int c = 0; c < N; ++c) X[i * N + c] -= l * X[k * N + c];\n"
+      "    }}\n"
+      "  for (int i = 0; i < R; ++i) {{\n"
+      "    const S d = -F[i * R + i];\n"
+      "    for (int c = 0; c < N; ++c) X[i * N + c] *= d;\n"
+      "  }}\n"
+      "  for (int i = R - 1; i >= 0; --i)\n"
+      "    for (int k = i + 1; k < R; ++k) {{\n"
+      "      const S l = F[k * R + i];\n"
+      "      for (int c = 0; c < N; ++c) X[i * N + c] -= l * X[k * N + c];\n"
+      "    }}\n"
+      "}}\n"
       "\n",
-      product);
+      product, contact_solve);
   const std::string entry_points = solve_entry_points(f, f.name, solved, 0, ctx, arguments);
-  return emit_definition(f, ctx, products + solve_helpers(f.name, parent, f, solved, 0, after), entry_points);
+  return emit_definition(f, ctx, helpers + solve_helpers(f.name, parent, f, solved, 0, after), entry_points);
 }
 
 }  // namespace mbgen::codegen

@@ -36,11 +36,11 @@ std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunct
                                                               const EmitContext& ctx);
 
 /// The source file of rigid_contact_forward_dynamics_derivatives from its trace
-/// (trace_rigid_contact_forward_dynamics_derivatives: work outputs Y, W, factor_entries and
-/// inverse_pivot last): the tree's solves of dqdd/dq and dqdd/dv with M's factor (each row's
-/// parent: the tree's velocity parents; `solved` those two outputs' positions), then the products
-/// with W and Y that finish them and dqdd/dtau (rigid_contact_derivatives.hpp's
-/// rigid_contact_derivatives_solves).
+/// (trace_rigid_contact_forward_dynamics_derivatives: work outputs J, contact_factor, Y,
+/// factor_entries and inverse_pivot last): the tree's solves of dqdd/dq and dqdd/dv with M's factor
+/// (each row's parent: the tree's velocity parents; `solved` those two outputs' positions), then
+/// the products with J and Y and the solves with J M^-1 J^T's factor that finish them and the tau
+/// block (rigid_contact_derivatives.hpp's rigid_contact_derivatives_solves).
 std::string emit_rigid_contact_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
                                                       const std::vector<std::size_t>& solved, const EmitContext& ctx);
 

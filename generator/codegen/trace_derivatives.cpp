@@ -222,8 +222,9 @@ TracedFunction trace_rigid_contact_forward_dynamics_derivatives(const Model& mod
   const auto rows_spec = [&](const char* name, const char* what) {
     return ArraySpec{name, m * n, fmt::format("[{} x {}, row-major] {}", m, n, what), {m, n}};
   };
-  // The solves and products run in place after the trace (emit_derivatives.cpp): da_dq and da_dv
-  // leave it as -dr1/dq and -dr1/dv, dlambda_dq and dlambda_dv as -(J Y)^-1 dr2, da_dtau as M^-1.
+  // The solves and products run in place after the trace (emit_derivatives.cpp): dqdd_dq and
+  // dqdd_dv leave it as -dr1/dq and -dr1/dv, dlambda_dq and dlambda_dv as dr2, dqdd_dtau as M^-1
+  // and dlambda_dtau as Y^T (rigid_contact_derivatives_before_solves).
   f.outputs = {v_spec(model, "qdd", "joint accelerations"),
                {"lambda", m, fmt::format("[{}] contact forces, per contact [force; moment] in its frame's axes", m)}};
   f.output_ids = {ids_of(ws.a), ids_of(ws.lambda)};
@@ -240,12 +241,15 @@ TracedFunction trace_rigid_contact_forward_dynamics_derivatives(const Model& mod
                          m),
              {m, 2}},
             ids_of(pivots));
+  add_block(f, true, {"J", m * n, fmt::format("[{} x {}, row-major] the contacts' Jacobian", m, n), {m, n}}, ids_of(ws.J));
+  add_block(f, true,
+            {"contact_factor", m * m, fmt::format("[{0} x {0}, row-major] ldlt_factor of J M^-1 J^T", m), {m, m}},
+            ids_of(ws.JY_factor));
   add_block(f, true, {"Y", n * m, fmt::format("[{} x {}, row-major] M^-1 J^T", n, m), {n, m}}, ids_of(ws.Y));
-  add_block(f, true, {"W", m * n, fmt::format("[{} x {}, row-major] -(J M^-1 J^T)^-1 J", m, n), {m, n}}, ids_of(d.W));
   add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
             ids_of(d.id.factor_entries));
   add_block(f, true, v_spec(model, "inverse_pivot", "1 / D of M's factor"), ids_of(d.id.inverse_pivot));
-  f.work_outputs = 4;
+  f.work_outputs = 5;
   note_blocks(f, blocks);
   return f;
 }

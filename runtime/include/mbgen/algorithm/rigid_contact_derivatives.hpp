@@ -12,10 +12,14 @@
 //   [J    0 ] [dlambda] = - [dr2],     dr1, dr2 the partial derivatives at fixed a and lambda,
 // so with P = M^-1 dr1 and Y = M^-1 J^T:  dlambda = (J Y)^-1 (J P - dr2),  da = -P + Y dlambda;
 // and along tau (dr1 = -dtau): dlambda/dtau = -(J Y)^-1 Y^T, da/dtau = M^-1 - Y (J Y)^-1 Y^T.
-// Computed as W = -(J Y)^-1 J and G = -(J Y)^-1 dr2 first (m rows each, small), then -P by the
-// nv-column solves with M's factor, then dlambda = G + W (-P) and da = (-P) + Y dlambda: the
-// generator traces everything before the solves (rigid_contact_derivatives_before_solves) and
-// prints the solves and the two products as loops (emit_derivatives.hpp), as for the tree's.
+// Computed as: -P by the nv-column solves with M's factor, then dlambda = -(J Y)^-1 (dr2 + J (-P))
+// and da = (-P) + Y dlambda; along tau dlambda = -(J Y)^-1 Y^T and da = M^-1 + Y dlambda. The
+// generator traces everything before the solves (rigid_contact_derivatives_before_solves: J, Y,
+// the factor of J Y, dr1, dr2, M^-1) and prints the solves, those with J Y's factor too, and the
+// products as loops (emit_derivatives.hpp), as for the tree's: traced, the solves with J Y's
+// factor were two fifths of the function's operations on talos_reduced. (An explicit inverse of
+// J Y instead of its solves lost a digit: 2.5e-8 against 1.8e-9 on cassie_like, whose J Y has a
+// condition number of 8e5.)
 //
 // dr1 is the inverse dynamics' derivative (rnea_derivatives.hpp) less that of J^T lambda with
 // lambda held fixed in the contact frames' axes. The column J_c (world axes, at the origin) of a
@@ -53,14 +57,13 @@ template <typename S> struct RigidContactDerivatives {
   Force<S> wrench;                  ///< one contact's forces on its body (world axes, at the origin)
   MatX<S> dr1_dq;                   ///< nv x nv: d(ID - J^T lambda)/dq
   MatX<S> dr2_dq, dr2_dv;           ///< m x nv: the contacts' accelerations' partial derivatives
-  MatX<S> W;                        ///< m x nv: -(J Y)^-1 J
 };
 
 template <typename S>
 RigidContactDerivatives<S>::RigidContactDerivatives(const Model& model, const RigidContactWorkspace<S>& ws) : id(model) {
   const int nv = model.nv(), m = ws.m;
   for (MatX<S>* x : {&da_dq, &da_dv, &da_dtau, &dr1_dq}) *x = MatX<S>::Zero(nv, nv);
-  for (MatX<S>* x : {&dlambda_dq, &dlambda_dv, &dlambda_dtau, &dr2_dq, &dr2_dv, &W}) *x = MatX<S>::Zero(m, nv);
+  for (MatX<S>* x : {&dlambda_dq, &dlambda_dv, &dlambda_dtau, &dr2_dq, &dr2_dv}) *x = MatX<S>::Zero(m, nv);
 }
 
 namespace detail {
@@ -144,18 +147,19 @@ void rigid_contact_force_derivatives(const Model& model, const Data<S>& data, co
   }
 }
 
-/// X = (J Y)^-1 X in place, column by column, from ws.JY_factor.
-template <typename S> void contact_operator_solve(const RigidContactWorkspace<S>& ws, MatX<S>& X) {
+/// X = -(J Y)^-1 X in place, column by column, from ws.JY_factor.
+template <typename S> void negated_contact_operator_solve(const RigidContactWorkspace<S>& ws, MatX<S>& X) {
   for (int c = 0; c < X.cols(); ++c) ldlt_solve<S>(ws.JY_factor, ws.m, X.col(c).data());
+  X = -X;
 }
 }  // namespace detail
 
 /// What comes before the solves with M (the part the generator unrolls): ws.a and ws.lambda (no
 /// status: rigid_contact_solve), d.id the inverse dynamics' derivatives at the solution with M's
-/// factor tables and M^-1 (forward_dynamics_derivatives' own), d.W = -(J Y)^-1 J, and the blocks
-/// left for rigid_contact_derivatives_solves: d.da_dq = -dr1/dq and d.da_dv = -dr1/dv (to be
-/// solved into -P), d.dlambda_dq = -(J Y)^-1 dr2/dq and d.dlambda_dv the same (G), and along tau
-/// d.dlambda_dtau (final) and d.da_dtau = M^-1 (Y dlambda/dtau to be added). No allocation.
+/// factor tables and M^-1 (forward_dynamics_derivatives' own), and the blocks
+/// rigid_contact_derivatives_solves finishes: d.da_dq = -dr1/dq and d.da_dv = -dr1/dv (to be solved
+/// into -P), d.dlambda_dq = dr2/dq and d.dlambda_dv = dr2/dv, d.dlambda_dtau = Y^T and d.da_dtau =
+/// M^-1. No allocation.
 template <typename S>
 void rigid_contact_derivatives_before_solves(const Model& model, Data<S>& data, RigidContactWorkspace<S>& ws,
                                              RigidContactDerivatives<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
@@ -165,21 +169,16 @@ void rigid_contact_derivatives_before_solves(const Model& model, Data<S>& data, 
   detail::mass_matrix_factor_tables<S>(model, data.M, d.id);
   detail::rigid_contact_force_derivatives<S>(model, data, ws, d);
   detail::rigid_contact_acceleration_derivatives<S>(model, data, ws, d);
-  d.W = -ws.J;
-  detail::contact_operator_solve<S>(ws, d.W);
   d.da_dq = -d.dr1_dq;
   d.da_dv = -d.id.dtau_dv;
-  d.dlambda_dq = -d.dr2_dq;
-  detail::contact_operator_solve<S>(ws, d.dlambda_dq);
-  d.dlambda_dv = -d.dr2_dv;
-  detail::contact_operator_solve<S>(ws, d.dlambda_dv);
-  d.dlambda_dtau = -ws.Y.transpose();
-  detail::contact_operator_solve<S>(ws, d.dlambda_dtau);
+  d.dlambda_dq = d.dr2_dq;
+  d.dlambda_dv = d.dr2_dv;
+  d.dlambda_dtau = ws.Y.transpose();
   d.da_dtau = d.id.Minv;
 }
 
-/// The rest: -P = M^-1 (-dr1) in place, then dlambda = G + W (-P) and da = (-P) + Y dlambda, and
-/// da/dtau = M^-1 + Y dlambda/dtau. No allocation.
+/// The rest: -P = M^-1 (-dr1) in place, dlambda = -(J Y)^-1 (dr2 + J (-P)) and da = (-P) + Y dlambda;
+/// along tau dlambda = -(J Y)^-1 Y^T and da = M^-1 + Y dlambda. No allocation.
 template <typename S>
 void rigid_contact_derivatives_solves(const Model& model, const Data<S>& data, const RigidContactWorkspace<S>& ws,
                                       RigidContactDerivatives<S>& d) {
@@ -188,9 +187,11 @@ void rigid_contact_derivatives_solves(const Model& model, const Data<S>& data, c
     detail::factor_solve<S>(model, data.M, d.id.inverse_pivot, d.da_dv.col(c));
   }
   for (auto [da, dlambda] : {std::pair{&d.da_dq, &d.dlambda_dq}, std::pair{&d.da_dv, &d.dlambda_dv}}) {
-    dlambda->noalias() += d.W * *da;
+    dlambda->noalias() += ws.J * *da;
+    detail::negated_contact_operator_solve<S>(ws, *dlambda);
     da->noalias() += ws.Y * *dlambda;
   }
+  detail::negated_contact_operator_solve<S>(ws, d.dlambda_dtau);
   d.da_dtau.noalias() += ws.Y * d.dlambda_dtau;
 }
 
