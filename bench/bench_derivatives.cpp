@@ -13,7 +13,8 @@
 //                                           runtime's integrate then the generated closure_positions (Newton,
 //                                           warm-started at the state) on each side; 2 ny calls for dydd/dyd,
 //                                           2 nv for dydd/dtau
-// and with both feet of talos held flat (rigid_contact_derivatives.hpp):
+// and with both feet of talos held flat (rigid_contact_derivatives.hpp; examples/data/talos_stance.yaml):
+//   contact_derivatives/talos/generated           NAME::rigid_contact_forward_dynamics_derivatives: the same outputs
 //   contact_derivatives/talos/generic             rigid_contact_dynamics_derivatives<double>: a, lambda and their
 //                                                 derivatives wrt q, v, tau
 //   contact_derivatives/talos/finite_differences  central differences of rigid_contact_dynamics<double> (6 nv calls)
@@ -55,6 +56,7 @@
 #include "pl_cassie_like_derivatives.hpp"
 #include "talos.hpp"
 #include "talos_derivatives.hpp"
+#include "talos_stance.hpp"
 
 namespace mbgen::bench {
 
@@ -184,12 +186,26 @@ template <typename Accelerations> std::shared_ptr<CentralDifferences<Acceleratio
   return std::make_shared<CentralDifferences<Accelerations>>(model, std::move(f));
 }
 
-/// contact_derivatives/<robot>/{generic,finite_differences}: both feet held flat (6-D contacts
-/// at the sole frames), rigid_contact_dynamics_derivatives against central differences of
-/// rigid_contact_dynamics (6 nv calls).
+/// contact_derivatives/talos/{generated,generic,finite_differences}: both feet held flat (6-D
+/// contacts at the sole frames, examples/data/talos_stance.yaml), the generated and the generic
+/// rigid_contact_dynamics_derivatives against central differences of rigid_contact_dynamics (6 nv
+/// calls).
 void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
   std::vector<RigidContact> contacts;
   for (const std::string& foot : feet) contacts.push_back({robot.model.frame_index(foot), RigidContactKind::Frame});
+  struct Generated {
+    Generated(int nv, int m)
+        : a(static_cast<std::size_t>(nv)), lambda(static_cast<std::size_t>(m)), dq(static_cast<std::size_t>(nv * nv)), dv(dq),
+          dtau(dq), lq(static_cast<std::size_t>(m * nv)), lv(lq), ltau(lq), pivots(static_cast<std::size_t>(2 * m)) {}
+    std::vector<double> a, lambda, dq, dv, dtau, lq, lv, ltau, pivots;
+  };
+  const int m = 6 * static_cast<int>(feet.size());
+  add_benchmark("contact_derivatives", robot, "generated", [w = std::make_shared<Generated>(robot.model.nv(), m)](const Sample& s) {
+    talos_stance::rigid_contact_forward_dynamics_derivatives(s.q.data(), s.v.data(), s.tau.data(), w->a.data(), w->lambda.data(),
+                                                             w->dq.data(), w->lq.data(), w->dv.data(), w->lv.data(),
+                                                             w->dtau.data(), w->ltau.data(), w->pivots.data());
+    return w->dq.data();
+  });
   struct Generic {
     Generic(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c), d(m, ws) {}
     Data<double> data;
@@ -200,7 +216,7 @@ void add_contacts(const Robot& robot, const std::vector<std::string>& feet) {
     rigid_contact_dynamics_derivatives<double>(robot.model, w->data, w->ws, w->d, s.q, s.v, s.tau);
     return w->d.da_dq.data();
   });
-  // The rigid contacts' accelerations (generic: there is no generated form to difference).
+  // The rigid contacts' accelerations (generic: the generated function is the derivatives' only).
   struct Dynamics {
     Dynamics(const Model& m, const std::vector<RigidContact>& c) : data(m), ws(m, c) {}
     Data<double> data;
