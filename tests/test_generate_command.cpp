@@ -227,7 +227,7 @@ TEST(GenerateCommand, TheScenesOutputsChooseTheFunctions) {
       "mass_matrix_solve", "forward_kinematics", "frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix", "task_kinematics", "velocity_map", "full_velocities",
       "acceleration_bias", "closure_positions", "self_distances", "contact_points", "contact_accelerations",
       "closure_constraints", "inverse_dynamics_derivatives", "forward_dynamics_derivatives",
-      "contact_forward_dynamics_derivatives"};
+      "contact_forward_dynamics_derivatives", "rigid_contact_forward_dynamics_derivatives"};
   ASSERT_EQ(static_cast<int>(functions.size()), MBGEN_GENERATED_FUNCTION_COUNT);
   int files = 0;
   for (const auto& entry : fs::directory_iterator(two)) (void)entry, ++files;

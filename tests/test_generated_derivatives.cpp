@@ -33,20 +33,6 @@ Model load_tree_model() {
   return m;
 }
 
-/// A row-major nv x nv output as a matrix.
-template <typename T> MatX<double> square(const std::vector<T>& x, int n) {
-  MatX<double> m(n, n);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) m(r, c) = static_cast<double>(x[static_cast<std::size_t>(r * n + c)]);
-  return m;
-}
-
-template <typename T> std::vector<T> as(const VecX<double>& x) {
-  std::vector<T> out(static_cast<std::size_t>(x.size()));
-  for (int k = 0; k < x.size(); ++k) out[static_cast<std::size_t>(k)] = static_cast<T>(x[k]);
-  return out;
-}
-
 template <typename T> VecX<double> vec(const std::vector<T>& x) {
   VecX<double> out(static_cast<int>(x.size()));
   for (std::size_t k = 0; k < x.size(); ++k) out[static_cast<int>(k)] = static_cast<double>(x[k]);
@@ -75,21 +61,21 @@ template <typename T> void check_scalar(double tolerance) {
     robot::inverse_dynamics_derivatives(qt.data(), vt.data(), at.data(), x.data(), A.data());
 #else
     robot::inverse_dynamics_derivatives(qt.data(), vt.data(), at.data(), x.data(), A.data(), B.data());
-    EXPECT_LT(max_relative(square(B, n), d.dtau_dv), tolerance);
+    EXPECT_LT(max_relative(matrix(B, n, n), d.dtau_dv), tolerance);
 #endif
     EXPECT_LT(relative_error(vec(x), d.tau), tolerance);
-    EXPECT_LT(max_relative(square(A, n), d.dtau_dq), tolerance);
+    EXPECT_LT(max_relative(matrix(A, n, n), d.dtau_dq), tolerance);
 
     forward_dynamics_derivatives<double>(model, data, d, q, v, tau);
 #if MBGEN_DERIVATIVES_Q_TAU
     robot::forward_dynamics_derivatives(qt.data(), vt.data(), taut.data(), x.data(), A.data(), C.data());
 #else
     robot::forward_dynamics_derivatives(qt.data(), vt.data(), taut.data(), x.data(), A.data(), B.data(), C.data());
-    EXPECT_LT(max_relative(square(B, n), d.dddq_dv), tolerance);
+    EXPECT_LT(max_relative(matrix(B, n, n), d.dddq_dv), tolerance);
 #endif
     EXPECT_LT(relative_error(vec(x), d.ddq), tolerance);
-    EXPECT_LT(max_relative(square(A, n), d.dddq_dq), tolerance);
-    EXPECT_LT(max_relative(square(C, n), d.Minv), tolerance);
+    EXPECT_LT(max_relative(matrix(A, n, n), d.dddq_dq), tolerance);
+    EXPECT_LT(max_relative(matrix(C, n, n), d.Minv), tolerance);
   }
 }
 

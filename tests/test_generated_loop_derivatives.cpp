@@ -30,19 +30,6 @@ gen::Description load() {
 }
 
 /// A row-major rows x cols output as a matrix.
-template <typename T> MatX<double> matrix(const std::vector<T>& x, int rows, int cols) {
-  MatX<double> m(rows, cols);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) m(r, c) = static_cast<double>(x[static_cast<std::size_t>(r * cols + c)]);
-  return m;
-}
-
-template <typename T> std::vector<T> as(const VecX<double>& x) {
-  std::vector<T> out(static_cast<std::size_t>(x.size()));
-  for (int k = 0; k < x.size(); ++k) out[static_cast<std::size_t>(k)] = static_cast<T>(x[k]);
-  return out;
-}
-
 template <typename T> void check_scalar(double tolerance) {
   const gen::Description d = load();
   const Model& model = d.model;

@@ -16,9 +16,10 @@ namespace {
 TEST(SceneFunctions, NoOutputsMeansEverythingButTheDerivatives) {
   const FunctionSelection s = select_functions(std::vector<std::string>{}, false);
   EXPECT_EQ(s.left_out, (std::vector<std::string>{"inverse_dynamics_derivatives", "forward_dynamics_derivatives",
-                                                  "contact_forward_dynamics_derivatives"}));
+                                                  "contact_forward_dynamics_derivatives",
+                                                  "rigid_contact_forward_dynamics_derivatives"}));
   EXPECT_TRUE(s.backend);
-  EXPECT_EQ(s.emitted.size(), all_functions().size() - 3);
+  EXPECT_EQ(s.emitted.size(), all_functions().size() - 4);
   // `all` is the same; named beside it, a derivative comes too; named alone, only it (and closure_positions).
   EXPECT_EQ(select_functions({"all"}, false).generated, s.generated);
   const FunctionSelection with = select_functions({"all", "fd_derivatives"}, false);
@@ -32,6 +33,9 @@ TEST(SceneFunctions, NoOutputsMeansEverythingButTheDerivatives) {
   EXPECT_EQ(select_functions({"contact_fd_derivatives"}, false).generated,
             (std::vector<std::string>{"closure_positions", "contact_forward_dynamics_derivatives"}));
   EXPECT_TRUE(select_functions({"contact_fd_derivatives"}, true).emits("contact_accelerations"));
+  // The rigid contacts' derivatives: on request, alone.
+  EXPECT_EQ(select_functions({"rigid_contact_fd_derivatives"}, false).generated,
+            (std::vector<std::string>{"closure_positions", "rigid_contact_forward_dynamics_derivatives"}));
 }
 
 TEST(SceneFunctions, EachOutputBringsWhatItNeeds) {
