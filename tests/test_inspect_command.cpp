@@ -172,7 +172,8 @@ TEST(Inspect, ModelReductionsAndLeftOutFunctionsAreReported) {
   EXPECT_NE(run.out.find("operations, the whole robot's", fd), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("left out by the scene: mass_matrix_factor, mass_matrix_solve, forward_kinematics, frame_poses, "
                          "frame_jacobians, centroidal_momentum_matrix, task_kinematics, self_distances, "
-                         "inverse_dynamics_derivatives, forward_dynamics_derivatives, contact_forward_dynamics_derivatives\n"),
+                         "inverse_dynamics_derivatives, forward_dynamics_derivatives, contact_forward_dynamics_derivatives, "
+                         "rigid_contact_forward_dynamics_derivatives\n"),
             std::string::npos)
       << run.out;
 }
