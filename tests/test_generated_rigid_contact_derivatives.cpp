@@ -5,7 +5,9 @@
 // double to 1e-12 relative (max-norm over the generic result's), float to 1e-3; the status the
 // pivots give equals the generic one's; no allocation. The contacts are the extras' `scene:
 // rigid_contacts` (a frame and two points: both kinds of rows). Compiled once per robot
-// (tests/CMakeLists.txt: mbgen_add_generated_derivatives_test).
+// (tests/CMakeLists.txt: mbgen_add_generated_derivatives_test). MBGEN_DERIVATIVES_Q_TAU: the robot was
+// generated with `derivatives_wrt: [q, tau]`, its function without the v blocks (dqdd/dv and
+// dlambda/dv); the blocks it has are checked the same way.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -57,15 +59,20 @@ template <typename T> void check_scalar(double tolerance) {
     const std::vector<T> qt = as<T>(q), vt = as<T>(v), taut = as<T>(tau);
     std::vector<T> a(static_cast<std::size_t>(n)), lambda(static_cast<std::size_t>(m)), A(nn), B(nn), C(nn), LA(mn), LB(mn),
         LC(mn), pivots(static_cast<std::size_t>(2 * m));
+#if MBGEN_DERIVATIVES_Q_TAU
+    robot::rigid_contact_forward_dynamics_derivatives(qt.data(), vt.data(), taut.data(), a.data(), lambda.data(), A.data(),
+                                                      LA.data(), C.data(), LC.data(), pivots.data());
+#else
     robot::rigid_contact_forward_dynamics_derivatives(qt.data(), vt.data(), taut.data(), a.data(), lambda.data(), A.data(),
                                                       LA.data(), B.data(), LB.data(), C.data(), LC.data(), pivots.data());
+    EXPECT_LT(max_relative(matrix(B, n, n), d.da_dv), tolerance);
+    EXPECT_LT(max_relative(matrix(LB, m, n), d.dlambda_dv), tolerance);
+#endif
     EXPECT_LT(max_relative(matrix(a, n, 1), ws.a), tolerance);
     EXPECT_LT(max_relative(matrix(lambda, m, 1), ws.lambda), tolerance);
     EXPECT_LT(max_relative(matrix(A, n, n), d.da_dq), tolerance);
-    EXPECT_LT(max_relative(matrix(B, n, n), d.da_dv), tolerance);
     EXPECT_LT(max_relative(matrix(C, n, n), d.da_dtau), tolerance);
     EXPECT_LT(max_relative(matrix(LA, m, n), d.dlambda_dq), tolerance);
-    EXPECT_LT(max_relative(matrix(LB, m, n), d.dlambda_dv), tolerance);
     EXPECT_LT(max_relative(matrix(LC, m, n), d.dlambda_dtau), tolerance);
     const MatX<double> P = matrix(pivots, m, 2);
     EXPECT_LT(max_relative(P.col(0), ws.operator_diagonal), tolerance);
@@ -95,8 +102,13 @@ TEST(GeneratedRigidContactDerivatives, AllocatesNothing) {
       pivots(2 * m);
   if (MBGEN_FLOATING) q[6] = 1;  // the base's quaternion w
   MallocGuard guard;
+#if MBGEN_DERIVATIVES_Q_TAU
+  robot::rigid_contact_forward_dynamics_derivatives(q.data(), v.data(), v.data(), a.data(), lambda.data(), A.data(), LA.data(),
+                                                    C.data(), LC.data(), pivots.data());
+#else
   robot::rigid_contact_forward_dynamics_derivatives(q.data(), v.data(), v.data(), a.data(), lambda.data(), A.data(), LA.data(),
                                                     B.data(), LB.data(), C.data(), LC.data(), pivots.data());
+#endif
   EXPECT_EQ(guard.count(), 0u);
   EXPECT_TRUE(std::isfinite(A[0]) && std::isfinite(LC[0]) && pivots[1] > 0);
 }
