@@ -1,9 +1,8 @@
 #pragma once
 // The generated forward_dynamics_derivatives: its traced part (the forward dynamics, the inverse
-// dynamics' derivatives at its accelerations up to their pairs, the mass matrix's factor:
-// aba_derivatives.hpp's forward_dynamics_derivatives_before_solves) printed as straight-line code,
-// then the pairs (a few dot products each, rnea_derivatives.hpp) as a loop over the sweep's tables,
-// and the solves with that factor as loops over the rows of dqdd/dq and dqdd/dv, each row gathered a block
+// dynamics' derivatives at its accelerations, the mass matrix's factor: aba_derivatives.hpp's
+// forward_dynamics_derivatives_before_solves) printed as straight-line code, and the solves with
+// that factor printed here as loops over the rows of dqdd/dq and dqdd/dv, each row gathered a block
 // of columns at a time (M^-1 is traced: Z^T D^-1 Z, aba_derivatives.hpp). Unrolled, the 3 nv solves
 // were two thirds of the function's operations and made its code too large for the instruction
 // caches (talos: 150k statements, twice Pinocchio's time); as loops they are short and vectorise. A closed system's
@@ -25,16 +24,14 @@ namespace mbgen::codegen {
 /// trace_contact_forward_dynamics_derivatives: the work outputs factor_entries and inverse_pivot
 /// last), with the factor's structure, each row's parent (a tree's velocity parents; a closed
 /// system's LoopDynamicsDerivatives::y_parent), and the outputs (by position) that leave the trace
-/// to be solved in place. A tree's trace leaves the inverse dynamics' pairs too (its work output
-/// derivative_columns): their loop over `tree`'s sweep runs first (a closed system's `tree` is not read).
-std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const Model& tree, const std::vector<int>& parent,
+/// to be solved in place.
+std::string emit_forward_dynamics_derivatives_definition(const TracedFunction& f, const std::vector<int>& parent,
                                                         const std::vector<std::size_t>& solved, const EmitContext& ctx);
 
 /// Its batch form over `lanes` states (emit_batch.hpp): the trace on GCC vectors, then the same
 /// solves on the lanes, each state's sums those of the one-state function term by term, so that
 /// each state equals it bit for bit.
-std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunction& f, const Model& tree,
-                                                              const std::vector<int>& parent,
+std::string emit_forward_dynamics_derivatives_batch_definition(const TracedFunction& f, const std::vector<int>& parent,
                                                               const std::vector<std::size_t>& solved, int lanes,
                                                               const EmitContext& ctx);
 

@@ -152,18 +152,18 @@ const std::vector<GeneratedFunction>& function_catalog() {
     r.back().definition = [](const DefinitionInputs& in) {
       if (!in.model.subsystems.empty())
         return emit_forward_dynamics_derivatives_definition(
-            in.function, in.model, closed_mass_matrix_elimination_tree(in.model),
+            in.function, closed_mass_matrix_elimination_tree(in.model),
             solved_outputs(in.function, {"dqdd_dq", "dqdd_dv", "dqdd_dtau"}), in.ctx);
-      return emit_forward_dynamics_derivatives_definition(in.function, in.model, tree_parents(in.model),
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
                                                           solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
     };
     r.back().batch_definition = [](const DefinitionInputs& in, int lanes) {
       if (!in.model.subsystems.empty())
         return emit_forward_dynamics_derivatives_batch_definition(
-            in.function, in.model, closed_mass_matrix_elimination_tree(in.model),
+            in.function, closed_mass_matrix_elimination_tree(in.model),
             solved_outputs(in.function, {"dqdd_dq", "dqdd_dv", "dqdd_dtau"}), lanes, in.ctx);
       return emit_forward_dynamics_derivatives_batch_definition(
-          in.function, in.model, tree_parents(in.model), solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), lanes, in.ctx);
+          in.function, tree_parents(in.model), solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), lanes, in.ctx);
     };
     row("contact_forward_dynamics_derivatives", Batch::no,
          "the forward dynamics under the compliant ground and its derivatives dqdd/dq, dqdd/dv, dqdd/dtau (trees)",
@@ -173,7 +173,7 @@ const std::vector<GeneratedFunction>& function_catalog() {
       return trace_contact_forward_dynamics_derivatives(in.model, in.contacts, in.contact_exponent, in.derivative_blocks);
     };
     r.back().definition = [](const DefinitionInputs& in) {
-      return emit_forward_dynamics_derivatives_definition(in.function, in.model, tree_parents(in.model),
+      return emit_forward_dynamics_derivatives_definition(in.function, tree_parents(in.model),
                                                           solved_outputs(in.function, {"dqdd_dq", "dqdd_dv"}), in.ctx);
     };
     row("rigid_contact_forward_dynamics_derivatives", Batch::no,

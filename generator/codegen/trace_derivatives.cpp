@@ -41,70 +41,7 @@ int factor_entry_count(const Model& tree) {
     for (int i = tree.velocity_parent(k); i >= 0; i = tree.velocity_parent(i)) ++entries;
   return entries;
 }
-/// The work output `derivative_columns`: each sweep column's record (DerivativeColumnRecord) of
-/// the vectors inverse_dynamics_derivatives_before_pairs left in d; a vector only the blocks left
-/// out read is a zero, so that what computes it drops out of the trace. Without q and v nothing
-/// needs the pairs: no record (returns 0), else 1 (the work outputs it adds).
-int add_derivative_columns(TracedFunction& f, const DynamicsDerivatives<Sym>& d, DerivativeBlocks blocks) {
-  using R = DerivativeColumnRecord;
-  if (!blocks.q && !blocks.v) return 0;
-  const int columns = static_cast<int>(d.column_v.size());
-  std::vector<int> ids(static_cast<std::size_t>(columns * R::size), Sym(0.0).id());
-  for (int c = 0; c < columns; ++c) {
-    const auto at = static_cast<std::size_t>(c);
-    const auto put = [&](int offset, bool wanted, const Vec3<Sym>& x) {
-      if (!wanted) return;
-      for (int k = 0; k < 3; ++k) ids[static_cast<std::size_t>(c * R::size + offset + k)] = x[k].id();
-    };
-    const bool any = blocks.q || blocks.v;
-    put(R::J, any, d.J[at].linear);
-    put(R::J + 3, any, d.J[at].angular);
-    put(R::a0, blocks.q, d.a0[at].linear);
-    put(R::a0 + 3, blocks.q, d.a0[at].angular);
-    put(R::dV_angular, blocks.q, d.dV[at].angular);
-    put(R::u1, any, d.u1[at].linear);
-    put(R::u1 + 3, any, d.u1[at].angular);
-    put(R::u23, any, d.u23[at]);
-    put(R::e, blocks.v, d.e[at].linear);
-    put(R::e + 3, blocks.v, d.e[at].angular);
-    put(R::w, blocks.q, d.w[at].linear);
-    put(R::w + 3, blocks.q, d.w[at].angular);
-    put(R::z, blocks.v, d.z[at].linear);
-    put(R::z + 3, blocks.v, d.z[at].angular);
-  }
-  f.outputs.push_back({"derivative_columns", columns * R::size,
-                       fmt::format("[{} x {}] per sweep column: J, a0, dV (angular), u1, u23, e, w, z (rnea_derivatives.hpp)",
-                                   columns, R::size)});
-  f.output_ids.push_back(std::move(ids));
-  return 1;
-}
 }  // namespace
-
-DerivativePairSweep DerivativePairSweep::of(const Model& tree) {
-  // inverse_dynamics_derivative_pairs' walk, written down.
-  const DynamicsDerivatives<double> d(tree);
-  const auto at = [](int k) { return static_cast<std::size_t>(k); };
-  const int n = tree.nv();
-  DerivativePairSweep s;
-  for (int i = 1; i < static_cast<int>(d.bodies.size()); ++i) {
-    const auto& si = d.bodies[at(i)];
-    for (int b = i; b != 0; b = d.bodies[at(b)].parent) {
-      const auto& sb = d.bodies[at(b)];
-      for (int c = si.first_column; c < si.first_column + si.num_columns; ++c)
-        for (int k = sb.first_column; k < sb.first_column + sb.num_columns; ++k)
-          s.above.push_back({c, k, d.column_v[at(c)] * n + d.column_v[at(k)], sb.turns});
-      if (b == i) continue;
-      for (int c = sb.first_column; c < sb.first_column + sb.num_columns; ++c)
-        for (int k = si.first_column; k < si.first_column + si.num_columns; ++k)
-          s.below.push_back({c, k, d.column_v[at(c)] * n + d.column_v[at(k)], si.turns});
-    }
-  }
-  return s;
-}
-
-bool has_derivative_pairs(const TracedFunction& f) {
-  return std::any_of(f.outputs.begin(), f.outputs.end(), [](const ArraySpec& a) { return a.name == "derivative_columns"; });
-}
 
 DerivativeBlocks DerivativeBlocks::from_names(const std::vector<std::string>& names) {
   if (names.empty()) return {};
@@ -148,8 +85,6 @@ TracedFunction trace_inverse_dynamics_derivatives(const Model& tree, DerivativeB
   Data<Sym> data(tree);
   DynamicsDerivatives<Sym> d(tree);
   const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), a = inputs(2, tree.nv());
-  // Unrolled whole, pairs included: as a loop (the forward derivatives' form) they measured no
-  // faster here, where no solves follow (talos_reduced: 11.8 us traced, 12.9 us with the loop).
   inverse_dynamics_derivatives<Sym>(tree, data, d, q, v, a);
   f.outputs = {v_spec(tree, "tau", "joint forces")};
   f.output_ids = {ids_of(d.tau)};
@@ -165,27 +100,24 @@ TracedFunction trace_forward_dynamics_derivatives(const Model& tree, DerivativeB
   f.name = "forward_dynamics_derivatives";
   f.doc = "The forward dynamics qdd = M(q)^-1 (tau - C(q, v) v - g(q)) and its derivatives dqdd/dq, dqdd/dv and "
           "dqdd/dtau = M^-1: the inverse dynamics' derivatives at the qdd found, times -M^-1 (aba_derivatives.hpp). d/dq is "
-          "taken along q (+) delta with delta in v-space, as inverse_dynamics_derivatives. Unrolled up to the pairs of the "
-          "inverse dynamics' derivatives and the solves with M, which run as loops: the pairs' dot products, then the rows "
-          "of dqdd/dq and dqdd/dv (the same sparse L^T D L solve, a block of columns at a time).";
+          "taken along q (+) delta with delta in v-space, as inverse_dynamics_derivatives. Unrolled up to the solves with "
+          "M, which run as loops over the rows of dqdd/dq and dqdd/dv (the same sparse L^T D L solve, a block of columns at a time).";
   f.inputs = {q_spec(tree), v_spec(tree, "v", "joint velocities"), v_spec(tree, "tau", "joint forces")};
   Recording rec(f.graph);
   Data<Sym> data(tree);
   DynamicsDerivatives<Sym> d(tree);
   const SymVec q = inputs(0, tree.nq()), v = inputs(1, tree.nv()), tau = inputs(2, tree.nv());
   forward_dynamics_derivatives_before_solves<Sym>(tree, data, d, q, v, tau);
-  // The pairs' loop and the solves run in place: dqdd_dq and dqdd_dv leave the trace as zeros, the
-  // loop makes them -dtau/dq and -dtau/dv, the solves -M^-1 dtau/dq and -M^-1 dtau/dv.
+  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as -dtau/dq and -dtau/dv.
   f.outputs = {v_spec(tree, "qdd", "joint accelerations")};
   f.output_ids = {ids_of(d.ddq)};
   add_block(f, blocks.q, square_spec(tree, "dqdd_dq", "dqdd/dq along q (+) delta"), ids_of(d.dddq_dq));
   add_block(f, blocks.v, square_spec(tree, "dqdd_dv", "dqdd/dv"), ids_of(d.dddq_dv));
   add_block(f, blocks.tau, square_spec(tree, "Minv", "dqdd/dtau = M^-1"), ids_of(d.Minv));
-  const int columns_record = add_derivative_columns(f, d, blocks);
   add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
             ids_of(d.factor_entries));
   add_block(f, true, v_spec(tree, "inverse_pivot", "1 / D of M's factor"), ids_of(d.inverse_pivot));
-  f.work_outputs = 2 + columns_record;
+  f.work_outputs = 2;
   note_blocks(f, blocks);
   return f;
 }
@@ -223,8 +155,7 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
                                                          contacts.data());
   std::vector<int> contact_ids;
   for (const Sym& x : contacts) contact_ids.push_back(x.id());
-  // The pairs' loop and the solves run in place: dqdd_dq and dqdd_dv leave the trace as dtau_c, the
-  // loop subtracts the inverse dynamics' dtau (as the tree's, above).
+  // The solves run in place: dqdd_dq and dqdd_dv leave the trace as dtau_c - dtau.
   f.outputs = {v_spec(model, "qdd", "joint accelerations")};
   f.output_ids = {ids_of(d.fd.ddq)};
   add_block(f, blocks.q, square_spec(model, "dqdd_dq", "dqdd/dq along q (+) delta"), ids_of(d.fd.dddq_dq));
@@ -237,11 +168,10 @@ TracedFunction trace_contact_forward_dynamics_derivatives(const Model& model, co
                          spheres_count),
              {spheres_count, kContactOutputs}},
             contact_ids);
-  const int columns_record = add_derivative_columns(f, d.fd, blocks);
   add_block(f, true, {"factor_entries", entries, fmt::format("[{}] L(k, i) of M's factor, k's ancestors i from the nearest", entries)},
             ids_of(d.fd.factor_entries));
   add_block(f, true, v_spec(model, "inverse_pivot", "1 / D of M's factor"), ids_of(d.fd.inverse_pivot));
-  f.work_outputs = 2 + columns_record;
+  f.work_outputs = 2;
   note_blocks(f, blocks);
   return f;
 }

@@ -23,28 +23,6 @@ struct DerivativeBlocks {
   std::string names() const;  ///< "q, v, tau" or the part chosen
 };
 
-/// Each sweep column's record in the work array `derivative_columns` that the traced part of the
-/// tree's forward derivatives (inverse_dynamics_derivatives_before_pairs, rnea_derivatives.hpp)
-/// leaves for the pairs' loop (inverse_dynamics_derivative_pairs, printed by emit_derivatives.cpp):
-/// the column's vectors at these offsets, linear parts first. Unrolled, the pairs were a third of
-/// the traced operations (talos_reduced's forward derivatives: 70,725 -> 56,857).
-struct DerivativeColumnRecord {
-  static constexpr int J = 0, a0 = 6, dV_angular = 12, u1 = 15, u23 = 21, e = 24, w = 30, z = 36, size = 42;
-};
-
-/// The pairs inverse_dynamics_derivative_pairs (rnea_derivatives.hpp) walks, in its order: above,
-/// a row's column on body i with a column of i or of an ancestor of i; below, a row's column on a
-/// strict ancestor of i with a column of i. Columns are the sweep's (DynamicsDerivatives::column_v).
-struct DerivativePairSweep {
-  struct Pair {
-    int row_column = 0, column = 0;  ///< sweep columns: the row's, the column's
-    int entry = 0;                   ///< row nv + column in the nv x nv blocks
-    bool turns = true;               ///< the q term's guard (false: the column's body is a rotor's)
-  };
-  std::vector<Pair> above, below;
-  static DerivativePairSweep of(const Model& tree);
-};
-
 /// tau, dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, qdd); of the two
 /// matrices those `blocks` asks for (tau: none, dtau/dqdd being mass_matrix's M; a choice of
 /// neither q nor v is refused, std::invalid_argument).
@@ -66,10 +44,6 @@ TracedFunction trace_rigid_contact_forward_dynamics_derivatives(const Model& mod
 /// A closed system's: ydd, dydd/dy (along the closed set), dydd/dyd and dydd/dtau in its
 /// independent coordinates (loop_dynamics_derivatives.hpp), every matrix row-major.
 TracedFunction trace_loop_forward_dynamics_derivatives(const Model& model, DerivativeBlocks blocks = {});
-
-/// Whether a trace leaves the pairs of the inverse dynamics' derivatives to a loop (its work output
-/// `derivative_columns`, DerivativeColumnRecord).
-bool has_derivative_pairs(const TracedFunction& f);
 
 /// The outputs of a derivatives trace that the generated code solves in place after the trace
 /// (emit_derivatives.hpp): those of `names` the function has, by index.

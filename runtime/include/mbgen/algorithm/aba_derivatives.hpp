@@ -8,10 +8,8 @@
 // k, so each solve is as sparse as the factor. M^-1 itself is Z^T D^-1 Z with Z = L^-T, whose column
 // k is nonzero only at k's ancestors: M^-1(r, k) sums over the ancestors r and k share (the floating
 // base's six for two limbs), a fifth of the work of nv solves. The generator traces
-// forward_dynamics_derivatives_before_solves (M^-1 included) and prints what follows it as loops
-// (emit_derivatives.hpp): the inverse dynamics' pairs (inverse_dynamics_derivative_pairs, into
-// dqdd/dq and dqdd/dv with the sign flipped), then the two solves over whole rows, the same
-// factor and sweeps.
+// forward_dynamics_derivatives_before_solves (M^-1 included) and prints the two solves as loops
+// over whole rows (emit_derivatives.hpp): the same factor and sweeps.
 // Same tangent convention for q as rnea_derivatives.hpp.
 #include "mbgen/algorithm/aba.hpp"
 #include "mbgen/algorithm/mass_matrix_factor.hpp"
@@ -60,27 +58,23 @@ template <typename S> void mass_matrix_factor_tables(const Model& model, const M
 }
 }  // namespace detail
 
-/// What comes before the pairs and the solves with M (the part the generator unrolls; those it
-/// prints as loops, docs/derivatives.md): d.ddq = qdd at (q, v, tau), the inverse dynamics'
-/// derivatives at (q, v, qdd) up to their pairs (inverse_dynamics_derivatives_before_pairs: d.tau
-/// and the columns' vectors), d.dddq_dq and d.dddq_dv zero, the factor of M in data.M, its entries
-/// of ancestor pairs in d.factor_entries, 1 / D in d.inverse_pivot, and M^-1 in d.Minv. No allocation.
+/// What comes before the solves with M (the part the generator unrolls; the solves it prints as
+/// loops over whole rows, docs/derivatives.md): d.ddq = qdd at (q, v, tau), d.dddq_dq = -dtau/dq and
+/// d.dddq_dv = -dtau/dv at (q, v, qdd), the factor of M in data.M, its entries of ancestor pairs in
+/// d.factor_entries, 1 / D in d.inverse_pivot, and M^-1 in d.Minv. No allocation.
 template <typename S>
 void forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d,
                                                 const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {
   d.ddq = aba<S>(model, data, q, v, tau);
-  inverse_dynamics_derivatives_before_pairs<S>(model, data, d, q, v, d.ddq);
+  inverse_dynamics_derivatives<S>(model, data, d, q, v, d.ddq);
   detail::mass_matrix_factor_tables<S>(model, mass_matrix_factor<S>(model, data, q), d);
-  d.dddq_dq.setZero();
-  d.dddq_dv.setZero();
+  d.dddq_dq = -d.dtau_dq;
+  d.dddq_dv = -d.dtau_dv;
 }
 
-/// What finishes forward_dynamics_derivatives_before_solves (and the ground's terms a caller added
-/// to d.dddq_dq and d.dddq_dv in between): the inverse dynamics' pairs subtracted from them (they
-/// become -dtau/dq and -dtau/dv, d.dtau_dq and d.dtau_dv staying zero), then both times M^-1 in
-/// place, from the factor in data.M. No allocation.
+/// The solves that finish forward_dynamics_derivatives_before_solves: d.dddq_dq and d.dddq_dv
+/// times M^-1 in place, from the factor in data.M. No allocation.
 template <typename S> void forward_dynamics_derivatives_solves(const Model& model, const Data<S>& data, DynamicsDerivatives<S>& d) {
-  inverse_dynamics_derivative_pairs<S>(d, S(-1), d.dddq_dq, d.dddq_dv);
   for (int k = 0; k < model.nv(); ++k) {
     detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dq.col(k));
     detail::factor_solve<S>(model, data.M, d.inverse_pivot, d.dddq_dv.col(k));
@@ -88,8 +82,8 @@ template <typename S> void forward_dynamics_derivatives_solves(const Model& mode
 }
 
 /// qdd (d.ddq), dqdd/dq (d.dddq_dq), dqdd/dv (d.dddq_dv) and M^-1 (d.Minv) of the spanning tree at
-/// (q, v, tau); d.tau holds the inverse dynamics at (q, v, qdd) (d.dtau_dq and d.dtau_dv are left
-/// zero: the pairs go straight into dqdd's matrices), and data.M the mass matrix's factor. No allocation.
+/// (q, v, tau); d.tau, d.dtau_dq and d.dtau_dv hold the inverse dynamics' at (q, v, qdd), and
+/// data.M the mass matrix's factor. No allocation.
 template <typename S>
 void forward_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& tau) {

@@ -41,8 +41,8 @@ template <typename S> struct ContactDynamicsDerivatives {
         dF_v(fd.J.size()) {}
 
   /// Results in fd: fd.ddq = a, fd.dddq_dq = da/dq, fd.dddq_dv = da/dv, fd.Minv = da/dtau (nv x nv,
-  /// Eigen's column-major storage); fd.tau: the inverse dynamics at a without the ground
-  /// (fd.dtau_dq and fd.dtau_dv left zero, aba_derivatives.hpp).
+  /// Eigen's column-major storage); fd.tau, fd.dtau_dq, fd.dtau_dv: the inverse dynamics' at a
+  /// without the ground.
   DynamicsDerivatives<S> fd;
   VecX<S> tau_total;         ///< tau + tau_c at the last call
   MatX<S> dtau_dq, dtau_dv;  ///< the ground's joint forces' derivatives, dtau_c/dq and dtau_c/dv
@@ -118,9 +118,8 @@ void contact_joint_force_derivatives(const Data<S>& data, const std::vector<Cont
 }  // namespace detail
 
 /// What comes before the solves with M (the part the generator unrolls, as
-/// forward_dynamics_derivatives_before_solves): d.fd.ddq = a, d.fd.dddq_dq = dtau_c/dq and
-/// d.fd.dddq_dv = dtau_c/dv (forward_dynamics_derivatives_solves subtracts the inverse dynamics'
-/// dtau at (q, v, a) without the ground before it solves),
+/// forward_dynamics_derivatives_before_solves): d.fd.ddq = a, d.fd.dddq_dq = dtau_c/dq - dtau/dq and
+/// d.fd.dddq_dv = dtau_c/dv - dtau/dv (dtau the inverse dynamics' at (q, v, a) without the ground),
 /// d.fd.Minv = M^-1 and M's factor; out as contact_forward_dynamics writes it. No allocation.
 template <typename S>
 void contact_forward_dynamics_derivatives_before_solves(const Model& model, Data<S>& data, ContactDynamicsDerivatives<S>& d,

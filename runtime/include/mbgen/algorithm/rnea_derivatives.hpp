@@ -151,14 +151,11 @@ template <typename S> Vec3<S> coriolis_transpose_product(const Mat3<S>& Wc, cons
 }
 }  // namespace detail
 
-/// Everything of inverse_dynamics_derivatives but the pairs: tau, and each column's vectors
-/// (d.J, d.dV, d.a0, d.e, d.u1, d.u23, d.w, d.z) the pairs' dot products read; d.dtau_dq and
-/// d.dtau_dv are left zero. The generator traces this part and prints the pairs
-/// (inverse_dynamics_derivative_pairs) as a loop over the columns' table (emit_derivatives.hpp).
-/// Leaves the bodies' world poses in data.X_WB. No allocation.
+/// dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, a), and tau itself (rnea()
+/// of the same arguments), in d. Leaves the bodies' world poses in data.X_WB. No allocation.
 template <typename S>
-void inverse_dynamics_derivatives_before_pairs(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d,
-                                               const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& a) {
+void inverse_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
+                                  const ConstVecRef<S>& v, const ConstVecRef<S>& a) {
   const int nb = model.num_bodies();
   const int ns = static_cast<int>(d.bodies.size());
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
@@ -234,20 +231,9 @@ void inverse_dynamics_derivatives_before_pairs(const Model& model, Data<S>& data
     const Joint& joint = model.joint(JointIndex(j));
     if (joint.armature != 0) d.tau[joint.idx_v] += S(joint.armature) * a[joint.idx_v];
   }
+  // The pairs (i, b), b = i or an ancestor of i.
   d.dtau_dq.setZero();
   d.dtau_dv.setZero();
-}
-
-/// The pairs' terms (header comment) from the columns' vectors inverse_dynamics_derivatives_before_pairs
-/// left in d, times `sign`, added to dq (dtau/dq's) and dv (dtau/dv's): sign 1 into d.dtau_dq and
-/// d.dtau_dv finishes the inverse dynamics' derivatives; -1 into the forward dynamics' matrices
-/// gives their -dtau/dq and -dtau/dv (aba_derivatives.hpp). Each pair is the same few dot products,
-/// hence a loop in the generated code too. No allocation.
-template <typename S>
-void inverse_dynamics_derivative_pairs(const DynamicsDerivatives<S>& d, S sign, MatX<S>& dq, MatX<S>& dv) {
-  const int ns = static_cast<int>(d.bodies.size());
-  const auto at = [](int k) { return static_cast<std::size_t>(k); };
-  // The pairs (i, b), b = i or an ancestor of i.
   for (int i = 1; i < ns; ++i) {
     const auto& si = d.bodies[at(i)];
     for (int b = i; b != 0; b = d.bodies[at(b)].parent) {
@@ -256,8 +242,8 @@ void inverse_dynamics_derivative_pairs(const DynamicsDerivatives<S>& d, S sign, 
         const int row = d.column_v[at(c)];
         for (int k = sb.first_column; k < sb.first_column + sb.num_columns; ++k) {
           const int col = d.column_v[at(k)];
-          if (sb.turns) dq(row, col) -= sign * (d.a0[at(k)].dot(d.u1[at(c)]) + d.dV[at(k)].angular.dot(d.u23[at(c)]));
-          dv(row, col) += sign * (d.J[at(k)].angular.dot(d.u23[at(c)]) - d.e[at(k)].dot(d.u1[at(c)]));
+          if (sb.turns) d.dtau_dq(row, col) -= d.a0[at(k)].dot(d.u1[at(c)]) + d.dV[at(k)].angular.dot(d.u23[at(c)]);
+          d.dtau_dv(row, col) += d.J[at(k)].angular.dot(d.u23[at(c)]) - d.e[at(k)].dot(d.u1[at(c)]);
         }
       }
       if (b == i) continue;
@@ -265,21 +251,12 @@ void inverse_dynamics_derivative_pairs(const DynamicsDerivatives<S>& d, S sign, 
         const int row = d.column_v[at(c)];
         for (int k = si.first_column; k < si.first_column + si.num_columns; ++k) {
           const int col = d.column_v[at(k)];
-          if (si.turns) dq(row, col) += sign * d.J[at(c)].dot(d.w[at(k)]);
-          dv(row, col) += sign * d.J[at(c)].dot(d.z[at(k)]);
+          if (si.turns) d.dtau_dq(row, col) += d.J[at(c)].dot(d.w[at(k)]);
+          d.dtau_dv(row, col) += d.J[at(c)].dot(d.z[at(k)]);
         }
       }
     }
   }
-}
-
-/// dtau/dq and dtau/dv of the spanning tree's inverse dynamics at (q, v, a), and tau itself (rnea()
-/// of the same arguments), in d. Leaves the bodies' world poses in data.X_WB. No allocation.
-template <typename S>
-void inverse_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDerivatives<S>& d, const ConstVecRef<S>& q,
-                                  const ConstVecRef<S>& v, const ConstVecRef<S>& a) {
-  inverse_dynamics_derivatives_before_pairs<S>(model, data, d, q, v, a);
-  inverse_dynamics_derivative_pairs<S>(d, S(1), d.dtau_dq, d.dtau_dv);
 }
 
 }  // namespace mbgen
