@@ -156,6 +156,35 @@ TEST(Inspect, GroundContactIsReported) {
   EXPECT_EQ(c["ground"]["offset"], -0.1);
 }
 
+// scene: rigid_contacts and derivatives_wrt show in text and JSON (hyq held at a foot's frame and
+// two feet's points, the derivatives with respect to q and tau only).
+TEST(Inspect, RigidContactsAndDerivativeInputsAreReported) {
+  const std::string urdf = quote(test::shared_robot("hyq/hyq_no_sensors.urdf"));
+  const std::string extras = quote(std::string(MBGEN_TEST_DATA) + "/extras/hyq_rigid_contacts_q_tau.yaml");
+  const Outcome text = run_mbgen("inspect " + urdf + " --extras " + extras);
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("rigid contacts (rigid_contact_fd_derivatives): lf_foot (frame, 6 rows), rf_foot (point, 3 rows), "
+                          "lh_foot (point, 3 rows)"),
+            std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("derivatives with respect to: q, tau (the other blocks left out)"), std::string::npos) << text.out;
+  const Outcome run = run_mbgen("inspect " + urdf + " --extras " + extras + " --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  const nlohmann::json& held = j["scene"]["rigid_contacts"];
+  ASSERT_EQ(held.size(), 3u);
+  EXPECT_EQ(held[0]["frame"], "lf_foot");
+  EXPECT_EQ(held[0]["rows"], 6);
+  EXPECT_EQ(held[2]["kind"], "point");
+  EXPECT_EQ(j["scene"]["derivatives_wrt"], nlohmann::json::array({"q", "tau"}));
+  // A scene without them says so by empty lists, and the text by silence.
+  const Outcome plain = run_mbgen("inspect " + quote(std::string(MBGEN_TEST_DATA) + "/tiny_arm.urdf") + " --extras " +
+                                  quote(std::string(MBGEN_TEST_DATA) + "/extras/contact.yaml") + " --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  const nlohmann::json p = nlohmann::json::parse(plain.out);
+  EXPECT_TRUE(p["scene"]["rigid_contacts"].empty());
+  EXPECT_TRUE(p["scene"]["derivatives_wrt"].empty());
+}
+
 /// Lola's legs-only scene (robots/lola/lola_legs.yaml: the upper body locked): what the lock
 /// removed, the loops kept, the forward dynamics' operations before and after, and the functions
 /// its two outputs leave out.

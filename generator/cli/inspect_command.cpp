@@ -209,6 +209,14 @@ void print_text(const Description& d, const codegen::FunctionSelection& selectio
                        gen::contact_spheres(d).size(), fmt::join(c.links, ", "), p.stiffness, p.exponent, p.damping, p.friction,
                        p.stiction_velocity, c.ground.normal.x(), c.ground.normal.y(), c.ground.normal.z(), c.ground.offset);
   }
+  if (d.scene && !d.scene->rigid_contacts.empty()) {
+    std::vector<std::string> held;
+    for (const gen::RigidContactSpec& c : d.scene->rigid_contacts)
+      held.push_back(fmt::format("{} ({}, {} rows)", c.frame, c.kind, c.kind == "point" ? 3 : 6));
+    out << fmt::format("rigid contacts (rigid_contact_fd_derivatives): {}\n", fmt::join(held, ", "));
+  }
+  if (d.scene && !d.scene->derivatives_wrt.empty())
+    out << fmt::format("derivatives with respect to: {} (the other blocks left out)\n", fmt::join(d.scene->derivatives_wrt, ", "));
   if (collision) print_collision_scene(*collision, out);
   std::vector<std::string> warnings = d.warnings;
   if (collision) warnings.insert(warnings.end(), collision->warnings.begin(), collision->warnings.end());
@@ -301,6 +309,12 @@ Json to_json(const Description& d) {
                {"include", pairs(d.scene->collision_include)},
                {"prune_samples", d.scene->prune_samples}}},
              {"scalar", d.scene->scalar}};
+    // Empty: all three inputs (docs/extras.md).
+    scene["derivatives_wrt"] = d.scene->derivatives_wrt;
+    Json held = Json::array();
+    for (const gen::RigidContactSpec& c : d.scene->rigid_contacts)
+      held.push_back({{"frame", c.frame}, {"kind", c.kind}, {"rows", c.kind == "point" ? 3 : 6}});
+    scene["rigid_contacts"] = held;
     if (d.scene->contact) {
       const gen::ContactSpec& c = *d.scene->contact;
       Json spheres = Json::array();
