@@ -222,6 +222,45 @@ TEST_P(LoopMapsTest, ResidualCheckAndSimplifiedStepCloseAsNewtonDoes) {
               model.name.c_str(), checked_by_residual, draws, simplified, three_steps);
 }
 
+TEST_P(LoopMapsTest, PredictedStartIsCheckedByItsResidualAfterOneNewtonStep) {
+  // From where a simulator's step leaves q, q (+) h v with h = 1 ms (every coordinate moved by its
+  // velocity: the loops open by O(h^2)), the step's own size predicts its result
+  // (detail::residual_check_predicted: r |step|^2 below the tolerance), so the first Newton
+  // step's iterate is checked by its residual alone (then, if needed, one simplified step) instead
+  // of by a second Newton step: closure_positions then reports the first factor's pivot ratio
+  // where close_loops, which always takes full steps, reports its last one's. Required on every
+  // draw that needs a step (all but the couplings'); on 1 of 16 draws of the ill-conditioned
+  // wl16_like (kappa(Phi_z) ~ 6e3), 1 ms of its velocities leaves Newton's basin and both report
+  // not converged. Both close the loops to the tolerance, q within 1e-10 of each other.
+  std::mt19937_64 rng(53);
+  int needed_a_step = 0, checked = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    VecX<double> q, v;
+    ASSERT_TRUE(consistent_state(model, d.assembly.q, rng, 0.05, q, v));
+    VecX<double> start(model.nq());
+    integrate<double>(model, q, 1e-3 * v, start);
+    VecX<double> q_positions = start, q_both = start, v_both = v;
+    const ClosureResult<double> positions = closure_positions<double>(model, data, q_positions);
+    const ClosureResult<double> both = close_loops<double>(model, data, q_both, v_both);
+    ASSERT_EQ(positions.status, both.status);
+    if (both.status != ClosureStatus::Converged) continue;
+    EXPECT_LT(positions.residual, ClosureOptions{}.tolerance);
+    EXPECT_LT((q_positions - q_both).cwiseAbs().maxCoeff(), 1e-10);
+    if (both.iterations == 0) continue;
+    ++needed_a_step;
+    if (positions.pivot_ratio != both.pivot_ratio) ++checked;
+  }
+  std::printf("  %s: %d of 16 predicted starts needed a Newton step, %d of them closed by a residual check\n",
+              GetParam().name.c_str(), needed_a_step, checked);
+  EXPECT_EQ(checked, needed_a_step);
+  // Couplings are linear in q: a predicted start is closed already.
+  const bool only_couplings = std::all_of(model.closures.begin(), model.closures.end(),
+                                          [](const LoopClosure& c) { return c.type == ClosureType::Coupling; });
+  if (!only_couplings) {
+    EXPECT_GT(needed_a_step, 0);
+  }
+}
+
 TEST_P(LoopMapsTest, SimulatorStepLeavesItsProjectionOneNewtonStep) {
   // What the simulator's projection (close_loops after every step, to its closure_tolerance,
   // 1e-11) is handed: from consistent states (independent velocities up to 1 rad/s or m/s), one

@@ -10,9 +10,12 @@
 //                                  /pinocchio_default  constraintDynamics, Pinocchio's default settings
 //                                  /generated          full_accelerations (every joint's, the loops held)
 //   peer_closed_step/<robot>/pinocchio                 constraintDynamics (tight) again, beside
-//                          /generated                 closure_positions from a 1 ms step's warm start, then
-//                                                      full_accelerations: what a closed-loop simulator's step needs
-//                                                      (Pinocchio's step projects nothing)
+//                          /generated                 the predictor q + h v (h = 1 ms, every coordinate: how a
+//                                                      simulator's step moves q), closure_positions from there,
+//                                                      then full_accelerations: what a closed-loop simulator's step
+//                                                      needs (Pinocchio's step projects nothing)
+//                          /generated_no_predictor    the same from q with only the independent coordinates moved
+//                                                      (h vy), the dependent ones held
 #include "bench_peers.hpp"
 
 #include <cstdio>
@@ -98,8 +101,9 @@ void add_loops(const std::shared_ptr<LoopPair>& pair) {
   const std::string& robot = pair->generated.robot;
   require(a.full_accelerations, peers::kLoopTolerance, robot + "'s full_accelerations");
   require(a.forward_dynamics, peers::kTreeTolerance, robot + "'s forward_dynamics against its full_accelerations");
-  if (a.warm_closures_converged != static_cast<int>(pair->states->size()))
-    throw std::runtime_error("peer: " + robot + ": closure_positions failed from a warm start");
+  if (a.warm_closures_converged != static_cast<int>(pair->states->size()) ||
+      a.predicted_closures_converged != static_cast<int>(pair->states->size()))
+    throw std::runtime_error("peer: " + robot + ": closure_positions failed from a warm or a predicted start");
   const auto states = pair->states;
   peers::PinocchioRobot* pin = pair->pinocchio.get();
   const peers::GeneratedLoops* g = &pair->generated;
@@ -119,9 +123,18 @@ void add_loops(const std::shared_ptr<LoopPair>& pair) {
     g->full_accelerations(s.q.data(), s.vy.data(), s.tau.data(), work->qdd.data());
     return work->qdd.data();
   });
+  // The predictor (q + h v, every coordinate) is timed with the step; Newton works in place.
   add_benchmark<LoopState>("peer_closed_step", robot, "generated", states, [g, work](const LoopState& s) {
-    work->q = s.warm_q;  // Newton works in place
-    g->closure_positions(work->q.data());
+    int iterations;
+    peers::predicted_start(s, work->q);
+    g->closure_positions(work->q.data(), &iterations);
+    g->full_accelerations(work->q.data(), s.vy.data(), s.tau.data(), work->qdd.data());
+    return work->qdd.data();
+  });
+  add_benchmark<LoopState>("peer_closed_step", robot, "generated_no_predictor", states, [g, work](const LoopState& s) {
+    int iterations;
+    work->q = s.warm_q;
+    g->closure_positions(work->q.data(), &iterations);
     g->full_accelerations(work->q.data(), s.vy.data(), s.tau.data(), work->qdd.data());
     return work->qdd.data();
   });

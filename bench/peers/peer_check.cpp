@@ -27,10 +27,12 @@ int main() {
       const LoopAgreement a = check(pair);
       const int states = static_cast<int>(pair.states->size());
       std::printf("%-18s nv %2d  full_accelerations vs constraintDynamics %.1e%s  forward_dynamics %.1e%s  "
-                  "Pinocchio's closure error %.1e  warm closures %d/%d%s\n",
+                  "Pinocchio's closure error %.1e  closures from warm starts %d/%d%s (%.2f steps), from predicted ones %d/%d%s (%.2f steps)\n",
                   pair.generated.robot.c_str(), pair.generated.nv, a.full_accelerations, verdict(a.full_accelerations, kLoopTolerance),
                   a.forward_dynamics, verdict(a.forward_dynamics, kTreeTolerance), a.pinocchio_closure, a.warm_closures_converged,
-                  states, verdict(states - a.warm_closures_converged, 0));
+                  states, verdict(states - a.warm_closures_converged, 0), static_cast<double>(a.warm_iterations) / states,
+                  a.predicted_closures_converged, states, verdict(states - a.predicted_closures_converged, 0),
+                  static_cast<double>(a.predicted_iterations) / states);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbgen_peer_check: %s\n", e.what());

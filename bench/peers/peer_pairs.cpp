@@ -32,7 +32,11 @@ const std::string kShared = MBGEN_SHARED_ROBOTS;
   GeneratedLoops {                                                                                                    \
     label, path, NS::nq, NS::nv, NS::ny, {std::begin(NS::joint_names), std::end(NS::joint_names)},                  \
         {std::begin(NS::independent_v_index), std::end(NS::independent_v_index)}, &NS::forward_dynamics,            \
-        &NS::full_accelerations, [](double* q) { return static_cast<int>(NS::closure_positions(q).status); }       \
+        &NS::full_accelerations, [](double* q, int* iterations) {          \
+          const auto r = NS::closure_positions(q);                                                                   \
+          *iterations = r.iterations;                                                                                \
+          return static_cast<int>(r.status);                                                                         \
+        }       \
   }
 
 }  // namespace
@@ -75,6 +79,7 @@ std::vector<LoopPair> loop_pairs() {
     const std::string urdf = kShared + "/" + g.urdf;
     const gen::Description d = gen::load_description(urdf, gen::LoadOptions{});
     if (d.model.nq() != g.nq || d.model.nv() != g.nv) throw std::runtime_error("peer: " + g.robot + ": model and generated code differ");
+    if (g.nq != g.nv) throw std::runtime_error("peer: " + g.robot + ": a closed-loop robot here has a fixed base (predicted_start adds v to q)");
     // Pinocchio's model from what mbgen read of the robot.yaml beside the URDF: the revolute
     // joints standing for ball (SPHERICAL) and universal (UJOINT_XY) joints, and the frame pairs.
     std::vector<RevoluteChain> chains;
@@ -89,11 +94,12 @@ std::vector<LoopPair> loop_pairs() {
     for (const bench::Sample& s : *pool) {
       LoopState x;
       x.q = s.q;
+      x.v = s.v;
       x.tau = s.tau;
       x.vy.resize(g.ny);
       for (int k = 0; k < g.ny; ++k) x.vy[k] = s.v[g.independent_v_index[static_cast<std::size_t>(k)]];
       x.warm_q = s.q;
-      for (int k = 0; k < g.ny; ++k) x.warm_q[g.independent_v_index[static_cast<std::size_t>(k)]] += 1e-3 * x.vy[k];
+      for (int k = 0; k < g.ny; ++k) x.warm_q[g.independent_v_index[static_cast<std::size_t>(k)]] += kStep * x.vy[k];
       x.pinocchio_q = p.map->q_to_pinocchio(s.q);
       x.pinocchio_v = p.map->v_to_pinocchio(s.v);
       x.pinocchio_tau = p.map->v_to_pinocchio(s.tau);
@@ -151,8 +157,13 @@ LoopAgreement check(LoopPair& pair) {
       worst.forward_dynamics = std::max(worst.forward_dynamics, std::abs(independent[k] - full[g.independent_v_index[static_cast<std::size_t>(k)]]) /
                                                                     std::max(1.0, full.cwiseAbs().maxCoeff()));
     worst.pinocchio_closure = std::max(worst.pinocchio_closure, pin.closure_error(s.pinocchio_q));
-    Eigen::VectorXd warm = s.warm_q;
-    if (g.closure_positions(warm.data()) == 0) ++worst.warm_closures_converged;
+    Eigen::VectorXd start = s.warm_q;
+    int iterations = 0;
+    if (g.closure_positions(start.data(), &iterations) == 0) ++worst.warm_closures_converged;
+    worst.warm_iterations += iterations;
+    predicted_start(s, start);
+    if (g.closure_positions(start.data(), &iterations) == 0) ++worst.predicted_closures_converged;
+    worst.predicted_iterations += iterations;
   }
   return worst;
 }

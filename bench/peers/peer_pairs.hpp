@@ -36,7 +36,8 @@ struct GeneratedLoops {
   std::vector<int> independent_v_index;
   void (*forward_dynamics)(const double*, const double*, const double*, double*);
   void (*full_accelerations)(const double*, const double*, const double*, double*);
-  int (*closure_positions)(double*);  ///< 0 when Newton converged
+  /// closure_positions in place: its status (0 when Newton converged), the steps it took in *iterations.
+  int (*closure_positions)(double* q, int* iterations);
 };
 
 struct TreeState {
@@ -45,8 +46,8 @@ struct TreeState {
 };
 
 struct LoopState {
-  Eigen::VectorXd q, vy, tau;  // mbgen's: loops closed, the independent velocities
-  Eigen::VectorXd warm_q;      // q with the independent coordinates moved by 1e-3 vy (a 1 ms step), loops open
+  Eigen::VectorXd q, v, vy, tau;  // mbgen's: loops closed, every velocity (v = T vy) and the independent ones
+  Eigen::VectorXd warm_q;  // q with the independent coordinates moved by kStep vy, the dependent ones held: loops open
   Eigen::VectorXd pinocchio_q, pinocchio_v, pinocchio_tau;
 };
 
@@ -82,9 +83,19 @@ struct LoopAgreement {
   double full_accelerations = 0;  ///< against constraintDynamics with the tight settings
   double forward_dynamics = 0;    ///< the independent entries of full_accelerations against forward_dynamics
   double pinocchio_closure = 0;   ///< Pinocchio's |log6| of the closures at mbgen's closed states
-  int warm_closures_converged = 0;
+  int warm_closures_converged = 0;       ///< from warm_q
+  int predicted_closures_converged = 0;  ///< from q + kStep v (predicted_start)
+  int warm_iterations = 0, predicted_iterations = 0;  ///< closure_positions' steps, summed over the states
 };
 LoopAgreement check(LoopPair& pair);
+
+/// The step of a closed-loop simulator that the closed step stands for (1 ms).
+inline constexpr double kStep = 1e-3;
+
+/// Where a simulator's step leaves q before it closes the loops: every coordinate moved by its
+/// velocity, kStep v (a fixed base: nq = nv), the explicit Euler predictor. The loops are open
+/// by O(kStep^2) (their curvature times v^2), against O(kStep) for warm_q.
+inline void predicted_start(const LoopState& s, Eigen::VectorXd& q) { q = s.q + kStep * s.v; }
 
 /// The check's tolerances (README.md here): round-off of either library, times the conditioning
 /// of M (the derivatives, M^-1) or of the proximal solve (the loops).

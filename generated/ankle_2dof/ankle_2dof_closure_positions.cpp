@@ -1549,15 +1549,18 @@ template <typename S> void step_from_factor(const S* factor, S* residual, S* ste
 }
 
 // Subtracts each sub-system's step from its dependent coordinates, scaled to max_step in its
-// largest entry.
-template <typename S> void take_step(S* q, const S* step, const ClosureOptions<S>& options) {
+// largest entry; returns the largest entry of any, unscaled.
+template <typename S> S take_step(S* q, const S* step, const ClosureOptions<S>& options) {
+  S largest_step = S(0);
   for (int k = 0; k < num_subsystems; ++k) {
     S largest = S(0);
     for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i)
       if (std::fabs(step[i]) > largest) largest = std::fabs(step[i]);
     const S scale = largest > options.max_step ? options.max_step / largest : S(1);
     for (int i = subsystem_begin[k]; i < subsystem_begin[k + 1]; ++i) q[dependent_q[i]] -= scale * step[i];
+    if (largest > largest_step) largest_step = largest;
   }
+  return largest_step;
 }
 
 template <typename S, bool kVelocities>
@@ -1639,16 +1642,17 @@ ClosureResult<S> closure_positions_impl(S* q, S* v, const ClosureOptions<S>& opt
     }
     if (result.iterations == options.max_iterations)
       return result.status = ClosureStatus::not_converged, result.subsystem = worst_residual, result;
-    // The runtime's detail::residual_check_predicted: quadratic convergence predicts the next
-    // residual below the tolerance, far from a dead point; never with velocities (they need the
-    // factor at the returned q).
+    // The runtime's detail::residual_check_predicted: quadratic convergence, or the step's size
+    // (r |step|^2), predicts the residual below the tolerance within a simplified step, far from a
+    // dead point; never with velocities (they need the factor at the returned q).
+    const S largest_step = take_step<S>(q, step, options);
     const S r = result.residual;
-    residual_check = !kVelocities && previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual &&
-                     result.pivot_ratio >= S(100) * options.singular_tolerance &&
+    const bool quadratic = previous_residual > S(0) && r * r * r < options.tolerance * previous_residual * previous_residual;
+    const bool small_step = r * largest_step * largest_step < options.tolerance;
+    residual_check = !kVelocities && (quadratic || small_step) && result.pivot_ratio >= S(100) * options.singular_tolerance &&
                      result.relative_pivot_ratio >= S(100) * options.dead_point_tolerance;
     factor_is_last_steps = true;
     previous_residual = result.residual;
-    take_step<S>(q, step, options);
   }
 }
 

@@ -221,11 +221,23 @@ template <typename S> int worst_pivot_subsystem(const Model& model, const Data<S
 /// last step was small enough to predict a closed iterate: from warm starts 1e-3 off, Newton's
 /// third step meets a residual of ~1e-11 (the tolerance 1e-12 is just missed) that the simplified
 /// step brings to ~1e-15 (cassie_like, digit_like_2legs: docs/loops.md).
+///
+/// The first step has no previous residual; there, and at any step, the step's own size predicts
+/// too: Newton's next residual is about r |step| (the closure's second derivative over its first,
+/// about one per radian for linkages of rotating links: 0.3-2 on the parallel_legs robots), and
+/// the simplified step's after it about r |step|^2 (0.3-2.2 times that, measured from starts 1e-4
+/// to 1e-2 off). So the check is tried when r |step|^2 is below the tolerance: from a
+/// simulator's predicted start (q + h v, residuals 1e-7 to 1e-5 at h = 1 ms) the first step is
+/// checked by its residual alone instead of a second Newton step; from a start 1e-3 off it is
+/// not (r |step|^2 ~ 1e-7), as before. |step| is the largest entry of any sub-system's step
+/// before max_step scales it (rad or m).
 template <typename S>
-bool residual_check_predicted(const ClosureResult<S>& last, S previous_residual, const ClosureOptions& options) {
+bool residual_check_predicted(const ClosureResult<S>& last, S previous_residual, S largest_step, const ClosureOptions& options) {
   const S r = last.residual;
-  return previous_residual > S(0) && r * r * r < S(options.tolerance) * previous_residual * previous_residual &&
-         last.pivot_ratio >= S(100 * options.singular_tolerance) && last.relative_pivot_ratio >= S(100 * options.dead_point_tolerance);
+  const bool quadratic = previous_residual > S(0) && r * r * r < S(options.tolerance) * previous_residual * previous_residual;
+  const bool small_step = r * largest_step * largest_step < S(options.tolerance);
+  return (quadratic || small_step) && last.pivot_ratio >= S(100 * options.singular_tolerance) &&
+         last.relative_pivot_ratio >= S(100 * options.dead_point_tolerance);
 }
 
 /// closure_positions; with factor_at_solution (close_loops) every iterate gets the full step, so
@@ -250,8 +262,10 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
   S previous_residual = S(-1);  // the residual before the last step (-1: no step yet)
   bool residual_check = false;
   bool factor_is_last_steps = false;  // data holds the factor of the Newton step just taken
-  // Each sub-system's step from the rhs' last column, scaled to max_step in its largest entry.
+  // Each sub-system's step from the rhs' last column, scaled to max_step in its largest entry;
+  // returns the largest entry of any, unscaled.
   const auto take_step = [&] {
+    S largest_step = S(0);
     for (std::size_t k = 0; k < model.subsystems.size(); ++k) {
       const SubSystem& sub = model.subsystems[k];
       const SubSystemWork<S>& w = data.subsystem[k];
@@ -263,7 +277,9 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
       const S scale = largest > S(options.max_step) ? S(options.max_step) / largest : S(1);
       for (std::size_t j = 0; j < sub.coordinates.size(); ++j)
         if (layout.coordinate_role[j] < 0) q[detail::q_index_of_coordinate(model, sub, j)] -= scale * w.rhs(-1 - layout.coordinate_role[j], p);
+      if (largest > largest_step) largest_step = largest;
     }
+    return largest_step;
   };
   for (;; ++result.iterations) {
     if (residual_check) {  // the pivot ratios stay the last factor's (residual_check_predicted)
@@ -301,10 +317,10 @@ ClosureResult<S> close_positions(const Model& model, Data<S>& data, Eigen::Ref<V
       return result.relative_pivot_ratio >= S(options.dead_point_tolerance) ? (result.status = ClosureStatus::Converged, result)
                                                                              : fail(ClosureStatus::Singular);
     if (result.iterations == options.max_iterations) return fail(ClosureStatus::NotConverged);
-    residual_check = !factor_at_solution && residual_check_predicted<S>(result, previous_residual, options);
+    const S largest_step = take_step();
+    residual_check = !factor_at_solution && residual_check_predicted<S>(result, previous_residual, largest_step, options);
     factor_is_last_steps = true;
     previous_residual = result.residual;
-    take_step();
   }
 }
 
