@@ -127,10 +127,59 @@ TEST(SplitStatements, PartsReadTheBodysSinesAndCosines) {
   const SplitStatements split = split_statements(f, "trig", 2, {});
   ASSERT_FALSE(split.parts.empty());
   EXPECT_EQ(split.body.find("  const S _angle[4]"), 0u) << split.body;
-  EXPECT_NE(split.body.find("trig_part0<S>(x, _sin, _cos, w);"), std::string::npos) << split.body;
-  EXPECT_NE(split.parts.find("void trig_part0(const S* x, const S* _sin, const S* _cos, S* w)"), std::string::npos) << split.parts;
+  // Pointers 4 entries into the padded arrays of 4 (the bias is min(16, the padded size)).
+  EXPECT_NE(split.body.find("trig_part0<S>(x, _sin + 4, _cos + 4, w);"), std::string::npos) << split.body;
+  EXPECT_NE(split.parts.find("void trig_part0(const S* x, const S* __restrict _sin, const S* __restrict _cos, S* w)"),
+            std::string::npos)
+      << split.parts;
   EXPECT_EQ(split.parts.find("_angle"), std::string::npos) << split.parts;
   EXPECT_EQ(count_of(split.body + split.parts, "sincos_all"), 1u);
+}
+
+TEST(SplitStatements, ALargeUnsplitFunctionWithSinesKeepsItsStatementsApartReadingThemThroughPointers) {
+  // trigonometry() (4 statements besides the prologue's sines) with output c replaced by a chain of
+  // additions onto sin x2: kStatementsApartFrom statements in all, just enough.
+  TracedFunction f = trigonometry();
+  int chain = f.output_ids[2][0];
+  for (int k = 4; k < kStatementsApartFrom; ++k) chain = f.graph.binary(Op::Add, chain, f.graph.input(0, 1));
+  f.output_ids[2] = {chain};
+  const SplitStatements apart = split_statements(f, "trig", 100 * kStatementsApartFrom, {});
+  // The body computes the sines, then calls the statements with pointers 4 entries in (the
+  // arrays' padded size, below 16): slot k is read as [k - 4].
+  EXPECT_EQ(apart.body,
+            "  const S _angle[4] = {x[0], x[2], S(0), S(0)};\n  S _sin[4], _cos[4];\n  sincos_all(_angle, _sin, _cos);\n"
+            "  trig_statements<S>(x, a, b, c, _sin + 4, _cos + 4);\n");
+  EXPECT_NE(apart.parts.find("MBGEN_GENERATED_NOINLINE void trig_statements(const S* x, S* a, S* b, S* c, const S* __restrict _sin, "
+                             "const S* __restrict _cos) {\n  (void)x;\n  (void)_sin;\n  (void)_cos;\n"),
+            std::string::npos)
+      << apart.parts.substr(0, 2000);
+  EXPECT_NE(apart.parts.find("_sin[-4] * _cos[-3]"), std::string::npos) << apart.parts.substr(0, 2000);
+  EXPECT_NE(apart.parts.find(" = x[1] + _sin[-3];"), std::string::npos) << apart.parts.substr(0, 2000);
+  EXPECT_EQ(apart.parts.find("_angle"), std::string::npos);
+  // Its statements are emit_statements' after the prologue, the slots renamed.
+  std::string whole = emit_statements(f, {});
+  whole = whole.substr(whole.find("sincos_all(_angle, _sin, _cos);\n") + 32);
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"_sin[0]", "_sin[-4]"}, {"_sin[1]", "_sin[-3]"}, {"_cos[0]", "_cos[-4]"},
+                                 {"_cos[1]", "_cos[-3]"}})
+    for (std::size_t at = whole.find(from); at != std::string::npos; at = whole.find(from, at)) whole.replace(at, from.size(), to);
+  EXPECT_NE(apart.parts.find(whole), std::string::npos);
+  // One statement fewer, or no sines of inputs: nothing apart.
+  const Node& last = f.graph.node(chain);
+  f.output_ids[2] = {f.graph.node(last.a).op == Op::Input ? last.b : last.a};
+  const SplitStatements small = split_statements(f, "trig", 100 * kStatementsApartFrom, {});
+  EXPECT_TRUE(small.parts.empty());
+  EXPECT_TRUE(small.body == emit_statements(f, {}));  // (not EXPECT_EQ: a thousand lines)
+  EXPECT_NE(small.body.find("_sin[0] * _cos[1]"), std::string::npos);
+  TracedFunction plain;
+  plain.name = "plain";
+  plain.inputs = {{"x", 2, ""}};
+  plain.outputs = {{"y", 1, ""}};
+  int sum = plain.graph.input(0, 0);
+  for (int k = 0; k < kStatementsApartFrom; ++k) sum = plain.graph.binary(Op::Mul, sum, plain.graph.input(0, 1));
+  plain.output_ids = {{sum}};
+  const SplitStatements together = split_statements(plain, "plain", 100 * kStatementsApartFrom, {});
+  EXPECT_TRUE(together.parts.empty());
+  EXPECT_TRUE(together.body == emit_statements(plain, {}));
 }
 
 /// out (zeros + 1 entries): out[0] = x0 x1, the rest zero.

@@ -10,7 +10,8 @@
 #include "mbgen/collision/closest_shapes.hpp"
 #include "mbgen/collision/ssv_distance.hpp"
 
-// The parts of a split function stay functions of their own (see split_statements).
+// A split function's parts, and the statements apart from their sines (split_statements), stay
+// functions of their own.
 #ifndef MBGEN_GENERATED_NOINLINE
 #if defined(__GNUC__)
 #define MBGEN_GENERATED_NOINLINE __attribute__((noinline))

@@ -159,6 +159,7 @@ class StatementPrinter {
   StatementPrinter(const TracedFunction& f, const std::vector<bool>& seen, StatementStyle style)
       : f_(f), seen_(seen), lanes_(style.lanes), inline_sincos_(style.inline_sincos || style.lanes > 0) {
     if (!batch()) gather_angles();
+    if (style.angles_by_pointer) angle_bias_ = angle_pointer_bias();
     if (!inline_sincos_) return;
     // sin and cos of one argument are computed together (sincos_of gives both).
     std::vector<int> sin_of(static_cast<std::size_t>(f.graph.size()), -1), cos_of(sin_of);
@@ -198,6 +199,13 @@ class StatementPrinter {
   }
   const char* value_type() const { return batch() ? "V" : "S"; }
 
+  /// Where the pointers handed to a function of the statements point: `_sin + bias`. The
+  /// statements read `_sin[slot - bias]`, offsets -128 to 120 bytes for 32 doubles: x86-64
+  /// addresses them with an 8-bit displacement from the pointer's register, where the arrays of
+  /// a large function's own stack frame sit beyond it (a 32-bit displacement and a SIB byte:
+  /// 9-byte instead of 5-byte instructions, a sixth of talos' mass matrix; bench/README.md).
+  int angle_pointer_bias() const { return static_cast<int>(std::min<std::size_t>(16, (angles_.size() + 3) / 4 * 4)); }
+
   /// Constants and inputs are printed in place; statements get `_tN` (N their rank in id order).
   std::vector<std::string> leaf_and_temporary_names() const {
     std::vector<std::string> names(static_cast<std::size_t>(f_.graph.size()));
@@ -212,7 +220,7 @@ class StatementPrinter {
         const std::string element = input_name(id);
         name = batch() ? fmt::format("lanes_load<V>({})", element) : element;
       } else if (in_prologue(id)) {
-        name = fmt::format("{}[{}]", n.op == Op::Sin ? "_sin" : "_cos", angle_slot_[static_cast<std::size_t>(id)]);
+        name = fmt::format("{}[{}]", n.op == Op::Sin ? "_sin" : "_cos", angle_slot_[static_cast<std::size_t>(id)] - angle_bias_);
       } else {
         name = fmt::format("_t{}", temporaries++);
       }
@@ -344,6 +352,7 @@ class StatementPrinter {
   bool inline_sincos_;
   std::vector<int> partner_;  ///< inline sin/cos: the cos of a sin's argument and vice versa, else -1
   std::vector<int> angles_;      ///< one state: the input nodes whose sin and cos the prologue computes
+  int angle_bias_ = 0;           ///< statements reading the prologue's arrays through pointers: angle_pointer_bias
   std::vector<int> angle_slot_;  ///< one state: a prologue sin or cos node's index in angles_, else -1
 };
 
@@ -447,9 +456,10 @@ std::string unused_inputs(const TracedFunction& f) {
   return out;
 }
 
-std::string emit_statements(const TracedFunction& f, StatementStyle style) {
-  const std::vector<bool> seen = reachable(f);
-  const StatementPrinter printer(f, seen, style);
+namespace {
+/// emit_statements after its prologue, printed by `printer`.
+std::string statements_and_outputs(const TracedFunction& f, const std::vector<bool>& seen, const StatementPrinter& printer,
+                                   const StatementStyle& style) {
   const std::vector<std::string> names = printer.leaf_and_temporary_names();
   auto name = [&](int id) -> const std::string& { return names[static_cast<std::size_t>(id)]; };
   const std::vector<int> run = statement_ids(f, seen, printer);
@@ -461,10 +471,17 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style) {
   for (std::size_t o = 0; o < early.size(); ++o) late[o] = !early[o];
   const bool skip = style.constants_apart;
   if (std::find(early.begin(), early.end(), true) == early.end())
-    return printer.prologue() + printer.statements(run, name) + output_assignments(f, printer, names, nullptr, skip);
+    return printer.statements(run, name) + output_assignments(f, printer, names, nullptr, skip);
   std::vector<std::string> after;
   const std::string first = place_output_assignments(f, printer, names, printer.print_order(run), after, early, skip);
-  return printer.prologue() + first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late, skip);
+  return first + printer.statements(run, name, &after) + output_assignments(f, printer, names, &late, skip);
+}
+}  // namespace
+
+std::string emit_statements(const TracedFunction& f, StatementStyle style) {
+  const std::vector<bool> seen = reachable(f);
+  const StatementPrinter printer(f, seen, style);
+  return printer.prologue() + statements_and_outputs(f, seen, printer, style);
 }
 
 std::string batch_parameters(const TracedFunction& f, const std::string& scalar, int lanes) {
@@ -498,10 +515,27 @@ SplitStatements split_statements(const TracedFunction& f, const std::string& pre
 namespace {
 SplitStatements split_statements_of(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
   const std::vector<bool> seen = reachable(f);
-  const StatementPrinter printer(f, seen, style);
+  StatementStyle apart_style = style;  // the statements are in functions of their own, unless returned below
+  apart_style.angles_by_pointer = true;
+  const StatementPrinter printer(f, seen, apart_style);
   const std::vector<int> statements = statement_ids(f, seen, printer);
   const int count = static_cast<int>(statements.size());
-  if (count <= max_statements) return {"", emit_statements(f, style)};
+  const std::string angle_arguments =
+      printer.has_prologue() ? fmt::format("_sin + {0}, _cos + {0}, ", printer.angle_pointer_bias()) : std::string();
+  if (count <= max_statements) {
+    if (!printer.has_prologue() || count < kStatementsApartFrom) return {"", emit_statements(f, style)};
+    // One part of all the statements, reading the sines through pointers (angle_pointer_bias).
+    SplitStatements out;
+    out.parts = fmt::format("// {0}'s statements, apart from the sines and cosines of its inputs (the body's prologue):\n"
+                            "// they read them through pointers, in shorter instructions than from their own frame.\n"
+                            "template <typename S>\nMBGEN_GENERATED_NOINLINE void {0}_statements({1}, const S* __restrict _sin, "
+                            "const S* __restrict _cos) {{\n",
+                            prefix, parameters(f, "S"));
+    out.parts += unused_inputs(f) + "  (void)_sin;\n  (void)_cos;\n" + statements_and_outputs(f, seen, printer, apart_style) + "}\n\n";
+    out.body = printer.prologue() + fmt::format("  {}_statements<S>({}, {});\n", prefix, call_arguments(f),
+                                                angle_arguments.substr(0, angle_arguments.size() - 2));
+    return out;
+  }
 
   // Parts of equal size, in id order (a topological order): part_of[id] for statements.
   const int parts = (count + max_statements - 1) / max_statements;
@@ -557,7 +591,7 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
   SplitStatements out;
   for (int p = 0; p < parts; ++p) {
     out.parts += fmt::format("template <typename S>\nMBGEN_GENERATED_NOINLINE void {}_part{}({}, {}{}* w) {{\n", prefix, p,
-                             input_parameters(f, "S", style.lanes), printer.has_prologue() ? "const S* _sin, const S* _cos, " : "",
+                             input_parameters(f, "S", style.lanes), printer.has_prologue() ? "const S* __restrict _sin, const S* __restrict _cos, " : "",
                              printer.batch() ? "typename Lanes<S>::type" : "S");
     if (printer.batch()) out.parts += "  typedef typename Lanes<S>::type V __attribute__((unused));\n";
     out.parts += unused_inputs(f);
@@ -575,7 +609,7 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
   }
   std::string arguments;
   for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
-  if (printer.has_prologue()) arguments += "_sin, _cos, ";
+  arguments += angle_arguments;
   out.body = printer.prologue();
   out.body += fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
                          "  // w carries the {} values that cross a part boundary.\n  {} w[{}];\n",

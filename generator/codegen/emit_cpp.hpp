@@ -63,6 +63,9 @@ struct StatementStyle {
   /// The constant output entries are left out (split_statements writes them by a function of
   /// their own: set there, for one state, from 256 such entries on).
   bool constants_apart = false;
+  /// The statements read the prologue's sines and cosines through pointers into its arrays
+  /// (`_sin[slot - bias]`): they are in a function of their own (split_statements sets it).
+  bool angles_by_pointer = false;
 };
 
 /// f's parameter list over `lanes` states at once (batch functions): `const S (*in)[lanes]...,
@@ -90,11 +93,21 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 /// one run of consecutive statements and storing at its end the values later parts or the
 /// outputs need into the workspace w; `body` declares w, calls the parts in order and assigns
 /// the outputs. Functions of at most max_statements statements are not split: parts is empty
-/// and body is emit_statements(f, style). With style.lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
+/// and body is emit_statements(f, style), except that one with a prologue (one state, sines and
+/// cosines of its inputs) and at least kStatementsApartFrom statements keeps its statements in `<prefix>_statements<S>(inputs..., outputs...,
+/// _sin, _cos)` (noinline): the body computes the sines and passes pointers into its arrays, which
+/// the statements address in fewer instruction bytes than their own frame (angle_pointer_bias in
+/// emit_cpp.cpp). Parts, too, read the sines through such pointers. With style.lanes > 0 the workspace holds vectors. Deterministic: slots are reused lowest first.
 /// For one state, a function with at least 256 constant output entries (structural zeros of a
 /// mass matrix or a Jacobian, a velocity map's identity) writes them last by a function of their
 /// own, `<prefix>_constants<S>(outputs...)` in parts (noinline): in a small function g++ packs
 /// them into vector stores, in the function's single large basic block it does not.
+/// From this many statements on, an unsplit function with a prologue keeps its statements in a
+/// function of their own that reads the sines through pointers (split_statements). Below it the
+/// frame is small, and the call is all it would add: iiwa14's inverse dynamics (790 statements)
+/// and mass matrix (369) ran the same either way, hyq's (2,451 and 1,337) faster apart.
+constexpr int kStatementsApartFrom = 1000;
+
 struct SplitStatements {
   std::string parts;
   std::string body;
