@@ -212,7 +212,7 @@ void print_text(const Description& d, const codegen::FunctionSelection& selectio
   if (d.scene && !d.scene->rigid_contacts.empty()) {
     std::vector<std::string> held;
     for (const gen::RigidContactSpec& c : d.scene->rigid_contacts)
-      held.push_back(fmt::format("{} ({}, {} rows)", c.frame, c.kind, c.kind == "point" ? 3 : 6));
+      held.push_back(fmt::format("{} ({}, {} rows)", c.frame, c.kind, c.rows()));
     out << fmt::format("rigid contacts (rigid_contact_fd_derivatives): {}\n", fmt::join(held, ", "));
   }
   if (d.scene && !d.scene->derivatives_wrt.empty())
@@ -313,7 +313,7 @@ Json to_json(const Description& d) {
     scene["derivatives_wrt"] = d.scene->derivatives_wrt;
     Json held = Json::array();
     for (const gen::RigidContactSpec& c : d.scene->rigid_contacts)
-      held.push_back({{"frame", c.frame}, {"kind", c.kind}, {"rows", c.kind == "point" ? 3 : 6}});
+      held.push_back({{"frame", c.frame}, {"kind", c.kind}, {"rows", c.rows()}});
     scene["rigid_contacts"] = held;
     if (d.scene->contact) {
       const gen::ContactSpec& c = *d.scene->contact;

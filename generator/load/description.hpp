@@ -63,9 +63,6 @@ struct MeshGeometry {
   std::string source;     ///< file:line and element, for warnings
 };
 
-/// The ground contact a simulation of the scene uses (`scene: contact`, docs/extras.md): which
-/// links touch the ground (the vertex spheres of their SSVs, sim/contact.hpp), the compliant
-/// law's parameters and the ground plane.
 /// One contact of `scene: rigid_contacts`: a frame held rigidly (kind `frame`: 6 rows, a flat foot)
 /// or its origin held (kind `point`: 3 rows), for rigid_contact_fd_derivatives
 /// (mbgen/algorithm/rigid_contact_dynamics.hpp).
@@ -73,8 +70,13 @@ struct RigidContactSpec {
   std::string frame;
   std::string kind = "frame";  ///< frame or point
   int line = 0;                ///< the extras file's line, for errors
+  /// The rows the contact holds (RigidContact::rows of the runtime).
+  int rows() const { return kind == "point" ? 3 : 6; }
 };
 
+/// The ground contact a simulation of the scene uses (`scene: contact`, docs/extras.md): which
+/// links touch the ground (the vertex spheres of their SSVs, sim/contact.hpp), the compliant
+/// law's parameters and the ground plane.
 struct ContactSpec {
   std::vector<std::string> links;
   ContactParameters parameters;
