@@ -520,8 +520,7 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
   const StatementPrinter printer(f, seen, apart_style);
   const std::vector<int> statements = statement_ids(f, seen, printer);
   const int count = static_cast<int>(statements.size());
-  const std::string angle_arguments =
-      printer.has_prologue() ? fmt::format("_sin + {0}, _cos + {0}, ", printer.angle_pointer_bias()) : std::string();
+  const std::string angle_pointers = fmt::format("_sin + {0}, _cos + {0}", printer.angle_pointer_bias());
   if (count <= max_statements) {
     if (!printer.has_prologue() || count < kStatementsApartFrom) return {"", emit_statements(f, style)};
     // One part of all the statements, reading the sines through pointers (angle_pointer_bias).
@@ -532,8 +531,7 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
                             "const S* __restrict _cos) {{\n",
                             prefix, parameters(f, "S"));
     out.parts += unused_inputs(f) + "  (void)_sin;\n  (void)_cos;\n" + statements_and_outputs(f, seen, printer, apart_style) + "}\n\n";
-    out.body = printer.prologue() + fmt::format("  {}_statements<S>({}, {});\n", prefix, call_arguments(f),
-                                                angle_arguments.substr(0, angle_arguments.size() - 2));
+    out.body = printer.prologue() + fmt::format("  {}_statements<S>({}, {});\n", prefix, call_arguments(f), angle_pointers);
     return out;
   }
 
@@ -609,7 +607,7 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
   }
   std::string arguments;
   for (const ArraySpec& a : f.inputs) arguments += a.name + ", ";
-  arguments += angle_arguments;
+  if (printer.has_prologue()) arguments += angle_pointers + ", ";
   out.body = printer.prologue();
   out.body += fmt::format("  // {} statements in {} parts (kept apart: compile time grows faster than their size);\n"
                          "  // w carries the {} values that cross a part boundary.\n  {} w[{}];\n",

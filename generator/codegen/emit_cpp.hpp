@@ -87,6 +87,12 @@ std::string public_batch_parameters(const TracedFunction& f, const std::string& 
 std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 
 
+/// From this many statements on, an unsplit function with a prologue keeps its statements in a
+/// function of their own that reads the sines through pointers (split_statements). Below it the
+/// frame is small, and the call is all it would add: iiwa14's inverse dynamics (790 statements)
+/// and mass matrix (369) ran the same either way, hyq's (2,451 and 1,337) faster apart.
+constexpr int kStatementsApartFrom = 1000;
+
 /// A function body split into parts: `parts` defines `template <typename S> void
 /// <prefix>_part<k>(inputs..., [_sin, _cos,] S* w)` (marked noinline, see noinline_macro; the
 /// body's prologue computes _sin and _cos once for all parts), each computing
@@ -102,12 +108,6 @@ std::string emit_statements(const TracedFunction& f, StatementStyle style = {});
 /// mass matrix or a Jacobian, a velocity map's identity) writes them last by a function of their
 /// own, `<prefix>_constants<S>(outputs...)` in parts (noinline): in a small function g++ packs
 /// them into vector stores, in the function's single large basic block it does not.
-/// From this many statements on, an unsplit function with a prologue keeps its statements in a
-/// function of their own that reads the sines through pointers (split_statements). Below it the
-/// frame is small, and the call is all it would add: iiwa14's inverse dynamics (790 statements)
-/// and mass matrix (369) ran the same either way, hyq's (2,451 and 1,337) faster apart.
-constexpr int kStatementsApartFrom = 1000;
-
 struct SplitStatements {
   std::string parts;
   std::string body;
