@@ -4,7 +4,7 @@
 //    (exact to round-off, autodiff_reference.hpp):
 //    1e-11 relative (max-norm of the difference over the reference's max-norm), on every robot
 //    with fixed and floating base, and with geared rotors (armature and body models) on every
-//    1-DoF joint;
+//    1-DoF joint, the sweep in the root's axes (and with rotor bodies in the world's: SweepAxes);
 //  - central finite differences along `integrate` (the stated tangent convention): 1e-6;
 //  the forward dynamics' derivatives weighted by M (weighted_relative: a solve with an
 //  ill-conditioned M is exact only in the directions M resists);
@@ -48,11 +48,13 @@ class DynamicsDerivativesTest : public ::testing::TestWithParam<UrdfCase> {};
 
 TEST_P(DynamicsDerivativesTest, MatchDualNumbers) {
   std::mt19937_64 rng(54);
-  for (Drives drives : {Drives::None, Drives::Armature, Drives::Body}) {
+  for (const auto& [drives, axes] : {std::pair{Drives::None, SweepAxes::root}, std::pair{Drives::Armature, SweepAxes::root},
+                                     std::pair{Drives::Body, SweepAxes::root}, std::pair{Drives::Body, SweepAxes::world}}) {
     SCOPED_TRACE(drives == Drives::None ? "no drives" : drives == Drives::Armature ? "armature" : "rotor bodies");
+    SCOPED_TRACE(axes == SweepAxes::root ? "the root's axes" : "the world's axes");
     const Model model = with_drives(load_tree(GetParam().path, GetParam().base), drives, rng);
     Data<double> data(model), other(model);
-    DynamicsDerivatives<double> d(model);
+    DynamicsDerivatives<double> d(model, axes);
     for (int trial = 0; trial < 3; ++trial) {
       const VecX<double> q = random_configuration<double>(model, rng);
       const VecX<double> v = random_vector<double>(model.nv(), rng, 2.0);
@@ -105,6 +107,62 @@ TEST_P(DynamicsDerivativesTest, MatchCentralDifferencesAlongIntegrate) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllUrdfs, DynamicsDerivativesTest, ::testing::ValuesIn(all_urdf_cases()), urdf_case_name);
+
+// A fixed arm whose first joint's frame is turned in the world's, with a rotor body on every joint:
+// the rotor on the world reads the world's pose in the sweep's axes, which in the root's axes is
+// the root's pose inverted (not the identity: every robot of the suite has an unturned first joint
+// frame, where the two give the same spin axis). The rotor's direction does not enter tau (only
+// w . w does), so the sweep's columns are compared too: in the root's axes, turned into the
+// world's, they are the world sweep's.
+Model turned_arm_with_rotors() {
+  Model model;
+  Inertia<double> link;
+  link.mass = 1.2;
+  link.com = Vec3<double>(0.05, 0.1, -0.02);
+  link.inertia_com = Vec3<double>(0.02, 0.015, 0.01).asDiagonal();
+  BodyIndex parent = kWorldBody;
+  const Vec3<double> axes[3] = {Vec3<double>::UnitZ(), Vec3<double>::UnitY(), Vec3<double>::UnitX()};
+  for (int j = 0; j < 3; ++j) {
+    Joint joint;
+    joint.name = "j" + std::to_string(j + 1);
+    joint.axis = axes[j];
+    joint.X_PJ.rotation = (Eigen::AngleAxisd(0.4 + 0.3 * j, Vec3<double>(1, -2, 0.5).normalized())).toRotationMatrix();
+    joint.X_PJ.translation = Vec3<double>(0.1, -0.05, 0.3);
+    joint.rotor_gear_ratio = 60.0 + 20 * j;
+    joint.rotor_inertia = 4e-5;
+    parent = model.add_body(parent, joint, "link" + std::to_string(j + 1), link);
+  }
+  return model;
+}
+
+TEST(DynamicsDerivatives, RootAxesTurnTheWorldsRotorIntoThem) {
+  std::mt19937_64 rng(57);
+  const Model model = turned_arm_with_rotors();
+  Data<double> data(model);
+  DynamicsDerivatives<double> root(model, SweepAxes::root), world(model, SweepAxes::world);
+  ASSERT_TRUE(root.root_axes);
+  for (int trial = 0; trial < 3; ++trial) {
+    const VecX<double> q = random_configuration<double>(model, rng);
+    const VecX<double> v = random_vector<double>(model.nv(), rng, 2.0);
+    const VecX<double> a = random_vector<double>(model.nv(), rng, 5.0);
+    const DualJacobians ref = dual_jacobians(model, q, v, a, a);
+    inverse_dynamics_derivatives<double>(model, data, root, q, v, a);
+    inverse_dynamics_derivatives<double>(model, data, world, q, v, a);
+    for (const DynamicsDerivatives<double>* d : {&root, &world}) {
+      EXPECT_LT(max_relative(d->dtau_dq, ref.dtau_dq), 1e-11);
+      EXPECT_LT(max_relative(d->dtau_dv, ref.dtau_dv), 1e-11);
+    }
+    EXPECT_LT(relative_error(root.tau, world.tau), 1e-13);
+    // Three joints' columns, then three rotors' [0; N w]: a spin, whose linear part no rotor's
+    // inertia (I_r w w^T alone, the same about every point) reads, and which is zero in either axes.
+    ASSERT_EQ(root.J.size(), 6u);
+    for (std::size_t c = 0; c < root.J.size(); ++c) {
+      const Motion<double> turned = root.axes_in_world.act(root.J[c]);
+      const Vec3<double> linear = c < 3 ? turned.linear : root.J[c].linear;
+      EXPECT_LT((turned.angular - world.J[c].angular).norm() + (linear - world.J[c].linear).norm(), 1e-13) << c;
+    }
+  }
+}
 
 TEST(DynamicsDerivatives, AllocateNothing) {
   std::mt19937_64 rng(56);

@@ -51,18 +51,23 @@ template <typename S> struct ContactDynamicsDerivatives {
 
 namespace detail {
 /// dtau_c/dq and dtau_c/dv (d.dtau_dq, d.dtau_dv; header comment) from the sweep's columns and
-/// twists (d.fd, filled at the same q and v) and the world poses data.X_WB. The spheres on one
+/// twists and the bodies' poses (d.fd, filled at the same q and v; in its axes). The spheres on one
 /// body (consecutive, as contact_spheres lists them) share its chain: their dF per column add up
 /// first and their wrenches into one, and the chain's columns project the sums once, which is
 /// most of the work (a flat foot's four to six spheres: that many times less).
 template <typename S>
-void contact_joint_force_derivatives(const Data<S>& data, const std::vector<ContactSphere>& spheres,
+void contact_joint_force_derivatives(const std::vector<ContactSphere>& spheres,
                                      double exponent, const S* ground, const S* law, ContactDynamicsDerivatives<S>& d) {
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
   const DynamicsDerivatives<S>& id = d.fd;
   d.dtau_dq.setZero();
   d.dtau_dv.setZero();
-  const Vec3<S> n(ground[0], ground[1], ground[2]);
+  // The ground in the sweep's axes (the root's, DynamicsDerivatives::axes_in_world), where the
+  // spheres' centres and twists are: the normal turned, the offset moved with the origin
+  // (offset - n . c_world = offset - n . p - (R^T n) . c).
+  const Vec3<S> n_world(ground[0], ground[1], ground[2]);
+  const Vec3<S> n = id.axes_in_world.rotation.transpose() * n_world;
+  const S ground_in_axes[4] = {n[0], n[1], n[2], ground[3] - n_world.dot(id.axes_in_world.translation)};
   std::size_t k = 0;
   while (k < spheres.size()) {
     const int b = spheres[k].body.value();
@@ -72,13 +77,13 @@ void contact_joint_force_derivatives(const Data<S>& data, const std::vector<Cont
         d.dF_q[at(s)] = d.dF_v[at(s)] = Force<S>::Zero();
     Force<S> F_body = Force<S>::Zero();
     for (; k < spheres.size() && spheres[k].body.value() == b; ++k) {
-      const Vec3<S> c = data.X_WB[spheres[k].body].act(cast<S>(spheres[k].center));
+      const Vec3<S> c = id.X[spheres[k].body].act(cast<S>(spheres[k].center));
       const Vec3<S> w = c - S(spheres[k].radius) * n;
       // No test for contact: apart, the law's force and Jacobians are exactly 0, and the traced
       // form (the generated contact_forward_dynamics_derivatives) cannot branch on the state.
       Vec3<S> f;
       Mat3<S> df_dw, df_dv;
-      contact_force_jacobians<S>(w, V.linear + V.angular.cross(w), ground, law, exponent, f, df_dw, df_dv);
+      contact_force_jacobians<S>(w, V.linear + V.angular.cross(w), ground_in_axes, law, exponent, f, df_dw, df_dv);
       F_body += Force<S>{f, w.cross(f)};
       // Column s of the chain: along q and along v.
       for (int j = b; j != 0; j = id.bodies[at(j)].parent) {
@@ -130,7 +135,7 @@ void contact_forward_dynamics_derivatives_before_solves(const Model& model, Data
   contact_joint_forces<S>(model, data, spheres, exponent, q, v.data(), ground, law, d.tau_total.data(), out);
   forward_dynamics_derivatives_before_solves<S>(model, data, d.fd, q, v, d.tau_total);
   if (spheres.empty()) return;
-  detail::contact_joint_force_derivatives<S>(data, spheres, exponent, ground, law, d);
+  detail::contact_joint_force_derivatives<S>(spheres, exponent, ground, law, d);
   // -M^-1 (dtau - dtau_c): the ground's part joins before the solves, one solve for both.
   d.fd.dddq_dq += d.dtau_dq;
   d.fd.dddq_dv += d.dtau_dv;

@@ -78,7 +78,8 @@ Vec3<S> contact_acceleration_change(const Motion<S>& V, const Motion<S>& A, cons
 }
 
 /// dr2/dq and dr2/dv (d.dr2_dq, d.dr2_dv) from the sweep's V, A and columns (d.id, filled by
-/// inverse_dynamics_derivatives at the solution) and the frames' poses data.X_WF.
+/// inverse_dynamics_derivatives at the solution) and the frames' poses data.X_WF, turned into the
+/// sweep's axes.
 template <typename S>
 void rigid_contact_acceleration_derivatives(const Model& model, const Data<S>& data, const RigidContactWorkspace<S>& ws,
                                             RigidContactDerivatives<S>& d) {
@@ -89,8 +90,9 @@ void rigid_contact_acceleration_derivatives(const Model& model, const Data<S>& d
   for (std::size_t k = 0; k < ws.contacts.size(); ++k) {
     const RigidContact& c = ws.contacts[k];
     const int b = model.frame(c.frame).body.value(), r0 = ws.first_row[k];
-    const Mat3<S>& R = data.X_WF[c.frame].rotation;
-    const Vec3<S>& p = data.X_WF[c.frame].translation;
+    const SE3<S> X_F = id.axes_in_world.inverse() * data.X_WF[c.frame];
+    const Mat3<S>& R = X_F.rotation;
+    const Vec3<S>& p = X_F.translation;
     const Motion<S>& V = id.V[at(b)];
     const Motion<S> A = id.A[at(b)] - id.A[0];  // the sweep's accelerations carry -gravity
     const Vec3<S> a_p = A.linear + A.angular.cross(p) + V.angular.cross(V.linear + V.angular.cross(p));
@@ -132,7 +134,7 @@ void rigid_contact_force_derivatives(const Model& model, const Data<S>& data, co
     const RigidContact& c = ws.contacts[k];
     Force<S> local{ws.lambda.template segment<3>(ws.first_row[k]), Vec3<S>::Zero()};
     if (c.rows() == 6) local.angular = ws.lambda.template segment<3>(ws.first_row[k] + 3);
-    d.wrench = data.X_WF[c.frame].act(local);
+    d.wrench = (id.axes_in_world.inverse() * data.X_WF[c.frame]).act(local);  // in the sweep's axes
     for (int j = model.frame(c.frame).body.value(); j != 0; j = id.bodies[at(j)].parent) {
       const auto& sj = id.bodies[at(j)];
       for (int s = sj.first_column; s < sj.first_column + sj.num_columns; ++s) {
