@@ -19,6 +19,7 @@
 #include "malloc_guard.hpp"
 #include "mbgen/algorithm/aba_derivatives.hpp"
 #include "test_support.hpp"
+#include "three_joint_arm.hpp"
 
 namespace mbgen::test {
 namespace {
@@ -115,24 +116,16 @@ INSTANTIATE_TEST_SUITE_P(AllUrdfs, DynamicsDerivativesTest, ::testing::ValuesIn(
 // w . w does), so the sweep's columns are compared too: in the root's axes, turned into the
 // world's, they are the world sweep's.
 Model turned_arm_with_rotors() {
-  Model model;
   Inertia<double> link;
   link.mass = 1.2;
   link.com = Vec3<double>(0.05, 0.1, -0.02);
   link.inertia_com = Vec3<double>(0.02, 0.015, 0.01).asDiagonal();
-  BodyIndex parent = kWorldBody;
-  const Vec3<double> axes[3] = {Vec3<double>::UnitZ(), Vec3<double>::UnitY(), Vec3<double>::UnitX()};
-  for (int j = 0; j < 3; ++j) {
-    Joint joint;
-    joint.name = "j" + std::to_string(j + 1);
-    joint.axis = axes[j];
-    joint.X_PJ.rotation = (Eigen::AngleAxisd(0.4 + 0.3 * j, Vec3<double>(1, -2, 0.5).normalized())).toRotationMatrix();
+  return three_joint_arm(link, [](Joint& joint, int j) {
+    joint.X_PJ.rotation = Eigen::AngleAxisd(0.4 + 0.3 * j, Vec3<double>(1, -2, 0.5).normalized()).toRotationMatrix();
     joint.X_PJ.translation = Vec3<double>(0.1, -0.05, 0.3);
     joint.rotor_gear_ratio = 60.0 + 20 * j;
     joint.rotor_inertia = 4e-5;
-    parent = model.add_body(parent, joint, "link" + std::to_string(j + 1), link);
-  }
-  return model;
+  });
 }
 
 TEST(DynamicsDerivatives, RootAxesTurnTheWorldsRotorIntoThem) {

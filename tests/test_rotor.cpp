@@ -15,6 +15,7 @@
 
 #include "load/load_error.hpp"
 #include "test_support.hpp"
+#include "three_joint_arm.hpp"
 
 namespace mbgen::test {
 namespace {
@@ -101,27 +102,19 @@ INSTANTIATE_TEST_SUITE_P(AllUrdfs, RotorTest, ::testing::ValuesIn(all_urdf_cases
 ///   tau_1 = -N I qd2 qd3,  tau_2 = N I qd1 qd3,  tau_3 = -N I qd1 qd2,
 /// and the extra mass-matrix entry M_13 = -N I sin q2 (zero at q2 = 0).
 Model gyroscope_arm(RotorModel kind, double N, double I) {
-  Model model;
   Inertia<double> link;
   link.mass = 1.5;
   link.com = Vec3<double>(0.1, 0.02, -0.05);
   link.inertia_com = Vec3<double>(0.02, 0.03, 0.04).asDiagonal();
-  BodyIndex parent = kWorldBody;
-  const Vec3<double> axes[3] = {Vec3<double>::UnitZ(), Vec3<double>::UnitY(), Vec3<double>::UnitX()};
-  for (int j = 0; j < 3; ++j) {
-    Joint joint;
-    joint.name = "j" + std::to_string(j + 1);
-    joint.axis = axes[j];
-    if (j == 2) {
-      if (kind == RotorModel::Armature) joint.armature = N * N * I;
-      else {
-        joint.rotor_gear_ratio = N;
-        joint.rotor_inertia = I;
-      }
+  return three_joint_arm(link, [&](Joint& joint, int j) {
+    if (j != 2) return;
+    if (kind == RotorModel::Armature) {
+      joint.armature = N * N * I;
+    } else {
+      joint.rotor_gear_ratio = N;
+      joint.rotor_inertia = I;
     }
-    parent = model.add_body(parent, joint, "link" + std::to_string(j + 1), link);
-  }
-  return model;
+  });
 }
 
 TEST(RotorModels, AgreeAtRestAndDifferByTheGyroscopicTerms) {
