@@ -150,7 +150,7 @@ TEST(DynamicsDerivatives, RootAxesTurnTheWorldsRotorIntoThem) {
     // inertia (I_r w w^T alone, the same about every point) reads, and which is zero in either axes.
     ASSERT_EQ(root.J.size(), 6u);
     for (std::size_t c = 0; c < root.J.size(); ++c) {
-      const Motion<double> turned = root.axes_in_world.act(root.J[c]);
+      const Motion<double> turned = root.X[kWorldBody].act_inv(root.J[c]);
       const Vec3<double> linear = c < 3 ? turned.linear : root.J[c].linear;
       EXPECT_LT((turned.angular - world.J[c].angular).norm() + (linear - world.J[c].linear).norm(), 1e-13) << c;
     }

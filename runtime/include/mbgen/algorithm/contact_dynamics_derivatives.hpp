@@ -62,12 +62,13 @@ void contact_joint_force_derivatives(const std::vector<ContactSphere>& spheres,
   const DynamicsDerivatives<S>& id = d.fd;
   d.dtau_dq.setZero();
   d.dtau_dv.setZero();
-  // The ground in the sweep's axes (the root's, DynamicsDerivatives::axes_in_world), where the
+  // The ground in the sweep's axes (the root's; id.X[world] the world's pose in them), where the
   // spheres' centres and twists are: the normal turned, the offset moved with the origin
-  // (offset - n . c_world = offset - n . p - (R^T n) . c).
-  const Vec3<S> n_world(ground[0], ground[1], ground[2]);
-  const Vec3<S> n = id.axes_in_world.rotation.transpose() * n_world;
-  const S ground_in_axes[4] = {n[0], n[1], n[2], ground[3] - n_world.dot(id.axes_in_world.translation)};
+  // (with [Q | t] = X[world], c_world = Q^T (c - t) and n = Q n_world, so
+  // offset - n_world . c_world = offset + n . t - n . c).
+  const SE3<S>& world = id.X[kWorldBody];
+  const Vec3<S> n = world.rotation * Vec3<S>(ground[0], ground[1], ground[2]);
+  const S ground_in_axes[4] = {n[0], n[1], n[2], ground[3] + n.dot(world.translation)};
   std::size_t k = 0;
   while (k < spheres.size()) {
     const int b = spheres[k].body.value();

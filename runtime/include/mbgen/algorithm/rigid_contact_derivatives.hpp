@@ -90,7 +90,7 @@ void rigid_contact_acceleration_derivatives(const Model& model, const Data<S>& d
   for (std::size_t k = 0; k < ws.contacts.size(); ++k) {
     const RigidContact& c = ws.contacts[k];
     const int b = model.frame(c.frame).body.value(), r0 = ws.first_row[k];
-    const SE3<S> X_F = id.axes_in_world.inverse() * data.X_WF[c.frame];
+    const SE3<S> X_F = id.X[kWorldBody] * data.X_WF[c.frame];
     const Mat3<S>& R = X_F.rotation;
     const Vec3<S>& p = X_F.translation;
     const Motion<S>& V = id.V[at(b)];
@@ -134,7 +134,7 @@ void rigid_contact_force_derivatives(const Model& model, const Data<S>& data, co
     const RigidContact& c = ws.contacts[k];
     Force<S> local{ws.lambda.template segment<3>(ws.first_row[k]), Vec3<S>::Zero()};
     if (c.rows() == 6) local.angular = ws.lambda.template segment<3>(ws.first_row[k] + 3);
-    d.wrench = (id.axes_in_world.inverse() * data.X_WF[c.frame]).act(local);  // in the sweep's axes
+    d.wrench = (id.X[kWorldBody] * data.X_WF[c.frame]).act(local);  // in the sweep's axes
     for (int j = model.frame(c.frame).body.value(); j != 0; j = id.bodies[at(j)].parent) {
       const auto& sj = id.bodies[at(j)];
       for (int s = sj.first_column; s < sj.first_column + sj.num_columns; ++s) {

@@ -44,7 +44,7 @@ namespace mbgen {
 /// root body occupies at the current q, where the root's own columns are constants (a floating
 /// base's six unit twists) and products with them fold away in generated code: on talos_reduced
 /// 40,331 -> 33,184 traced operations of the inverse dynamics' derivatives. Callers that read the
-/// sweep's twists and columns against world quantities turn those into its axes (axes_in_world:
+/// sweep's twists and columns against world quantities turn those into its axes (X[world]:
 /// the ground of contact_dynamics_derivatives.hpp, the contact frames of
 /// rigid_contact_derivatives.hpp). `world`: the world's, as Pinocchio's derivatives (tests).
 /// A model with several bodies on the world is swept in the world's axes either way. The
@@ -87,8 +87,8 @@ template <typename S> struct DynamicsDerivatives {
   std::vector<Motion<S>> J, dV, a0, e;  ///< per column: J_c, s x V_p, a0, s x (V_p + V_b)
   std::vector<Force<S>> u1, w, z;  ///< per column: u1, dFc_b along q, along v
   std::vector<Vec3<S>> u23;        ///< per column: u23's angular part (its linear part is zero)
-  IndexedVector<BodyIndex, SE3<S>> X;   ///< per model body: its pose in the sweep's axes
-  SE3<S> axes_in_world;                 ///< the sweep's axes in the world's (the identity in the world's)
+  /// Per model body its pose in the sweep's axes; X[world] the world's (the identity in its own).
+  IndexedVector<BodyIndex, SE3<S>> X;
   std::vector<Motion<S>> V, A;          ///< per sweep body
   std::vector<InertiaMoments<S>> Ic;    ///< per sweep body: own, then composite inertia
   std::vector<Force<S>> Hc, Fc;
@@ -187,15 +187,13 @@ void inverse_dynamics_derivatives(const Model& model, Data<S>& data, DynamicsDer
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
   // Forward: poses, columns, velocities, accelerations and each body's own terms. In the root's
   // axes the root sits at the identity and the gravity turns into them instead.
-  // d.X[world] is the world's pose in them, which a rotor on the world reads.
+  // d.X[world] is the world's pose in them, which a rotor on the world and the contacts read.
   Vec3<S> gravity = model.gravity.cast<S>();
   d.X[kWorldBody] = SE3<S>::Identity();
-  d.axes_in_world = SE3<S>::Identity();
   if (d.root_axes) {
     detail::place_in_parent<S>(model, data, q.data(), BodyIndex(1));
-    d.axes_in_world = data.X_PB[BodyIndex(1)];
-    d.X[kWorldBody] = d.axes_in_world.inverse();
-    gravity = d.axes_in_world.rotation.transpose() * gravity;
+    d.X[kWorldBody] = data.X_PB[BodyIndex(1)].inverse();
+    gravity = d.X[kWorldBody].rotation * gravity;
   }
   d.V[0] = Motion<S>::Zero();
   d.A[0] = Motion<S>{-gravity, Vec3<S>::Zero()};
