@@ -2,7 +2,8 @@
 // their values exist (early_outputs), all at the end, or at the end except the outputs named in
 // early_anyway (the closure's Newton step writes its factor early and its residual rows last); and
 // how a one-state function takes the sines and cosines of its inputs: all at once, first; and
-// where split_statements writes many constant output entries: by a function of their own.
+// where split_statements writes many constant output entries: by a function of their own; and which
+// statements carry the attribute that stores output entries one by one (pack_output_stores).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -180,6 +181,33 @@ TEST(SplitStatements, ALargeUnsplitFunctionWithSinesKeepsItsStatementsApartReadi
   const SplitStatements together = split_statements(plain, "plain", 100 * kStatementsApartFrom, {});
   EXPECT_TRUE(together.parts.empty());
   EXPECT_TRUE(together.body == emit_statements(plain, {}));
+}
+
+TEST(SplitStatements, AFunctionWhoseRowAsksForScalarStoresHasItsStatementsCarryTheAttribute) {
+  // The large function of the test above, with and without pack_output_stores.
+  TracedFunction f = trigonometry();
+  int chain = f.output_ids[2][0];
+  for (int k = 4; k < kStatementsApartFrom; ++k) chain = f.graph.binary(Op::Add, chain, f.graph.input(0, 1));
+  f.output_ids[2] = {chain};
+  const std::string head = "MBGEN_GENERATED_NOINLINE MBGEN_GENERATED_SCALAR_STORES void trig_statements(const S* x";
+  EXPECT_EQ(split_statements(f, "trig", 100 * kStatementsApartFrom, {}).parts.find("SCALAR_STORES"), std::string::npos);
+  f.pack_output_stores = false;
+  const SplitStatements scalar = split_statements(f, "trig", 100 * kStatementsApartFrom, {});
+  EXPECT_NE(scalar.parts.find(head), std::string::npos) << scalar.parts.substr(0, 2000);
+  EXPECT_EQ(count_of(scalar.parts, "SCALAR_STORES"), 1u);
+  // The statements are the same: only how g++ compiles them changes.
+  const SplitStatements packed = [&] {
+    TracedFunction g = f;
+    g.pack_output_stores = true;
+    return split_statements(g, "trig", 100 * kStatementsApartFrom, {});
+  }();
+  std::string without = scalar.parts;
+  without.erase(without.find("MBGEN_GENERATED_SCALAR_STORES "), std::string("MBGEN_GENERATED_SCALAR_STORES ").size());
+  EXPECT_TRUE(without == packed.parts);
+  EXPECT_EQ(scalar.body, packed.body);
+  // Split into parts, which write no outputs (the caller does), or over lanes: no attribute.
+  EXPECT_EQ(split_statements(f, "trig", 16, {}).parts.find("SCALAR_STORES"), std::string::npos);
+  EXPECT_EQ(split_statements(f, "trig", 100 * kStatementsApartFrom, {2, true}).parts.find("SCALAR_STORES"), std::string::npos);
 }
 
 /// out (zeros + 1 entries): out[0] = x0 x1, the rest zero.

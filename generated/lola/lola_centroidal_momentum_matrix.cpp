@@ -23,6 +23,20 @@
 #define MBGEN_GENERATED_NOINLINE
 #endif
 #endif
+// The statements below write hundreds of output entries, and neighbouring entries come from
+// distant statements (a mass matrix's columns run down different chains). g++'s straight-line
+// vectoriser would pack neighbours into one vector store, holding the early values in registers or
+// on the stack until the last of them exists: talos_reduced's mass matrix ran 10 % slower so
+// (bench/README.md, "Output entries stored one by one"). The attribute turns that pass off for
+// this one function; the results are the same to the bit. Define MBGEN_GENERATED_SCALAR_STORES
+// (empty) to keep it.
+#ifndef MBGEN_GENERATED_SCALAR_STORES
+#if defined(__GNUC__) && !defined(__clang__)
+#define MBGEN_GENERATED_SCALAR_STORES __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define MBGEN_GENERATED_SCALAR_STORES
+#endif
+#endif
 namespace lola {
 
 namespace {
@@ -108,7 +122,7 @@ template <typename S, int N> inline void sincos_all(const S (&__restrict x)[N], 
 // centroidal_momentum_matrix's statements, apart from the sines and cosines of its inputs (the body's prologue):
 // they read them through pointers, in shorter instructions than from their own frame.
 template <typename S>
-MBGEN_GENERATED_NOINLINE void centroidal_momentum_matrix_statements(const S* q, S* Ag, const S* __restrict _sin, const S* __restrict _cos) {
+MBGEN_GENERATED_NOINLINE MBGEN_GENERATED_SCALAR_STORES void centroidal_momentum_matrix_statements(const S* q, S* Ag, const S* __restrict _sin, const S* __restrict _cos) {
   (void)q;
   (void)_sin;
   (void)_cos;

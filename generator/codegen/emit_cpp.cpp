@@ -499,6 +499,11 @@ std::string public_batch_parameters(const TracedFunction& f, const std::string& 
 
 namespace {
 SplitStatements split_statements_of(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style);
+
+/// The attribute scalar_stores_macro.fmt defines, on the statements of a one-state function whose
+/// catalogue row asks for its output entries to be stored one by one (pack_output_stores).
+constexpr const char* kScalarStores = "MBGEN_GENERATED_SCALAR_STORES";
+bool scalar_stores(const TracedFunction& f, const StatementStyle& style) { return !f.pack_output_stores && style.lanes == 0; }
 }  // namespace
 
 SplitStatements split_statements(const TracedFunction& f, const std::string& prefix, int max_statements, StatementStyle style) {
@@ -527,9 +532,9 @@ SplitStatements split_statements_of(const TracedFunction& f, const std::string& 
     SplitStatements out;
     out.parts = fmt::format("// {0}'s statements, apart from the sines and cosines of its inputs (the body's prologue):\n"
                             "// they read them through pointers, in shorter instructions than from their own frame.\n"
-                            "template <typename S>\nMBGEN_GENERATED_NOINLINE void {0}_statements({1}, const S* __restrict _sin, "
+                            "template <typename S>\nMBGEN_GENERATED_NOINLINE {2}void {0}_statements({1}, const S* __restrict _sin, "
                             "const S* __restrict _cos) {{\n",
-                            prefix, parameters(f, "S"));
+                            prefix, parameters(f, "S"), scalar_stores(f, style) ? std::string(kScalarStores) + " " : "");
     out.parts += unused_inputs(f) + "  (void)_sin;\n  (void)_cos;\n" + statements_and_outputs(f, seen, printer, apart_style) + "}\n\n";
     out.body = printer.prologue() + fmt::format("  {}_statements<S>({}, {});\n", prefix, call_arguments(f), angle_pointers);
     return out;
@@ -627,6 +632,9 @@ std::string emit_definition(const TracedFunction& f, const EmitContext& ctx) {
 std::string emit_definition(const TracedFunction& f, const EmitContext& ctx, const std::string& helpers,
                             const std::string& entry_points) {
   const SplitStatements split = split_statements(f, f.name, ctx.max_statements_per_part, {0, ctx.inline_sincos});
+  std::string noinline;
+  if (!split.parts.empty()) noinline = ctx.templates.render("noinline_macro", {});
+  if (split.parts.find(kScalarStores) != std::string::npos) noinline += ctx.templates.render("scalar_stores_macro", {});
   return ctx.templates.render("function_source",
                               {{"banner", ctx.banner},
                                {"header", ctx.header},
@@ -635,7 +643,7 @@ std::string emit_definition(const TracedFunction& f, const EmitContext& ctx, con
                                {"doc", f.doc},
                                {"cost", describe_operations(count_operations(f))},
                                {"sincos", sincos_helper(ctx, uses_trig(f))},
-                               {"noinline", split.parts.empty() ? std::string() : ctx.templates.render("noinline_macro", {})},
+                               {"noinline", noinline},
                                {"parts", helpers + split.parts},
                                {"impl_parameters", parameters(f, "S")},
                                {"body", unused_inputs(f) + split.body},

@@ -96,6 +96,7 @@ const std::vector<GeneratedFunction>& function_catalog() {
     row("mass_matrix", Batch::yes, "the spanning tree's mass matrix (composite-rigid-body algorithm)",
          {"mass_matrix", kSimulationOutput});
     r.back().trace = [](const TraceInputs& in) { return trace_mass_matrix(in.tree); };
+    r.back().pack_output_stores = false;
     row("mass_matrix_factor", Batch::yes, "the sparse factor M = L^T D L of mass_matrix's output", {"mass_matrix"});
     r.back().trace = [](const TraceInputs& in) { return trace_mass_matrix_factor(in.tree); };
     row("mass_matrix_solve", Batch::yes, "x = M^-1 b from mass_matrix_factor's factor", {"mass_matrix"});
@@ -112,6 +113,7 @@ const std::vector<GeneratedFunction>& function_catalog() {
     r.back().trace = [](const TraceInputs& in) { return trace_center_of_mass(in.tree); };
     row("centroidal_momentum_matrix", Batch::yes, "the centroidal momentum matrix A_G(q)", {"centroidal_momentum"});
     r.back().trace = [](const TraceInputs& in) { return trace_centroidal_momentum_matrix(in.tree); };
+    r.back().pack_output_stores = false;
     // A scene with the four parts of a controller's kinematics gets them in one pass too.
     row("task_kinematics", Batch::no, "frame_poses, frame_jacobians, center_of_mass and centroidal_momentum_matrix in one pass",
          {}, {}, {"frame_poses", "frame_jacobians", "center_of_mass", "centroidal_momentum_matrix"});

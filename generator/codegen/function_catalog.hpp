@@ -69,6 +69,9 @@ struct GeneratedFunction {
   /// Emitted only when one of its outputs is named (scene outputs or --outputs): not by default,
   /// nor by `all` (the derivatives: several times the dynamics' code, which few scenes need).
   bool on_request = false;
+  /// false: the one-state statements are compiled without g++'s straight-line vectoriser, which
+  /// packs adjacent output entries into one store (TracedFunction::pack_output_stores says why).
+  bool pack_output_stores = true;
   Writer writer = Writer::traced;
   /// The trace (Writer::traced rows).
   TracedFunction (*trace)(const TraceInputs&) = nullptr;

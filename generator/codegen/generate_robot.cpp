@@ -181,6 +181,7 @@ void trace_functions(Generation& g) {
   for (const GeneratedFunction& row : function_catalog()) {
     if (row.writer != Writer::traced || !g.selection.emits(row.name) || (row.per_frame && g.frames.indices.empty())) continue;
     g.traced.push_back(g.bounded(row.name, [&] { return row.trace(in); }));
+    g.traced.back().pack_output_stores = row.pack_output_stores;
     if (g.traced.back().name != row.name)
       throw std::logic_error(fmt::format("function catalogue: the tracer of {} traced {}", row.name, g.traced.back().name));
   }

@@ -27,6 +27,12 @@ struct TracedFunction {
   /// header's declaration, leaves them out (forward_dynamics_derivatives: the factor of M its
   /// solves read).
   int work_outputs = 0;
+  /// false: its statements function carries MBGEN_GENERATED_SCALAR_STORES (scalar_stores_macro.fmt),
+  /// which keeps g++ from packing adjacent output entries into one vector store. Set from the
+  /// catalogue for the functions of hundreds of output entries whose neighbours come from distant
+  /// statements (the mass matrix's columns run down different chains): packing holds the early
+  /// values in registers or on the stack until their neighbours exist (bench/README.md).
+  bool pack_output_stores = true;
   ExpressionGraph graph;
 };
 
