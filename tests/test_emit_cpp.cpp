@@ -137,13 +137,19 @@ TEST(SplitStatements, PartsReadTheBodysSinesAndCosines) {
   EXPECT_EQ(count_of(split.body + split.parts, "sincos_all"), 1u);
 }
 
-TEST(SplitStatements, ALargeUnsplitFunctionWithSinesKeepsItsStatementsApartReadingThemThroughPointers) {
-  // trigonometry() (4 statements besides the prologue's sines) with output c replaced by a chain of
-  // additions onto sin x2: kStatementsApartFrom statements in all, just enough.
+/// trigonometry() (4 statements besides the prologue's sines) with output c replaced by a chain of
+/// additions onto sin x2: kStatementsApartFrom statements in all, just enough to be kept apart.
+TracedFunction large_trigonometry() {
   TracedFunction f = trigonometry();
   int chain = f.output_ids[2][0];
   for (int k = 4; k < kStatementsApartFrom; ++k) chain = f.graph.binary(Op::Add, chain, f.graph.input(0, 1));
   f.output_ids[2] = {chain};
+  return f;
+}
+
+TEST(SplitStatements, ALargeUnsplitFunctionWithSinesKeepsItsStatementsApartReadingThemThroughPointers) {
+  TracedFunction f = large_trigonometry();
+  const int chain = f.output_ids[2][0];
   const SplitStatements apart = split_statements(f, "trig", 100 * kStatementsApartFrom, {});
   // The body computes the sines, then calls the statements with pointers 4 entries in (the
   // arrays' padded size, below 16): slot k is read as [k - 4].
@@ -185,10 +191,7 @@ TEST(SplitStatements, ALargeUnsplitFunctionWithSinesKeepsItsStatementsApartReadi
 
 TEST(SplitStatements, AFunctionWhoseRowAsksForScalarStoresHasItsStatementsCarryTheAttribute) {
   // The large function of the test above, with and without pack_output_stores.
-  TracedFunction f = trigonometry();
-  int chain = f.output_ids[2][0];
-  for (int k = 4; k < kStatementsApartFrom; ++k) chain = f.graph.binary(Op::Add, chain, f.graph.input(0, 1));
-  f.output_ids[2] = {chain};
+  TracedFunction f = large_trigonometry();
   const std::string head = "MBGEN_GENERATED_NOINLINE MBGEN_GENERATED_SCALAR_STORES void trig_statements(const S* x";
   EXPECT_EQ(split_statements(f, "trig", 100 * kStatementsApartFrom, {}).parts.find("SCALAR_STORES"), std::string::npos);
   f.pack_output_stores = false;
