@@ -101,9 +101,25 @@ template <typename S, int N> MBGEN_GENERATED_SINCOS_ALL void sincos_all(const S 
 #endif
 }
 
+// A split function's parts, and the statements apart from their sines (split_statements), stay
+// functions of their own. On x86-64 Linux with g++, compiled without AVX2 (the default flags),
+// each also gets an AVX2 copy that the loader picks on a CPU that has it (target_clones: 1.2-1.8x,
+// bench/README.md). AVX2 without FMA: no multiply-add is contracted and nothing is reassociated,
+// so both copies round alike: the same bits on every x86-64 CPU. Define MBGEN_NO_DISPATCH for the
+// baseline copy alone (a loader without GNU ifunc; a third less code), or MBGEN_GENERATED_NOINLINE.
+#ifndef MBGEN_GENERATED_NOINLINE
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) && !defined(__AVX2__) && \
+    !defined(MBGEN_NO_DISPATCH)
+#define MBGEN_GENERATED_NOINLINE __attribute__((noinline, target_clones("avx2", "default")))
+#elif defined(__GNUC__)
+#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))
+#else
+#define MBGEN_GENERATED_NOINLINE
+#endif
+#endif
 // The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 39 operations: 14 additions/subtractions, 18 multiplications, 0 divisions, 1 negations, 6 sin/cos, 0 square roots.
-template <typename S> void closure_residual(const S* q, S* residual) {
+template <typename S> MBGEN_GENERATED_NOINLINE void closure_residual(const S* q, S* residual) {
   const S _angle[4] = {q[0], q[1], q[2], S(0)};
   S _sin[4], _cos[4];
   sincos_all(_angle, _sin, _cos);

@@ -101,9 +101,25 @@ template <typename S, int N> MBGEN_GENERATED_SINCOS_ALL void sincos_all(const S 
 #endif
 }
 
+// A split function's parts, and the statements apart from their sines (split_statements), stay
+// functions of their own. On x86-64 Linux with g++, compiled without AVX2 (the default flags),
+// each also gets an AVX2 copy that the loader picks on a CPU that has it (target_clones: 1.2-1.8x,
+// bench/README.md). AVX2 without FMA: no multiply-add is contracted and nothing is reassociated,
+// so both copies round alike: the same bits on every x86-64 CPU. Define MBGEN_NO_DISPATCH for the
+// baseline copy alone (a loader without GNU ifunc; a third less code), or MBGEN_GENERATED_NOINLINE.
+#ifndef MBGEN_GENERATED_NOINLINE
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) && !defined(__AVX2__) && \
+    !defined(MBGEN_NO_DISPATCH)
+#define MBGEN_GENERATED_NOINLINE __attribute__((noinline, target_clones("avx2", "default")))
+#elif defined(__GNUC__)
+#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))
+#else
+#define MBGEN_GENERATED_NOINLINE
+#endif
+#endif
 // The kept closure rows at q, sub-system by sub-system (runtime: closure_residual; the Newton step's residual).
 // 236 operations: 92 additions/subtractions, 112 multiplications, 0 divisions, 0 negations, 32 sin/cos, 0 square roots.
-template <typename S> void closure_residual(const S* q, S* residual) {
+template <typename S> MBGEN_GENERATED_NOINLINE void closure_residual(const S* q, S* residual) {
   const S _angle[16] = {q[21], q[22], q[23], q[24], q[26], q[27], q[29], q[30], q[36], q[37], q[38], q[39], q[41], q[42], q[44], q[45]};
   S _sin[16], _cos[16];
   sincos_all(_angle, _sin, _cos);
@@ -350,22 +366,6 @@ void closure_newton_step_setup(const S* q, S* invariants) {
 
 // One Newton step of the closure: kept residual rows, Phi_z's R diagonal and the step Phi_z^-1 Phi per sub-system (runtime: detail::closure_newton_step), and that factor (the loop's simplified steps reuse it).
 // 1204 operations: 410 additions/subtractions, 670 multiplications, 34 divisions, 22 negations, 32 sin/cos, 18 square roots, 18 max (selects) per iteration.
-// A split function's parts, and the statements apart from their sines (split_statements), stay
-// functions of their own. On x86-64 Linux with g++, compiled without AVX2 (the default flags),
-// each also gets an AVX2 copy that the loader picks on a CPU that has it (target_clones: 1.2-1.8x,
-// bench/README.md). AVX2 without FMA: no multiply-add is contracted and nothing is reassociated,
-// so both copies round alike: the same bits on every x86-64 CPU. Define MBGEN_NO_DISPATCH for the
-// baseline copy alone (a loader without GNU ifunc; a third less code), or MBGEN_GENERATED_NOINLINE.
-#ifndef MBGEN_GENERATED_NOINLINE
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) && !defined(__AVX2__) && \
-    !defined(MBGEN_NO_DISPATCH)
-#define MBGEN_GENERATED_NOINLINE __attribute__((noinline, target_clones("avx2", "default")))
-#elif defined(__GNUC__)
-#define MBGEN_GENERATED_NOINLINE __attribute__((noinline))
-#else
-#define MBGEN_GENERATED_NOINLINE
-#endif
-#endif
 // closure_newton_step's statements, apart from the sines and cosines of its inputs (the body's prologue):
 // they read them through pointers, in shorter instructions than from their own frame.
 template <typename S>

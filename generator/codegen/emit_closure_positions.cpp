@@ -191,14 +191,16 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
            "template <typename S, bool kVelocities> ClosureResult<S> closure_positions_impl(S*, S*, const ClosureOptions<S>&) {\n"
            "  return {ClosureStatus::converged, 0, S(0), S(1), S(1), -1, -1};\n}\n";
   } else {
-    bool noinline_defined = false;
+    // The residual check is noinline (as the Newton step's statements are), so that it too has the
+    // AVX2 copy chosen at load time (noinline_macro.fmt): from a simulator's predicted start it
+    // runs once a call, beside one Newton step (talos_like's closed step 2 % faster, bench/README.md).
+    out += ctx.templates.render("noinline_macro", {});
     {
       const TracedFunction residual = trace_closure_residual(model);
       out += fmt::format("// {}\n// {}.\n", residual.doc, describe_operations(count_operations(residual)));
       const SplitStatements split = split_statements(residual, residual.name, ctx.max_statements_per_part, closure_style(ctx));
-      if (!split.parts.empty()) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
       out += split.parts;
-      out += "template <typename S> void closure_residual(const S* q, S* residual) {\n" + split.body + "}\n\n";
+      out += "template <typename S> MBGEN_GENERATED_NOINLINE void closure_residual(const S* q, S* residual) {\n" + split.body + "}\n\n";
     }
     std::vector<int> begin{0}, dependent_q, dependent_v;
     for (const SubSystem& sub : model.subsystems) {
@@ -219,7 +221,6 @@ std::string emit_closure_positions_definition(const Model& model, const EmitCont
         out += fmt::format("// {}\n// {}{}.\n", f->doc, describe_operations(count_operations(*f)),
                            f == &hoisted.body ? " per iteration" : "");
         const SplitStatements split = split_statements(*f, f->name, ctx.max_statements_per_part, closure_style(ctx));
-        if (!split.parts.empty() && !noinline_defined) out += ctx.templates.render("noinline_macro", {}), noinline_defined = true;
         out += split.parts;
         out += fmt::format("template <typename S>\nvoid {}({}) {{\n", f->name, parameters(*f, "S")) + unused_inputs(*f) + split.body + "}\n\n";
       }
