@@ -86,9 +86,10 @@ template <typename E, typename T> inline SinCos<T> sincos_of(const T& x) {
 // leaves NaN (beyond its range, or not finite) through libm. Under -ffast-math, which folds
 // sincos_of's rounding away, libm throughout. Where the statements get an AVX2 copy chosen at load
 // time (noinline_macro.fmt), so does this loop, which their caller runs: four angles per
-// instruction instead of two (talos_reduced's mass matrix 9-13 % faster, bench/README.md "Sines
-// and cosines in the AVX2 copy"). The same operations lane by lane and no FMA: both copies give
-// the same bits. Define MBGEN_GENERATED_SINCOS_ALL (e.g. as inline) to choose otherwise.
+// instruction instead of two (talos_reduced's mass matrix 12 % faster, its inverse dynamics 9 %:
+// bench/README.md, "Sines and cosines in the AVX2 copy"). The same operations lane by lane and no
+// FMA: both copies give the same bits. Define MBGEN_GENERATED_SINCOS_ALL (e.g. as inline) to
+// choose otherwise.
 #ifndef MBGEN_GENERATED_SINCOS_ALL
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) && !defined(__AVX2__) && \
     !defined(MBGEN_NO_DISPATCH)
